@@ -1,0 +1,24 @@
+"""Exceptions raised by friction_joint, named for the problem they report."""
+
+__all__ = ['FrictionJointError', 'GearConfigError', 'GearConfigWarning',
+           'RecordingError', 'ExcitationError']
+
+
+class FrictionJointError(Exception):
+    """Base class of every error this package raises on bad input."""
+
+
+class GearConfigError(FrictionJointError, ValueError):
+    """A gear parameter file (or dict) is malformed: the message names the key."""
+
+
+class GearConfigWarning(UserWarning):
+    """A gear parameter set loads but is physically questionable."""
+
+
+class RecordingError(FrictionJointError):
+    """A recording is missing, truncated, corrupt or lacks a required topic."""
+
+
+class ExcitationError(FrictionJointError):
+    """Data do not contain the experiment needed to determine a quantity."""
