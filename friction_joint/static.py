@@ -140,7 +140,10 @@ def curve_params(temp, load, t_lo, t_hi, b, xi, tl):
 @njit
 def g_abs(fc, fs, vs, ds, kappa, v):
     """|g(v)|: magnitude of the Stribeck curve (eq. 1); F_s at v = 0."""
-    return fc + (fs - fc) * math.exp(-abs(kappa * v / vs) ** ds)
+    x = kappa * v / vs
+    if ds == 2.0:
+        return fc + (fs - fc) * math.exp(-x * x)
+    return fc + (fs - fc) * math.exp(-abs(x) ** ds)
 
 
 @njit
