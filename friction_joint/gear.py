@@ -31,7 +31,7 @@ import yaml
 
 from .exceptions import GearConfigError, GearConfigWarning
 
-__all__ = ['GearParams', 'FrictionParams', 'LuGreParams', 'GMSParams',
+__all__ = ['GearParams', 'FrictionParams', 'LuGreParams', 'GMSParams', 'RippleParams',
            'load_gear', 'gear_from_dict', 'gear_from_flat', 'save_gear', 'SCHEMA',
            'FRICTION_MODELS', 'passivity_bound']
 
@@ -62,6 +62,18 @@ class Float(_Spec):
             raise GearConfigError(f'{path}: must be > 0, got {value}')
         if self.nonnegative and value < 0.0:
             raise GearConfigError(f'{path}: must be >= 0, got {value}')
+        return value
+
+
+class Int(_Spec):
+    def __init__(self, default=REQUIRED, minimum=None, doc=''):
+        self.default, self.minimum, self.doc = default, minimum, doc
+
+    def check(self, value, path):
+        if isinstance(value, bool) or not isinstance(value, int):
+            raise GearConfigError(f'{path}: expected an integer, got {value!r}')
+        if self.minimum is not None and value < self.minimum:
+            raise GearConfigError(f'{path}: must be >= {self.minimum}, got {value}')
         return value
 
 
@@ -163,6 +175,11 @@ FRICTION_SCHEMA = {
         'alpha': FloatList(None, min_len=1, positive=True, doc='element torque fractions, sum 1'),
         'c': Float(positive=True, doc='attraction parameter C, Nm/s'),
     }, doc='GMS parameters (eq. 11-13)'),
+    'position_ripple': Section({
+        'cycles_per_rev': Float(REQUIRED, positive=True, doc='fundamental, cycles per output revolution'),
+        'amplitude': FloatList(REQUIRED, min_len=1, doc='Nm, one per harmonic 1..n'),
+        'phase': FloatList(None, min_len=1, doc='rad, one per harmonic (default 0)'),
+    }, doc='torque ripple periodic in q, added to the friction torque'),
 }
 
 #: The full schema of the ``ros__parameters`` mapping of a gear file.
@@ -171,7 +188,37 @@ SCHEMA = {
     'gear_ratio': Float(positive=True, doc='gear ratio N'),
     'inertia': Float(positive=True, doc='output-side inertia J, kg m^2'),
     'friction': Section(FRICTION_SCHEMA, optional=False, doc='friction model'),
+    'lever': Section({
+        'mass': Float(0.0, nonnegative=True, doc='kg'),
+        'length': Float(0.0, nonnegative=True, doc='distance of the mass from the axis, m'),
+        'gravity': Float(9.81, positive=True, doc='m/s^2'),
+    }, doc='lever whose gravity m g l sin(q) loads the joint (q = 0 hanging down)'),
+    'thermal': Section({
+        'capacity': Float(450.0, positive=True, doc='heat capacity of gear and housing, J/K'),
+        'resistance': Float(1.2, positive=True, doc='thermal resistance housing-ambient, K/W'),
+        'ambient': Float(25.0, doc='ambient temperature, degC'),
+        'initial': Float(None, doc='initial housing temperature, degC (default ambient)'),
+    }, doc='lumped thermal model heated by the friction losses'),
+    'sensors': Section({
+        'encoder_bits': Int(25, minimum=1, doc='output encoder resolution, bits/rev'),
+        'velocity_cutoff': Float(250.0, positive=True, doc='velocity filter cut-off, Hz'),
+        'current_bandwidth': Float(800.0, positive=True, doc='current loop bandwidth, Hz'),
+        'torque_noise': Float(0.01, nonnegative=True, doc='applied-torque noise std, Nm'),
+        'effort_noise': Float(0.005, nonnegative=True, doc='measured-effort noise std, Nm'),
+        'temperature_resolution': Float(0.0625, positive=True, doc='degC'),
+        'temperature_time_constant': Float(4.0, positive=True, doc='sensor lag, s'),
+        'temperature_noise': Float(0.0, nonnegative=True, doc='std, degC'),
+        'link_torque_noise': Float(0.03, nonnegative=True, doc='output torque sensor noise std, Nm'),
+    }, doc='sensor models of the simulated test bed'),
+    'simulation': Section({
+        'rate': Float(3000.0, positive=True, doc='simulation and control rate, Hz'),
+        'temperature_rate': Float(4.0, positive=True, doc='temperature sample rate, Hz'),
+        'seed': Int(0, minimum=0, doc='noise seed'),
+    }, doc='simulator rates'),
 }
+
+#: sections whose defaults apply when they are absent from a file
+DEFAULT_SECTIONS = ('lever', 'thermal', 'sensors', 'simulation')
 
 
 # ------------------------------------------------------------ parameters ---
@@ -187,6 +234,13 @@ class GMSParams:
     k: tuple
     alpha: tuple
     c: float
+
+
+@dataclasses.dataclass(frozen=True)
+class RippleParams:
+    cycles_per_rev: float
+    amplitude: tuple
+    phase: tuple
 
 
 @dataclasses.dataclass(frozen=True)
@@ -209,6 +263,7 @@ class FrictionParams:
     temperature_range: tuple = (0.0, 100.0)
     lugre: LuGreParams = None
     gms: GMSParams = None
+    position_ripple: RippleParams = None
 
 
 @dataclasses.dataclass(frozen=True)
@@ -227,8 +282,17 @@ class GearParams:
     source: str = None
 
     def section(self, name):
-        """A validated simulator section (e.g. ``'plant'``) as a dict."""
-        return copy.deepcopy(self.data.get(name))
+        """A validated simulator section (``'lever'``, ``'thermal'``, ...) with defaults."""
+        sec = self.data.get(name)
+        if sec is None and name in DEFAULT_SECTIONS:
+            sec = _validate(SCHEMA[name].fields, {}, name)
+        return copy.deepcopy(sec)
+
+    @property
+    def mgl(self):
+        """Lever gravity amplitude m g l (Nm)."""
+        lever = self.section('lever')
+        return lever['mass'] * lever['gravity'] * lever['length']
 
     def replace(self, changes):
         """A new GearParams with ``changes`` (a nested dict) merged in and validated."""
@@ -311,6 +375,14 @@ def _friction_from(fr):
         if abs(sum(alpha) - 1.0) > 1e-9:
             raise GearConfigError(f'friction.gms.alpha: fractions must sum to 1, got {sum(alpha):.12g}')
         gms = GMSParams(k, alpha, g['c'])
+    ripple = None
+    if fr['position_ripple'] is not None:
+        r = fr['position_ripple']
+        phase = r['phase'] if r['phase'] is not None else [0.0] * len(r['amplitude'])
+        if len(phase) != len(r['amplitude']):
+            raise GearConfigError(f'friction.position_ripple.phase: {len(phase)} phases for '
+                                  f'{len(r["amplitude"])} amplitudes')
+        ripple = RippleParams(r['cycles_per_rev'], tuple(r['amplitude']), tuple(phase))
     if fr['model'] == 'lugre' and lugre is None:
         raise GearConfigError('friction.model is lugre but friction.lugre (sigma0, sigma1) is missing')
     if fr['model'] == 'gms' and gms is None:
@@ -320,7 +392,8 @@ def _friction_from(fr):
         vs=_tup(fr['vs']), delta_v=_tup(fr['delta_v']), delta_s=fr['delta_s'],
         fc_load=_tup(fr['fc_load']), fv_load=_tup(fr['fv_load']), fs_load=_tup(fr['fs_load']),
         vs_load=_tup(fr['vs_load']), delta_v_load=_tup(fr['delta_v_load']),
-        velocity_scale=fr['velocity_scale'], temperature_range=(lo, hi), lugre=lugre, gms=gms)
+        velocity_scale=fr['velocity_scale'], temperature_range=(lo, hi), lugre=lugre, gms=gms,
+        position_ripple=ripple)
 
 
 def _raw_curve(friction, xi):

@@ -124,6 +124,7 @@ class GMS:
         flist = [frictions] if self.single else list(frictions)
         self.packed = pack_static(flist)
         self.k, self.alpha, self.c = pack_gms(flist)
+        self._buf = np.zeros((4, 1, 1))
         self.reset()
 
     @property
@@ -152,8 +153,16 @@ class GMS:
         return tau[0] if self.single else tau
 
     def step(self, qd, xi, tau_l, dt):
-        """Advance one sample; returns the friction torque (scalar or (B,))."""
-        tau = self.simulate(np.reshape(qd, (-1, 1)) if np.ndim(qd) else qd,
-                            np.reshape(xi, (-1, 1)) if np.ndim(xi) else xi,
-                            np.reshape(tau_l, (-1, 1)) if np.ndim(tau_l) else tau_l, dt)
-        return float(tau[0]) if self.single else tau[:, 0]
+        """Advance one sample; returns the friction torque (float, or (B,) for a batch)."""
+        if not self.single:
+            tau = self.simulate(np.reshape(qd, (-1, 1)) if np.ndim(qd) else qd,
+                                np.reshape(xi, (-1, 1)) if np.ndim(xi) else xi,
+                                np.reshape(tau_l, (-1, 1)) if np.ndim(tau_l) else tau_l, dt)
+            return tau[:, 0]
+        buf = self._buf
+        buf[0, 0, 0] = qd
+        buf[1, 0, 0] = xi
+        buf[2, 0, 0] = abs(tau_l)
+        _gms_run(*self.packed.args(), self.k, self.alpha, self.c, buf[0], buf[1], buf[2],
+                 float(dt), self.z, self.stick, self.slipdir, buf[3])
+        return float(buf[3, 0, 0])

@@ -233,58 +233,80 @@ def static_joint_step(q, v, f, jj, fc, fs, fv, vs, dv, ds, kap, h):
 
 
 @njit
-def _ext(tau_ext_in, kext, mgl, q):
-    return tau_ext_in + kext * q + mgl * math.sin(q)
+def _inputs(temp, load, t_lo, t_hi, kext, mgl, rip_a, rip_p, rip_c, b, q, te_in, xi):
+    """External torque, ripple torque and curve parameters for set b at position q."""
+    te = te_in + kext[b] * q + mgl[b] * math.sin(q)
+    rip = 0.0
+    for n in range(rip_a.shape[1]):
+        rip += rip_a[b, n] * math.sin((n + 1) * rip_c[b] * q + rip_p[b, n])
+    fc, fs, fv, vs, dv = curve_params(temp, load, t_lo, t_hi, b, xi, abs(te))
+    return te, rip, fc, fs, fv, vs, dv
 
 
 @njit
-def _run_lugre(temp, load, delta_s, kappa, t_lo, t_hi, sg0, sg1, jj, mgl, kext,
-               tau, tau_ext_in, xi, h, q, v, z, out_q, out_v, out_tr, out_te):
+def _run_lugre(temp, load, delta_s, kappa, t_lo, t_hi, rip_a, rip_p, rip_c, sg0, sg1, jj,
+               mgl, kext, tau, tau_ext_in, xi, h, q, v, z, out_q, out_v, out_tr, out_te):
     nb, nt = tau.shape
     for b in range(nb):
         for k in range(nt):
-            te = _ext(tau_ext_in[b, k], kext[b], mgl[b], q[b])
-            fc, fs, fv, vs, dv = curve_params(temp, load, t_lo, t_hi, b, xi[b, k], abs(te))
+            te, rip, fc, fs, fv, vs, dv = _inputs(temp, load, t_lo, t_hi, kext, mgl, rip_a, rip_p,
+                                                  rip_c, b, q[b], tau_ext_in[b, k], xi[b, k])
             q[b], v[b], z[b], tr = lugre_joint_step(
-                q[b], v[b], z[b], tau[b, k] - te, jj[b], sg0[b], sg1[b],
+                q[b], v[b], z[b], tau[b, k] - te - rip, jj[b], sg0[b], sg1[b],
                 fc, fs, fv, vs, dv, delta_s[b], kappa[b], h)
             out_q[b, k] = q[b]
             out_v[b, k] = v[b]
-            out_tr[b, k] = tr
+            out_tr[b, k] = tr + rip
             out_te[b, k] = te
 
 
 @njit
-def _run_gms(temp, load, delta_s, kappa, t_lo, t_hi, k_el, alpha, cc, jj, mgl, kext,
-             tau, tau_ext_in, xi, h, q, v, z, stick, slipdir, out_q, out_v, out_tr, out_te):
+def _run_gms(temp, load, delta_s, kappa, t_lo, t_hi, rip_a, rip_p, rip_c, k_el, alpha, cc, jj,
+             mgl, kext, tau, tau_ext_in, xi, h, q, v, z, stick, slipdir,
+             out_q, out_v, out_tr, out_te):
     nb, nt = tau.shape
     for b in range(nb):
         for k in range(nt):
-            te = _ext(tau_ext_in[b, k], kext[b], mgl[b], q[b])
-            fc, fs, fv, vs, dv = curve_params(temp, load, t_lo, t_hi, b, xi[b, k], abs(te))
+            te, rip, fc, fs, fv, vs, dv = _inputs(temp, load, t_lo, t_hi, kext, mgl, rip_a, rip_p,
+                                                  rip_c, b, q[b], tau_ext_in[b, k], xi[b, k])
             q[b], v[b], tr = gms_joint_step(
                 q[b], v[b], z[b], stick[b], slipdir[b], k_el[b], alpha[b], cc[b],
-                tau[b, k] - te, jj[b], fc, fs, fv, vs, dv, delta_s[b], kappa[b], h)
+                tau[b, k] - te - rip, jj[b], fc, fs, fv, vs, dv, delta_s[b], kappa[b], h)
             out_q[b, k] = q[b]
             out_v[b, k] = v[b]
-            out_tr[b, k] = tr
+            out_tr[b, k] = tr + rip
             out_te[b, k] = te
 
 
 @njit
-def _run_static(temp, load, delta_s, kappa, t_lo, t_hi, jj, mgl, kext,
+def _run_static(temp, load, delta_s, kappa, t_lo, t_hi, rip_a, rip_p, rip_c, jj, mgl, kext,
                 tau, tau_ext_in, xi, h, q, v, out_q, out_v, out_tr, out_te):
     nb, nt = tau.shape
     for b in range(nb):
         for k in range(nt):
-            te = _ext(tau_ext_in[b, k], kext[b], mgl[b], q[b])
-            fc, fs, fv, vs, dv = curve_params(temp, load, t_lo, t_hi, b, xi[b, k], abs(te))
-            q[b], v[b], tr = static_joint_step(q[b], v[b], tau[b, k] - te, jj[b],
+            te, rip, fc, fs, fv, vs, dv = _inputs(temp, load, t_lo, t_hi, kext, mgl, rip_a, rip_p,
+                                                  rip_c, b, q[b], tau_ext_in[b, k], xi[b, k])
+            q[b], v[b], tr = static_joint_step(q[b], v[b], tau[b, k] - te - rip, jj[b],
                                                fc, fs, fv, vs, dv, delta_s[b], kappa[b], h)
             out_q[b, k] = q[b]
             out_v[b, k] = v[b]
-            out_tr[b, k] = tr
+            out_tr[b, k] = tr + rip
             out_te[b, k] = te
+
+
+def pack_ripple(flist):
+    """Ripple amplitudes/phases (B, n) and fundamentals (B,) (zeros where absent)."""
+    n = max([len(f.position_ripple.amplitude) for f in flist if f.position_ripple] + [1])
+    amp = np.zeros((len(flist), n))
+    phase = np.zeros((len(flist), n))
+    cyc = np.zeros(len(flist))
+    for b, f in enumerate(flist):
+        r = f.position_ripple
+        if r is not None:
+            amp[b, :len(r.amplitude)] = r.amplitude
+            phase[b, :len(r.phase)] = r.phase
+            cyc[b] = r.cycles_per_rev
+    return amp, phase, cyc
 
 
 class JointTrajectory:
@@ -325,6 +347,7 @@ class Joint:
         self.model = models.pop()
         flist = [g.friction for g in glist]
         self.packed = pack_static(flist)
+        self.ripple = pack_ripple(flist)
         n = len(glist)
         self.inertia = np.broadcast_to(
             np.asarray([g.inertia for g in glist] if inertia is None else inertia, float), (n,)).copy()
@@ -345,6 +368,7 @@ class Joint:
 
     def reset(self, q=0.0, qd=0.0):
         """Joint at (q, qd) with relaxed friction state."""
+        self._step_args = None
         n = self.batch
         self.q = np.broadcast_to(np.asarray(q, float), (n,)).copy()
         self.qd = np.broadcast_to(np.asarray(qd, float), (n,)).copy()
@@ -380,7 +404,7 @@ class Joint:
             if not np.all(np.isfinite(arr)):
                 raise ValueError(f'{name} contains NaN or inf')
         outs = [np.empty_like(tau) for _ in range(4)]
-        p = self.packed.args()
+        p = self.packed.args() + self.ripple
         h = float(dt)
         if self.model == 'lugre':
             _run_lugre(*p, self.sigma0, self.sigma1, self.inertia, self.mgl, self.k_ext,
@@ -395,3 +419,35 @@ class Joint:
         if self.single:
             outs = [o[0] for o in outs]
         return JointTrajectory(t, *outs)
+
+    def step(self, tau, dt, xi, tau_ext=0.0):
+        """Advance a single gear by one step; low-overhead path for real-time loops.
+
+        Returns
+        -------
+        (q, qd, tau_r, tau_ext) : floats at the end of the step
+        """
+        if self.batch != 1:
+            raise ValueError('step() is for a single gear; use simulate() for a batch')
+        if self._step_args is None or self._step_dt != dt:
+            self._inp = np.zeros((3, 1, 1))
+            self._out = np.zeros((4, 1, 1))
+            p = self.packed.args() + self.ripple
+            if self.model == 'lugre':
+                state, pars = (self.q, self.qd, self.z), (self.sigma0, self.sigma1)
+            elif self.model == 'gms':
+                state = (self.q, self.qd, self.z, self.stick, self.slipdir)
+                pars = (self.k_el, self.alpha, self.c)
+            else:
+                state, pars = (self.q, self.qd), ()
+            self._step_args = (p + pars + (self.inertia, self.mgl, self.k_ext,
+                               self._inp[0], self._inp[1], self._inp[2], float(dt)) + state
+                               + tuple(self._out))
+            self._step_fn = {'lugre': _run_lugre, 'gms': _run_gms, 'static': _run_static}[self.model]
+            self._step_dt = dt
+        self._inp[0, 0, 0] = tau
+        self._inp[1, 0, 0] = tau_ext
+        self._inp[2, 0, 0] = xi
+        self._step_fn(*self._step_args)
+        o = self._out
+        return o[0, 0, 0], o[1, 0, 0], o[2, 0, 0], o[3, 0, 0]

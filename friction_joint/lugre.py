@@ -94,6 +94,7 @@ class LuGre:
         self.sigma0 = np.array([f.lugre.sigma0 for f in flist])
         self.sigma1 = np.array([f.lugre.sigma1 for f in flist])
         self.z = np.zeros(len(flist))
+        self._buf = np.zeros((4, 1, 1))
 
     @property
     def batch(self):
@@ -138,8 +139,16 @@ class LuGre:
         return tau[0] if self.single else tau
 
     def step(self, qd, xi, tau_l, dt):
-        """Advance one sample; returns the friction torque (scalar or (B,))."""
-        tau = self.simulate(np.reshape(qd, (-1, 1)) if np.ndim(qd) else qd,
-                            np.reshape(xi, (-1, 1)) if np.ndim(xi) else xi,
-                            np.reshape(tau_l, (-1, 1)) if np.ndim(tau_l) else tau_l, dt)
-        return float(tau[0]) if self.single else tau[:, 0]
+        """Advance one sample; returns the friction torque (float, or (B,) for a batch)."""
+        if not self.single:
+            tau = self.simulate(np.reshape(qd, (-1, 1)) if np.ndim(qd) else qd,
+                                np.reshape(xi, (-1, 1)) if np.ndim(xi) else xi,
+                                np.reshape(tau_l, (-1, 1)) if np.ndim(tau_l) else tau_l, dt)
+            return tau[:, 0]
+        buf = self._buf
+        buf[0, 0, 0] = qd
+        buf[1, 0, 0] = xi
+        buf[2, 0, 0] = abs(tau_l)
+        _lugre_run(*self.packed.args(), self.sigma0, self.sigma1, buf[0], buf[1], buf[2],
+                   float(dt), self.z, buf[3])
+        return float(buf[3, 0, 0])

@@ -1,0 +1,124 @@
+"""Sensor models of the simulated test bed.
+
+* output encoder: quantisation to 2 pi / 2^bits (25 bit as in the paper);
+* velocity: backward difference of the encoder position, low-pass filtered
+  by a 2nd-order Butterworth filter (what a drive does), designed with scipy;
+* applied torque: commanded torque through the current loop (first-order lag
+  at its bandwidth) plus current ripple noise; the measured effort adds
+  current-measurement noise;
+* housing temperature: first-order sensor lag, sampled at its own rate,
+  quantised to 0.0625 degC (MCP9808);
+* output torque sensor: true link torque plus noise.
+"""
+import math
+
+import numpy as np
+from scipy import signal
+
+__all__ = ['StreamingSOS', 'Encoder', 'VelocityEstimator', 'CurrentLoop',
+           'TemperatureSensor', 'quantize']
+
+
+def quantize(x, step):
+    """Round to the nearest multiple of ``step``."""
+    return np.round(np.asarray(x) / step) * step
+
+
+class StreamingSOS:
+    """Apply a scipy second-order-sections filter one sample at a time.
+
+    Same result as ``scipy.signal.sosfilt`` (transposed direct form II), at a
+    per-sample cost small enough for a 3 kHz loop.
+    """
+
+    def __init__(self, sos):
+        self.sos = np.asarray(sos, dtype=float)
+        self._coef = [tuple(float(c) for c in row) for row in self.sos]
+        self.reset()
+
+    def reset(self, x0=0.0):
+        """Start in the steady state of a constant input x0."""
+        zi = signal.sosfilt_zi(self.sos) * x0
+        self._z = [[float(a), float(b)] for a, b in zi]
+
+    def __call__(self, x):
+        for (b0, b1, b2, _, a1, a2), z in zip(self._coef, self._z):
+            y = b0 * x + z[0]
+            z[0] = b1 * x - a1 * y + z[1]
+            z[1] = b2 * x - a2 * y
+            x = y
+        return x
+
+
+class Encoder:
+    """Absolute encoder with 2^bits counts per revolution."""
+
+    def __init__(self, bits):
+        self.resolution = 2.0 * math.pi / 2 ** int(bits)
+
+    def __call__(self, q):
+        return round(q / self.resolution) * self.resolution
+
+
+class VelocityEstimator:
+    """Backward difference of the encoder position, 2nd-order Butterworth low-pass."""
+
+    def __init__(self, cutoff_hz, rate_hz):
+        if not 0 < cutoff_hz < rate_hz / 2:
+            raise ValueError(f'velocity cut-off {cutoff_hz} Hz must be below Nyquist ({rate_hz / 2} Hz)')
+        self.filter = StreamingSOS(signal.butter(2, cutoff_hz, fs=rate_hz, output='sos'))
+        self.rate = float(rate_hz)
+        self.q_prev = None
+
+    def reset(self, q, qd=0.0):
+        self.q_prev = q
+        self.filter.reset(qd)
+
+    def __call__(self, q_meas):
+        if self.q_prev is None:
+            self.reset(q_meas)
+        v = (q_meas - self.q_prev) * self.rate
+        self.q_prev = q_meas
+        return self.filter(v)
+
+
+class CurrentLoop:
+    """Torque actually applied: first-order lag of the command plus noise."""
+
+    def __init__(self, bandwidth_hz, rate_hz, noise, rng):
+        self.a = math.exp(-2.0 * math.pi * bandwidth_hz / rate_hz)
+        self.noise = float(noise)
+        self.rng = rng
+        self.tau = 0.0
+
+    def __call__(self, tau_cmd):
+        self.tau = self.a * self.tau + (1.0 - self.a) * tau_cmd
+        return self.tau + (self.noise * self.rng.standard_normal() if self.noise else 0.0)
+
+
+class TemperatureSensor:
+    """Housing temperature sensor: lag, sample-and-hold at its rate, quantisation."""
+
+    def __init__(self, time_constant, resolution, rate_hz, noise, sim_rate_hz, rng, xi0):
+        self.a = math.exp(-1.0 / (time_constant * sim_rate_hz))
+        self.resolution = resolution
+        self.every = max(1, int(round(sim_rate_hz / rate_hz)))
+        self.noise = noise
+        self.rng = rng
+        self.state = xi0
+        self.count = 0
+        self.value = self._sample()
+
+    def _sample(self):
+        x = self.state + (self.noise * self.rng.standard_normal() if self.noise else 0.0)
+        return round(x / self.resolution) * self.resolution
+
+    def __call__(self, xi):
+        """Advance one simulation step; returns (value, new_sample_taken)."""
+        self.state = self.a * self.state + (1.0 - self.a) * xi
+        self.count += 1
+        if self.count >= self.every:
+            self.count = 0
+            self.value = self._sample()
+            return self.value, True
+        return self.value, False
