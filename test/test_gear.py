@@ -125,4 +125,4 @@ def test_round_trip_and_flat_names(tmp_path):
             'friction.model': 'lugre', 'friction.lugre.sigma0': 1e4}
     assert gear_from_flat(flat).friction.lugre.sigma0 == 1e4
     g3 = g.replace({'friction': {'fc_load': [0.05]}})
-    assert g3.friction.fc_load == (0.05,) and g.friction.fc_load == ()
+    assert g3.friction.fc_load == (0.05,) and g.friction.fc_load == (0.018,)
