@@ -218,7 +218,12 @@ def gms_joint_step(q, v, z, stick, slipdir, k, alpha, cc, f, jj,
 
 @njit
 def static_joint_step(q, v, f, jj, fc, fs, fv, vs, dv, ds, kap, h):
-    """One step of joint + static friction with a Karnopp stick zone."""
+    """One step of joint + static friction with a Karnopp stick zone.
+
+    When the velocity would reach zero inside the step the joint sticks if the
+    net torque is within the break-away torque F_s, and otherwise moves on in
+    the direction of the net torque for the rest of the step.
+    """
     if v == 0.0:
         if abs(f) <= fs:
             return q, 0.0, f
@@ -228,13 +233,21 @@ def static_joint_step(q, v, f, jj, fc, fs, fv, vs, dv, ds, kap, h):
     vn = v + h * (f - fr) / jj
     if sign(vn) != sign(v):
         t0 = h * v / (v - vn)
-        return q + 0.5 * t0 * v, 0.0, f - jj * (0.0 - v) / h
+        if abs(f) <= fs:
+            return q + 0.5 * t0 * v, 0.0, f - jj * (0.0 - v) / h
+        vn = (h - t0) * (f - sign(f) * fs) / jj
+        return q + 0.5 * t0 * v + 0.5 * (h - t0) * vn, vn, f - jj * (vn - v) / h
     return q + 0.5 * h * (v + vn), vn, fr
 
 
 @njit
 def _inputs(temp, load, t_lo, t_hi, kext, mgl, rip_a, rip_p, rip_c, b, q, te_in, xi):
-    """External torque, ripple torque and curve parameters for set b at position q."""
+    """External torque, ripple torque and curve parameters for set b at position q.
+
+    Called with the half-step position q + h qd / 2: together with the
+    trapezoidal position update this makes the position-dependent torques
+    a position-Verlet (symplectic, second-order) scheme.
+    """
     te = te_in + kext[b] * q + mgl[b] * math.sin(q)
     rip = 0.0
     for n in range(rip_a.shape[1]):
@@ -250,7 +263,8 @@ def _run_lugre(temp, load, delta_s, kappa, t_lo, t_hi, rip_a, rip_p, rip_c, sg0,
     for b in range(nb):
         for k in range(nt):
             te, rip, fc, fs, fv, vs, dv = _inputs(temp, load, t_lo, t_hi, kext, mgl, rip_a, rip_p,
-                                                  rip_c, b, q[b], tau_ext_in[b, k], xi[b, k])
+                                                  rip_c, b, q[b] + 0.5 * h * v[b],
+                                                  tau_ext_in[b, k], xi[b, k])
             q[b], v[b], z[b], tr = lugre_joint_step(
                 q[b], v[b], z[b], tau[b, k] - te - rip, jj[b], sg0[b], sg1[b],
                 fc, fs, fv, vs, dv, delta_s[b], kappa[b], h)
@@ -268,7 +282,8 @@ def _run_gms(temp, load, delta_s, kappa, t_lo, t_hi, rip_a, rip_p, rip_c, k_el, 
     for b in range(nb):
         for k in range(nt):
             te, rip, fc, fs, fv, vs, dv = _inputs(temp, load, t_lo, t_hi, kext, mgl, rip_a, rip_p,
-                                                  rip_c, b, q[b], tau_ext_in[b, k], xi[b, k])
+                                                  rip_c, b, q[b] + 0.5 * h * v[b],
+                                                  tau_ext_in[b, k], xi[b, k])
             q[b], v[b], tr = gms_joint_step(
                 q[b], v[b], z[b], stick[b], slipdir[b], k_el[b], alpha[b], cc[b],
                 tau[b, k] - te - rip, jj[b], fc, fs, fv, vs, dv, delta_s[b], kappa[b], h)
@@ -285,7 +300,8 @@ def _run_static(temp, load, delta_s, kappa, t_lo, t_hi, rip_a, rip_p, rip_c, jj,
     for b in range(nb):
         for k in range(nt):
             te, rip, fc, fs, fv, vs, dv = _inputs(temp, load, t_lo, t_hi, kext, mgl, rip_a, rip_p,
-                                                  rip_c, b, q[b], tau_ext_in[b, k], xi[b, k])
+                                                  rip_c, b, q[b] + 0.5 * h * v[b],
+                                                  tau_ext_in[b, k], xi[b, k])
             q[b], v[b], tr = static_joint_step(q[b], v[b], tau[b, k] - te - rip, jj[b],
                                                fc, fs, fv, vs, dv, delta_s[b], kappa[b], h)
             out_q[b, k] = q[b]
