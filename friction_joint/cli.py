@@ -14,7 +14,7 @@ from .exceptions import FrictionJointError
 __all__ = ['main']
 
 #: subcommand modules, in the order ``--help`` lists them
-SUBCOMMANDS = ('friction_joint.classic',)
+SUBCOMMANDS = ('friction_joint.classic', 'friction_joint.experiments', 'friction_joint.demo')
 
 
 def build_parser():
