@@ -1,0 +1,247 @@
+"""Shared pieces of the nodes: gear parameters from ROS parameters, message helpers."""
+import array
+import math
+
+from rcl_interfaces.msg import ParameterDescriptor, SetParametersResult
+from rclpy.parameter import Parameter
+
+from ..exceptions import GearConfigError
+from ..gear import SCHEMA, Section, gear_from_flat
+
+__all__ = ['gear_keys', 'declare_gear', 'declare_node_params', 'stamp_to_ns', 'ns_to_stamp',
+           'joint_index', 'finite', 'StampPairing']
+
+
+def gear_keys(schema=SCHEMA, prefix=''):
+    """Dotted names of every leaf key of the gear schema."""
+    out = []
+    for key, spec in schema.items():
+        if isinstance(spec, Section):
+            out += gear_keys(spec.fields, prefix + key + '.')
+        else:
+            out.append(prefix + key)
+    return out
+
+
+def _plain(value):
+    if isinstance(value, (array.array, tuple)):
+        return list(value)
+    return value
+
+
+def declare_gear(node, own=()):
+    """Declare every gear key (dynamically typed) and build the GearParams.
+
+    Parameters come from ``--params-file`` (the gear file) and ``-p``
+    overrides.  Empty lists in a file arrive unset and count as absent (the
+    same meaning).  Any override that is neither a gear key nor one of the
+    node's own parameters ``own`` is an error, as unknown keys are in a gear
+    file.
+
+    Raises
+    ------
+    GearConfigError
+    """
+    desc = ParameterDescriptor(dynamic_typing=True)
+    keys = gear_keys()
+    flat = {}
+    for name in keys:
+        p = node.declare_parameter(name, None, desc)
+        if p.type_ != Parameter.Type.NOT_SET:
+            flat[name] = _plain(p.value)
+    overrides = set(getattr(node, '_parameter_overrides', {}))
+    unknown = sorted(overrides - set(keys) - set(own) - {'use_sim_time'})
+    if unknown:
+        raise GearConfigError(f'unknown parameter {unknown[0]}' +
+                              (f' (and {len(unknown) - 1} more)' if len(unknown) > 1 else '') +
+                              ' for this node; gear keys and the node parameters '
+                              f'{", ".join(sorted(own))} are accepted')
+    return gear_from_flat(flat, source=f'parameters of {node.get_name()}')
+
+
+def declare_node_params(node, defaults, validators=None):
+    """Declare the node's own parameters; returns {name: value}.
+
+    ``defaults`` maps names to default values (their type is the parameter's
+    type; ints are accepted where a float is expected).  ``validators`` maps
+    names to ``f(value) -> error message or None``.
+    """
+    validators = validators or {}
+    values = {}
+    for name, default in defaults.items():
+        desc = ParameterDescriptor(dynamic_typing=True)
+        value = _plain(node.declare_parameter(name, default, desc).value)
+        if isinstance(default, float) and isinstance(value, int) and not isinstance(value, bool):
+            value = float(value)
+        err = _check(name, value, default, validators)
+        if err:
+            raise GearConfigError(f'parameter {name}: {err}')
+        values[name] = value
+    return values
+
+
+def _check(name, value, default, validators):
+    if isinstance(default, bool) != isinstance(value, bool):
+        return f'expected {type(default).__name__}, got {value!r}'
+    if isinstance(default, float):
+        if isinstance(value, bool) or not isinstance(value, (int, float)):
+            return f'expected a number, got {value!r}'
+        if not math.isfinite(value):
+            return f'must be finite, got {value}'
+    elif isinstance(default, str) and not isinstance(value, str):
+        return f'expected a string, got {value!r}'
+    v = validators.get(name)
+    return v(value) if v else None
+
+
+def parameter_guard(node, defaults, validators, apply):
+    """Install a set-parameters callback validating the node's own parameters.
+
+    A bad value is rejected with a reason and the node keeps running; good
+    values are handed to ``apply(name, value)`` after acceptance.
+    """
+    def callback(params):
+        for p in params:
+            if p.name not in defaults:
+                return SetParametersResult(successful=False,
+                                           reason=f'{p.name} cannot be changed at run time')
+            value = _plain(p.value)
+            if isinstance(defaults[p.name], float) and isinstance(value, int) and not isinstance(value, bool):
+                value = float(value)
+            err = _check(p.name, value, defaults[p.name], validators)
+            if err:
+                node.get_logger().warn(f'rejected {p.name}={value!r}: {err}')
+                return SetParametersResult(successful=False, reason=f'{p.name}: {err}')
+        for p in params:
+            value = _plain(p.value)
+            if isinstance(defaults[p.name], float) and isinstance(value, int):
+                value = float(value)
+            apply(p.name, value)
+        return SetParametersResult(successful=True)
+    node.add_on_set_parameters_callback(callback)
+
+
+def stamp_to_ns(stamp):
+    return stamp.sec * 1_000_000_000 + stamp.nanosec
+
+
+def ns_to_stamp(ns, stamp):
+    """Fill a builtin_interfaces/Time from integer nanoseconds."""
+    stamp.sec, stamp.nanosec = divmod(int(ns), 1_000_000_000)
+    return stamp
+
+
+def joint_index(msg, joint):
+    """Index of ``joint`` in a JointState's name list, or None."""
+    try:
+        return list(msg.name).index(joint)
+    except ValueError:
+        return None
+
+
+def finite(*values):
+    return all(math.isfinite(v) for v in values)
+
+
+class StampPairing:
+    """Pair joint states with the temperature sample of the same stamp (lockstep).
+
+    In ``sync`` mode a state is processed only once the temperature with its
+    stamp has arrived (the simulator publishes one with every state), which
+    makes processing independent of the order in which the two topics are
+    delivered.  Otherwise the latest temperature is used.
+    """
+
+    def __init__(self, sync, max_pending=10000):
+        self.sync = sync
+        self.temps = {}
+        self.latest = None
+        self.pending = {}
+        self.max_pending = max_pending
+
+    def temperature(self, ns, xi):
+        """Record a temperature; returns states now ready [(ns, payload)]."""
+        self.latest = xi
+        if not self.sync:
+            return []
+        self.temps[ns] = xi
+        ready = []
+        if ns in self.pending:
+            ready.append((ns, self.pending.pop(ns), xi))
+        self._trim()
+        return ready
+
+    def state(self, ns, payload):
+        """Offer a state; returns [(ns, payload, xi)] ready to process."""
+        if not self.sync:
+            return [] if self.latest is None else [(ns, payload, self.latest)]
+        if ns in self.temps:
+            return [(ns, payload, self.temps.pop(ns))]
+        self.pending[ns] = payload
+        self._trim()
+        return []
+
+    def _trim(self):
+        for d in (self.temps, self.pending):
+            while len(d) > self.max_pending:
+                d.pop(next(iter(d)))
+
+
+def _spin(node):
+    """Spin with the events executor where available (much less overhead per message).
+
+    Its ``spin()`` does not return on shutdown from another thread on these
+    wheels, so it is driven by ``spin_once`` in a loop.
+    """
+    import os
+
+    import rclpy
+    try:
+        from rclpy.experimental import EventsExecutor
+    except ImportError:  # pragma: no cover - older rclpy
+        EventsExecutor = None
+    if EventsExecutor is None or os.environ.get('FRICTION_JOINT_EXECUTOR') == 'single':
+        rclpy.spin(node)
+        return
+    ex = EventsExecutor(context=node.context)
+    ex.add_node(node)
+    try:
+        while rclpy.ok(context=node.context):
+            ex.spin_once(timeout_sec=0.1)
+    finally:
+        ex.remove_node(node)
+        ex.shutdown()
+
+
+def run_node(factory, name, args=None):
+    """``main()`` body of a node: init, spin, quiet end on Ctrl-C / external shutdown.
+
+    Bad parameters (:class:`~friction_joint.exceptions.FrictionJointError`)
+    end with a one-line error naming the problem and exit status 2.  A node
+    may end itself by raising ``SystemExit(0)`` from a callback.
+    """
+    import sys
+
+    import rclpy
+    from rclpy.executors import ExternalShutdownException
+
+    from ..exceptions import FrictionJointError
+
+    rclpy.init(args=args)
+    node = None
+    status = 0
+    try:
+        node = factory()
+        _spin(node)
+    except FrictionJointError as exc:
+        print(f'{name}: error: {exc}', file=sys.stderr)
+        status = 2
+    except (KeyboardInterrupt, ExternalShutdownException):
+        pass
+    except SystemExit as exc:
+        status = exc.code or 0
+    finally:
+        if node is not None:
+            node.destroy_node()
+        rclpy.try_shutdown()
+    return status

@@ -1,0 +1,133 @@
+"""``controller``: the joint controller of eq. 17 as a ROS 2 node.
+
+    ros2 run friction_joint controller --ros-args --params-file config/csd25.yaml \
+        -p friction_ff:=lugre -p amplitude:=0.4
+
+Subscribes ``/joint_states`` and ``/joint_temperature``, publishes
+``/joint_command`` (effort = commanded torque, position/velocity = q_d, qd_d)
+with the stamp of the state it answers.  The reference is
+q_d = offset + amplitude sin(omega t), t from the first state's stamp.
+Gains come from ``rise_time`` and ``overshoot`` (:func:`~friction_joint.control.pd_gains`).
+
+Run-time parameters (validated; a bad value is rejected with a reason and
+the node keeps running): ``friction_ff`` (none | static | lugre | gms),
+``ff_velocity`` (measured | desired), ``amplitude``, ``omega``, ``offset``.
+``sync`` (default true) pairs each state with the temperature sample of the
+same stamp (see :class:`~friction_joint.nodes.common.StampPairing`);
+``rate`` is the control rate (default ``simulation.rate``).
+"""
+import sys
+
+from rclpy.node import Node
+from rclpy.qos import QoSProfile, ReliabilityPolicy
+from sensor_msgs.msg import JointState, Temperature
+
+from ..control import Controller, SineTrajectory, pd_gains
+from ..friction import FRICTION_KINDS
+from .common import (StampPairing, declare_gear, declare_node_params, finite, joint_index,
+                     parameter_guard, run_node, stamp_to_ns)
+
+__all__ = ['ControllerNode', 'main']
+
+DEFAULTS = {'friction_ff': 'lugre', 'ff_velocity': 'measured', 'amplitude': 0.4, 'omega': 1.5,
+            'offset': 0.0, 'rise_time': 0.04, 'overshoot': 0.06, 'rate': 0.0, 'sync': True}
+RUNTIME = ('friction_ff', 'ff_velocity', 'amplitude', 'omega', 'offset')
+VALIDATORS = {
+    'friction_ff': lambda v: None if v in FRICTION_KINDS else f'must be one of {", ".join(FRICTION_KINDS)}',
+    'ff_velocity': lambda v: None if v in ('measured', 'desired') else "must be 'measured' or 'desired'",
+    'amplitude': lambda v: None if abs(v) <= 3.2 else 'must be within +-3.2 rad',
+    'omega': lambda v: None if 0 <= v <= 100 else 'must be in [0, 100] rad/s',
+    'offset': lambda v: None if abs(v) <= 3.2 else 'must be within +-3.2 rad',
+    'rise_time': lambda v: None if v > 0 else 'must be > 0',
+    'overshoot': lambda v: None if 0 < v < 1 else 'must be in (0, 1)',
+    'rate': lambda v: None if v >= 0 else 'must be >= 0 (0: simulation.rate)',
+}
+
+
+class ControllerNode(Node):
+    """Wires :class:`~friction_joint.control.Controller` to topics."""
+
+    def __init__(self):
+        super().__init__('controller')
+        self.p = declare_node_params(self, DEFAULTS, VALIDATORS)
+        self.gear = declare_gear(self, own=list(DEFAULTS))
+        self.joint = self.gear.joint_name
+        rate = self.p['rate'] or self.gear.section('simulation')['rate']
+        self.kp, self.kd = pd_gains(self.gear.inertia, self.p['rise_time'], self.p['overshoot'])
+        self.dt = 1.0 / rate
+        self.ctrl = Controller(self.gear, self.kp, self.kd, self.p['friction_ff'], self.dt,
+                               self.p['ff_velocity'])
+        self.traj = SineTrajectory(self.p['amplitude'], self.p['omega'], self.p['offset'])
+        self.pair = StampPairing(self.p['sync'])
+        self.t0 = None
+        self.last_ns = None
+        self.last_cmd = None
+        self.rejected = 0
+        qos = QoSProfile(depth=100, reliability=ReliabilityPolicy.RELIABLE)
+        self.pub = self.create_publisher(JointState, '/joint_command', qos)
+        self.create_subscription(JointState, '/joint_states', self.on_state, qos)
+        self.create_subscription(Temperature, '/joint_temperature', self.on_temperature, qos)
+        parameter_guard(self, {k: DEFAULTS[k] for k in RUNTIME}, VALIDATORS, self.apply)
+        self.get_logger().info(f'eq. 17 controller for {self.joint}: kp {self.kp:.1f} Nm/rad, '
+                               f'kd {self.kd:.2f} Nm s/rad, friction feed-forward {self.p["friction_ff"]}')
+
+    def apply(self, name, value):
+        self.p[name] = value
+        if name in ('friction_ff', 'ff_velocity'):
+            self.ctrl = Controller(self.gear, self.kp, self.kd, self.p['friction_ff'], self.dt,
+                                   self.p['ff_velocity'])
+        else:
+            self.traj = SineTrajectory(self.p['amplitude'], self.p['omega'], self.p['offset'])
+        self.get_logger().info(f'{name} set to {value!r}')
+
+    def _reject(self, what):
+        self.rejected += 1
+        if self.rejected <= 10 or self.rejected % 1000 == 0:
+            self.get_logger().warn(f'ignored {what} (rejected so far: {self.rejected})')
+
+    def on_temperature(self, msg):
+        if not finite(msg.temperature):
+            self._reject('a non-finite temperature')
+            return
+        for item in self.pair.temperature(stamp_to_ns(msg.header.stamp), msg.temperature):
+            self.control(*item)
+
+    def on_state(self, msg):
+        i = joint_index(msg, self.joint)
+        if i is None or i >= min(len(msg.position), len(msg.velocity)):
+            self._reject(f'a joint state without position/velocity for {self.joint}')
+            return
+        q, qd = msg.position[i], msg.velocity[i]
+        if not finite(q, qd):
+            self._reject('a joint state with NaN/inf')
+            return
+        for item in self.pair.state(stamp_to_ns(msg.header.stamp), (q, qd)):
+            self.control(*item)
+
+    def control(self, ns, state, xi):
+        if ns == self.last_ns:                   # the same state again: same answer
+            self.pub.publish(self.last_cmd)
+            return
+        if self.last_ns is not None and ns < self.last_ns:
+            return                               # stale
+        if self.t0 is None:
+            self.t0 = ns
+        q, qd = state
+        q_d, qd_d, qdd_d = self.traj((ns - self.t0) * 1e-9)
+        tau = self.ctrl(q, qd, xi, q_d, qd_d, qdd_d)
+        cmd = JointState()
+        cmd.header.stamp.sec, cmd.header.stamp.nanosec = divmod(ns, 1_000_000_000)
+        cmd.name = [self.joint]
+        cmd.position = [q_d]
+        cmd.velocity = [qd_d]
+        cmd.effort = [tau]
+        self.last_ns, self.last_cmd = ns, cmd
+        self.pub.publish(cmd)
+
+
+def main(args=None):
+    return run_node(ControllerNode, 'controller', args)
+
+
+if __name__ == '__main__':
+    sys.exit(main())

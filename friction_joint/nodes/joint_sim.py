@@ -1,0 +1,181 @@
+"""``joint_sim``: the simulated Harmonic Drive joint (the plant) as a ROS 2 node.
+
+    ros2 run friction_joint joint_sim --ros-args --params-file config/csd25_truth.yaml \
+        -p mode:=lockstep
+
+Publishes ``/joint_states`` (q, qd, effort = applied drive torque),
+``/joint_temperature``, ``/link_torque`` and, in lockstep mode, ``/clock``;
+subscribes ``/joint_command`` (effort = commanded torque) and
+``/contact_torque`` (geometry_msgs/WrenchStamped, torque.z added to tau_ext:
+an injected contact for estimator tests).
+
+Modes (parameter ``mode``):
+
+``realtime``
+    A wall-clock timer at ``publish_rate`` (default 1 kHz) advances the
+    plant by ``simulation.rate / publish_rate`` steps with the latest
+    command held; stamps are ROS time; temperature at ``simulation.temperature_rate``.
+``lockstep``
+    Simulated time.  The node publishes the state of step k (stamp k dt,
+    plus /clock and the temperature sample with the same stamp) and advances
+    only when the command stamped k arrives, so a closed loop across
+    processes is deterministic and independent of machine load.  Until the
+    first command arrives the current state is re-sent every
+    ``resend_period`` s (peers may still be starting).  With
+    ``duration`` > 0 the node stops after that much simulated time and exits.
+
+Own parameters: mode, publish_rate, duration, xi0 (NaN: the gear file's
+thermal.initial), q0, seed (-1: simulation.seed), friction_model ('' : the
+gear file's friction.model), resend_period.
+"""
+import math
+import sys
+
+from geometry_msgs.msg import WrenchStamped
+from rclpy.node import Node
+from rclpy.qos import QoSProfile, ReliabilityPolicy
+from rosgraph_msgs.msg import Clock
+from sensor_msgs.msg import JointState, Temperature
+
+from ..plant import Plant
+from .common import (declare_gear, declare_node_params, finite, joint_index, ns_to_stamp, run_node,
+                     stamp_to_ns)
+
+__all__ = ['JointSimNode', 'main']
+
+DEFAULTS = {'mode': 'realtime', 'publish_rate': 1000.0, 'duration': 0.0, 'xi0': float('nan'),
+            'q0': 0.0, 'seed': -1, 'friction_model': '', 'resend_period': 0.2}
+VALIDATORS = {
+    'mode': lambda v: None if v in ('realtime', 'lockstep') else "must be 'realtime' or 'lockstep'",
+    'publish_rate': lambda v: None if v > 0 else 'must be > 0',
+    'duration': lambda v: None if v >= 0 else 'must be >= 0',
+    'friction_model': lambda v: None if v in ('', 'static', 'lugre', 'gms') else 'must be static, lugre or gms',
+    'resend_period': lambda v: None if v > 0 else 'must be > 0',
+}
+
+
+class JointSimNode(Node):
+    """Wires the :class:`~friction_joint.plant.Plant` to topics and a timer."""
+
+    def __init__(self):
+        super().__init__('joint_sim')
+        own = {k: v for k, v in DEFAULTS.items() if k != 'xi0'}
+        self.p = declare_node_params(self, own, VALIDATORS)
+        xi0 = self.declare_parameter('xi0', float('nan')).value
+        self.gear = declare_gear(self, own=list(DEFAULTS))
+        self.plant = Plant(self.gear, model=self.p['friction_model'] or None,
+                           xi0=None if math.isnan(xi0) else xi0,
+                           seed=None if self.p['seed'] < 0 else self.p['seed'], q0=self.p['q0'])
+        self.joint = self.gear.joint_name
+        self.lockstep = self.p['mode'] == 'lockstep'
+        self.dt_ns = round(1e9 / self.plant.rate)
+        self.tau_cmd = 0.0
+        self.contact = 0.0
+        self.rejected = 0
+        self.done = False
+        self.n_end = int(round(self.p['duration'] * self.plant.rate)) if self.p['duration'] > 0 else 0
+        qos = QoSProfile(depth=100, reliability=ReliabilityPolicy.RELIABLE)
+        self.pub_state = self.create_publisher(JointState, '/joint_states', qos)
+        self.pub_temp = self.create_publisher(Temperature, '/joint_temperature', qos)
+        self.pub_link = self.create_publisher(WrenchStamped, '/link_torque', qos)
+        self.pub_clock = self.create_publisher(Clock, '/clock', 10) if self.lockstep else None
+        self.create_subscription(JointState, '/joint_command', self.on_command, qos)
+        self.create_subscription(WrenchStamped, '/contact_torque', self.on_contact, qos)
+        if self.lockstep:
+            self.started = False
+            self.publish(self.plant.last, temperature=True)
+            self.resend = self.create_timer(self.p['resend_period'], self.on_resend)
+        else:
+            self.per_tick = max(1, int(round(self.plant.rate / self.p['publish_rate'])))
+            self.temp_every = max(1, int(round(self.p['publish_rate'] /
+                                               self.gear.section('simulation')['temperature_rate'])))
+            self.ticks = 0
+            self.timer = self.create_timer(1.0 / self.p['publish_rate'], self.on_tick)
+        self.get_logger().info(
+            f'{self.p["mode"]} simulation of {self.joint} ({self.plant.joint.model} friction, '
+            f'{self.plant.rate:g} Hz, xi0 {self.plant.thermal.xi:.2f} degC)')
+
+    # ---------------------------------------------------------------- input
+    def _reject(self, what):
+        self.rejected += 1
+        if self.rejected <= 10 or self.rejected % 1000 == 0:
+            self.get_logger().warn(f'ignored {what} (rejected so far: {self.rejected})')
+
+    def on_command(self, msg):
+        i = joint_index(msg, self.joint)
+        if i is None or i >= len(msg.effort) or not finite(msg.effort[i]):
+            self._reject('a /joint_command without a finite effort for ' + self.joint)
+            return
+        self.tau_cmd = float(msg.effort[i])
+        if self.lockstep and not self.done:
+            if stamp_to_ns(msg.header.stamp) != self.plant.k * self.dt_ns:
+                return                          # a stale or duplicate command
+            self.started = True
+            self.advance()
+
+    def on_contact(self, msg):
+        tz = msg.wrench.torque.z
+        if not finite(tz):
+            self._reject('a non-finite /contact_torque')
+            return
+        self.contact = float(tz)
+
+    # ---------------------------------------------------------------- output
+    def publish(self, s, temperature):
+        ns = self.plant.k * self.dt_ns if self.lockstep else self.get_clock().now().nanoseconds
+        if self.pub_clock is not None:
+            c = Clock()
+            ns_to_stamp(ns, c.clock)
+            self.pub_clock.publish(c)
+        if temperature:
+            t = Temperature()
+            ns_to_stamp(ns, t.header.stamp)
+            t.header.frame_id = self.joint
+            t.temperature = s.xi
+            t.variance = self.gear.section('sensors')['temperature_resolution'] ** 2 / 12.0
+            self.pub_temp.publish(t)
+        w = WrenchStamped()
+        ns_to_stamp(ns, w.header.stamp)
+        w.header.frame_id = self.joint
+        w.wrench.torque.z = s.tau_link
+        self.pub_link.publish(w)
+        js = JointState()
+        ns_to_stamp(ns, js.header.stamp)
+        js.name = [self.joint]
+        js.position = [s.q]
+        js.velocity = [s.qd]
+        js.effort = [s.effort]
+        self.pub_state.publish(js)
+
+    # ---------------------------------------------------------------- stepping
+    def advance(self):
+        s = self.plant.step(self.tau_cmd, self.contact)
+        if self.n_end and self.plant.k >= self.n_end:
+            self.done = True
+        self.publish(s, temperature=True)
+        if self.done:
+            self.get_logger().info(f'simulated {self.plant.t:.3f} s; done')
+
+    def on_resend(self):
+        if self.done:
+            raise SystemExit(0)
+        if not self.started:
+            self.publish(self.plant.last, temperature=True)
+
+    def on_tick(self):
+        s = None
+        for _ in range(self.per_tick):
+            s = self.plant.step(self.tau_cmd, self.contact)
+        self.ticks += 1
+        self.publish(s, temperature=(self.ticks % self.temp_every == 0))
+        if self.n_end and self.plant.k >= self.n_end:
+            self.done = True
+            raise SystemExit(0)
+
+
+def main(args=None):
+    return run_node(JointSimNode, 'joint_sim', args)
+
+
+if __name__ == '__main__':
+    sys.exit(main())
