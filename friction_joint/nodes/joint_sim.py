@@ -68,7 +68,6 @@ class JointSimNode(Node):
                            seed=None if self.p['seed'] < 0 else self.p['seed'], q0=self.p['q0'])
         self.joint = self.gear.joint_name
         self.lockstep = self.p['mode'] == 'lockstep'
-        self.dt_ns = round(1e9 / self.plant.rate)
         self.tau_cmd = 0.0
         self.contact = 0.0
         self.rejected = 0
@@ -108,7 +107,7 @@ class JointSimNode(Node):
             return
         self.tau_cmd = float(msg.effort[i])
         if self.lockstep and not self.done:
-            if stamp_to_ns(msg.header.stamp) != self.plant.k * self.dt_ns:
+            if stamp_to_ns(msg.header.stamp) != self.stamp_ns(self.plant.k):
                 return                          # a stale or duplicate command
             self.started = True
             self.advance()
@@ -121,8 +120,12 @@ class JointSimNode(Node):
         self.contact = float(tz)
 
     # ---------------------------------------------------------------- output
+    def stamp_ns(self, k):
+        """Simulated time of step k in ns, rounded per step (no drift)."""
+        return round(k * 1e9 / self.plant.rate)
+
     def publish(self, s, temperature):
-        ns = self.plant.k * self.dt_ns if self.lockstep else self.get_clock().now().nanoseconds
+        ns = self.stamp_ns(self.plant.k) if self.lockstep else self.get_clock().now().nanoseconds
         if self.pub_clock is not None:
             c = Clock()
             ns_to_stamp(ns, c.clock)
