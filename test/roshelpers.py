@@ -1,0 +1,208 @@
+"""Helpers for tests that run ROS 2 processes: isolated domains, spawning, teardown.
+
+Isolation (see ``ROS2-NOTES.md``): every test gets its own ``ROS_DOMAIN_ID``
+and ``ROS_AUTOMATIC_DISCOVERY_RANGE=LOCALHOST``; processes start in their own
+session and are always stopped with SIGINT, then their process group is
+killed.  The fixtures in ``conftest.py`` wrap these helpers:
+
+- ``ros_env``: environment dict of a fresh domain (also set in ``os.environ``,
+  so an in-test rclpy node joins the same domain);
+- ``spawn``: ``spawn(cmd)`` starts a process in that environment and stops it
+  at the end of the test;
+- ``ros_node``: an in-test rclpy node (own context) in that domain.
+"""
+import contextlib
+import itertools
+import os
+import signal
+import subprocess
+import sys
+import threading
+import time
+
+__all__ = ['PYTHON', 'domain_id', 'ros_environ', 'Proc', 'spawn', 'TestNode', 'ros_node',
+           'reliable_qos']
+
+#: the interpreter running the tests (the project's venv)
+PYTHON = sys.executable
+
+_counter = itertools.count()
+_FIRST, _COUNT = 10, 220          # domain ids 10..229 (Fast DDS ports stay below 65535)
+
+
+def domain_id():
+    """A ``ROS_DOMAIN_ID`` for one test, from the pid and a counter (10..229).
+
+    Different pytest processes running at the same time start at different ids.
+    """
+    return _FIRST + (os.getpid() * 37 + next(_counter)) % _COUNT
+
+
+def ros_environ(domain=None, base=None):
+    """Environment dict for ROS processes of one test: own domain, localhost discovery."""
+    env = dict(os.environ if base is None else base)
+    env.pop('ROS_LOCALHOST_ONLY', None)
+    env['ROS_DOMAIN_ID'] = str(domain_id() if domain is None else domain)
+    env['ROS_AUTOMATIC_DISCOVERY_RANGE'] = 'LOCALHOST'
+    env['PYTHONUNBUFFERED'] = '1'
+    return env
+
+
+class Proc:
+    """A started process whose stdout and stderr are collected by reader threads.
+
+    Attributes
+    ----------
+    popen : subprocess.Popen
+    stdout, stderr : str
+        Output so far (complete after :meth:`stop` or :meth:`wait`).
+    """
+
+    def __init__(self, cmd, env, cwd=None):
+        self.cmd = [str(c) for c in cmd]
+        self.popen = subprocess.Popen(self.cmd, env=env, cwd=cwd, stdout=subprocess.PIPE,
+                                      stderr=subprocess.PIPE, text=True,
+                                      start_new_session=True)
+        self._out, self._err = [], []
+        self._cond = threading.Condition()
+        self._threads = [threading.Thread(target=self._pump, args=(s, buf), daemon=True)
+                         for s, buf in ((self.popen.stdout, self._out),
+                                        (self.popen.stderr, self._err))]
+        for t in self._threads:
+            t.start()
+
+    def _pump(self, stream, buf):
+        for line in stream:
+            with self._cond:
+                buf.append(line)
+                self._cond.notify_all()
+
+    @property
+    def stdout(self):
+        with self._cond:
+            return ''.join(self._out)
+
+    @property
+    def stderr(self):
+        with self._cond:
+            return ''.join(self._err)
+
+    def wait_for(self, text, timeout=20.0):
+        """Wait until ``text`` appears on stdout or stderr; False on timeout or exit."""
+        t_end = time.monotonic() + timeout
+        with self._cond:
+            while text not in ''.join(self._out) + ''.join(self._err):
+                left = t_end - time.monotonic()
+                if left <= 0 or (self.popen.poll() is not None and
+                                 not any(t.is_alive() for t in self._threads)):
+                    return False
+                self._cond.wait(min(left, 0.1))
+            return True
+
+    def wait(self, timeout=30.0):
+        """Wait for the process to end by itself; returns its exit status."""
+        rc = self.popen.wait(timeout)
+        for t in self._threads:
+            t.join(5)
+        return rc
+
+    def stop(self, timeout=15.0):
+        """SIGINT the process group, wait, then SIGKILL whatever is left; returns the status."""
+        pgid = self.popen.pid                   # own session: group id = pid
+        if self.popen.poll() is None:
+            with contextlib.suppress(ProcessLookupError):
+                os.killpg(pgid, signal.SIGINT)
+            try:
+                self.popen.wait(timeout)
+            except subprocess.TimeoutExpired:
+                pass
+        with contextlib.suppress(ProcessLookupError, PermissionError):
+            os.killpg(pgid, signal.SIGKILL)
+        rc = self.popen.wait(5)
+        for t in self._threads:
+            t.join(5)
+        return rc
+
+    def describe(self):
+        """Command, status and output, for assertion messages."""
+        return (f'$ {" ".join(self.cmd)}\nexit {self.popen.poll()}\n'
+                f'--- stdout\n{self.stdout}--- stderr\n{self.stderr}')
+
+
+@contextlib.contextmanager
+def spawn(cmd, env, cwd=None):
+    """Start ``cmd`` (own session) and always stop it (SIGINT, wait, kill group) at the end."""
+    proc = Proc(cmd, env, cwd)
+    try:
+        yield proc
+    finally:
+        proc.stop()
+
+
+def reliable_qos(depth=1000):
+    """Reliable, volatile, keep-last ``depth`` (the recorder's and replay's QoS)."""
+    from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
+    return QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=depth,
+                      reliability=ReliabilityPolicy.RELIABLE,
+                      durability=DurabilityPolicy.VOLATILE)
+
+
+class TestNode:
+    """An in-test rclpy node with its own executor; spin it with :meth:`spin_until`."""
+
+    __test__ = False                            # not a pytest test class
+
+    def __init__(self, node, executor):
+        self.node = node
+        self.executor = executor
+
+    def spin_until(self, predicate, timeout=10.0):
+        """Spin until ``predicate()`` is true; returns its last value."""
+        t_end = time.monotonic() + timeout
+        while not predicate():
+            if time.monotonic() > t_end:
+                return predicate()
+            self.executor.spin_once(timeout_sec=0.02)
+        return True
+
+    def spin_for(self, seconds):
+        """Spin for ``seconds``."""
+        t_end = time.monotonic() + seconds
+        while time.monotonic() < t_end:
+            self.executor.spin_once(timeout_sec=min(0.02, max(0.0, t_end - time.monotonic())))
+
+    def wait_for_subscribers(self, publisher, count=1, timeout=10.0):
+        """Wait until ``publisher`` has ``count`` matched subscriptions."""
+        return self.spin_until(lambda: publisher.get_subscription_count() >= count, timeout)
+
+    def wait_for_publishers(self, subscription, count=1, timeout=10.0):
+        """Wait until ``subscription`` has ``count`` matched publishers."""
+        return self.spin_until(lambda: subscription.get_publisher_count() >= count, timeout)
+
+
+@contextlib.contextmanager
+def ros_node(name, domain):
+    """A :class:`TestNode` on its own rclpy context in ``domain`` (no signal handlers).
+
+    ``ROS_AUTOMATIC_DISCOVERY_RANGE`` is read from ``os.environ`` at init.
+    """
+    import rclpy
+    from rclpy.context import Context
+    from rclpy.executors import SingleThreadedExecutor
+    from rclpy.signals import SignalHandlerOptions
+
+    context = Context()
+    rclpy.init(context=context, domain_id=int(domain),
+               signal_handler_options=SignalHandlerOptions.NO)
+    node = executor = None
+    try:
+        node = rclpy.create_node(name, context=context, start_parameter_services=False)
+        executor = SingleThreadedExecutor(context=context)
+        executor.add_node(node)
+        yield TestNode(node, executor)
+    finally:
+        if executor is not None:
+            executor.shutdown(timeout_sec=1.0)
+        if node is not None:
+            node.destroy_node()
+        context.try_shutdown()
