@@ -88,7 +88,9 @@ def bringup(model, truth, duration, record=None, mode='lockstep', friction='lugr
     if log_dir:
         os.makedirs(log_dir, exist_ok=True)
     say = (lambda *a: None) if quiet else (lambda *a: print(*a, flush=True))
-    sim_params = {'mode': mode, 'duration': float(duration)}
+    # controller + estimator (+ recorder) must be matched before the loop starts
+    sim_params = {'mode': mode, 'duration': float(duration),
+                  'wait_subscribers': 2 + (1 if record else 0), 'start_delay': 1.0}
     if xi0 is not None:
         sim_params['xi0'] = float(xi0)
     rate = {} if mode == 'lockstep' else {'rate': 1000.0}

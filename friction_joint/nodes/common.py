@@ -187,34 +187,12 @@ class StampPairing:
                 d.pop(next(iter(d)))
 
 
-def _spin(node):
-    """Spin with the events executor where available (much less overhead per message).
-
-    Its ``spin()`` does not return on shutdown from another thread on these
-    wheels, so it is driven by ``spin_once`` in a loop.
-    """
-    import os
-
-    import rclpy
-    try:
-        from rclpy.experimental import EventsExecutor
-    except ImportError:  # pragma: no cover - older rclpy
-        EventsExecutor = None
-    if EventsExecutor is None or os.environ.get('FRICTION_JOINT_EXECUTOR') == 'single':
-        rclpy.spin(node)
-        return
-    ex = EventsExecutor(context=node.context)
-    ex.add_node(node)
-    try:
-        while rclpy.ok(context=node.context):
-            ex.spin_once(timeout_sec=0.1)
-    finally:
-        ex.remove_node(node)
-        ex.shutdown()
-
-
 def run_node(factory, name, args=None):
     """``main()`` body of a node: init, spin, quiet end on Ctrl-C / external shutdown.
+
+    The single-threaded executor is used: ``rclpy.experimental.EventsExecutor``
+    is faster but was seen to stop delivering messages to one of two
+    subscriptions on these wheels.
 
     Bad parameters (:class:`~friction_joint.exceptions.FrictionJointError`)
     end with a one-line error naming the problem and exit status 2.  A node
@@ -232,7 +210,7 @@ def run_node(factory, name, args=None):
     status = 0
     try:
         node = factory()
-        _spin(node)
+        rclpy.spin(node)
     except FrictionJointError as exc:
         print(f'{name}: error: {exc}', file=sys.stderr)
         status = 2

@@ -21,12 +21,16 @@ Modes (parameter ``mode``):
     only when the command stamped k arrives, so a closed loop across
     processes is deterministic and independent of machine load.  Until the
     first command arrives the current state is re-sent every
-    ``resend_period`` s (peers may still be starting).  With
+    ``resend_period`` s (peers may still be starting).  The first state is
+    sent once ``wait_subscribers`` subscribers are matched on /joint_states
+    and /joint_temperature and ``start_delay`` s have passed since, so that
+    every peer (a recorder too) has discovered every other before the loop
+    starts.  With
     ``duration`` > 0 the node stops after that much simulated time and exits.
 
 Own parameters: mode, publish_rate, duration, xi0 (NaN: the gear file's
 thermal.initial), q0, seed (-1: simulation.seed), friction_model ('' : the
-gear file's friction.model), resend_period.
+gear file's friction.model), resend_period, wait_subscribers, start_delay.
 """
 import math
 import sys
@@ -44,13 +48,16 @@ from .common import (declare_gear, declare_node_params, finite, joint_index, ns_
 __all__ = ['JointSimNode', 'main']
 
 DEFAULTS = {'mode': 'realtime', 'publish_rate': 1000.0, 'duration': 0.0, 'xi0': float('nan'),
-            'q0': 0.0, 'seed': -1, 'friction_model': '', 'resend_period': 0.2}
+            'q0': 0.0, 'seed': -1, 'friction_model': '', 'resend_period': 0.2,
+            'wait_subscribers': 1, 'start_delay': 0.5}
 VALIDATORS = {
     'mode': lambda v: None if v in ('realtime', 'lockstep') else "must be 'realtime' or 'lockstep'",
     'publish_rate': lambda v: None if v > 0 else 'must be > 0',
     'duration': lambda v: None if v >= 0 else 'must be >= 0',
     'friction_model': lambda v: None if v in ('', 'static', 'lugre', 'gms') else 'must be static, lugre or gms',
     'resend_period': lambda v: None if v > 0 else 'must be > 0',
+    'wait_subscribers': lambda v: None if v >= 0 else 'must be >= 0',
+    'start_delay': lambda v: None if v >= 0 else 'must be >= 0',
 }
 
 
@@ -82,8 +89,9 @@ class JointSimNode(Node):
         self.create_subscription(WrenchStamped, '/contact_torque', self.on_contact, qos)
         if self.lockstep:
             self.started = False
-            self.publish(self.plant.last, temperature=True)
-            self.resend = self.create_timer(self.p['resend_period'], self.on_resend)
+            self.ready_since = None
+            self.resend = self.create_timer(min(0.05, self.p['resend_period']), self.on_resend)
+            self.last_sent = None
         else:
             self.per_tick = max(1, int(round(self.plant.rate / self.p['publish_rate'])))
             self.temp_every = max(1, int(round(self.p['publish_rate'] /
@@ -162,7 +170,19 @@ class JointSimNode(Node):
     def on_resend(self):
         if self.done:
             raise SystemExit(0)
-        if not self.started:
+        if self.started:
+            return
+        now = self.get_clock().now().nanoseconds * 1e-9
+        if self.ready_since is None:
+            need = self.p['wait_subscribers']
+            if min(self.pub_state.get_subscription_count(),
+                   self.pub_temp.get_subscription_count()) < need:
+                return
+            self.ready_since = now
+        if now - self.ready_since < self.p['start_delay']:
+            return
+        if self.last_sent is None or now - self.last_sent >= self.p['resend_period']:
+            self.last_sent = now
             self.publish(self.plant.last, temperature=True)
 
     def on_tick(self):
