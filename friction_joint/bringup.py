@@ -36,7 +36,7 @@ class NodeProcess:
     def alive(self):
         return self.proc.poll() is None
 
-    def stop(self, timeout=10.0):
+    def stop(self, timeout=45.0):
         """SIGINT, wait, then kill the process group; returns the exit status."""
         if self.alive():
             try:
@@ -90,7 +90,7 @@ def bringup(model, truth, duration, record=None, mode='lockstep', friction='lugr
     say = (lambda *a: None) if quiet else (lambda *a: print(*a, flush=True))
     # controller + estimator (+ recorder) must be matched before the loop starts
     sim_params = {'mode': mode, 'duration': float(duration),
-                  'wait_subscribers': 2 + (1 if record else 0), 'start_delay': 1.0}
+                  'wait_subscribers': 2 + (1 if record else 0), 'start_delay': 2.0}
     if xi0 is not None:
         sim_params['xi0'] = float(xi0)
     rate = {} if mode == 'lockstep' else {'rate': 1000.0}

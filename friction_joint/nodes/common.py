@@ -187,30 +187,53 @@ class StampPairing:
                 d.pop(next(iter(d)))
 
 
-def run_node(factory, name, args=None):
-    """``main()`` body of a node: init, spin, quiet end on Ctrl-C / external shutdown.
+def run_node(factory, name, args=None, drain=True):
+    """``main()`` body of a node: init, spin, quiet end on Ctrl-C / SIGTERM.
+
+    The first SIGINT/SIGTERM stops the node *after* it has processed what is
+    already queued (``drain``; e.g. an estimator behind a simulator that has
+    finished), so no answer is lost; a second signal exits at once.  Bad
+    parameters (:class:`~friction_joint.exceptions.FrictionJointError`) end
+    with a one-line error naming the problem and exit status 2.  A node may
+    end itself by raising ``SystemExit(0)`` from a callback.
 
     The single-threaded executor is used: ``rclpy.experimental.EventsExecutor``
     is faster but was seen to stop delivering messages to one of two
     subscriptions on these wheels.
-
-    Bad parameters (:class:`~friction_joint.exceptions.FrictionJointError`)
-    end with a one-line error naming the problem and exit status 2.  A node
-    may end itself by raising ``SystemExit(0)`` from a callback.
     """
+    import signal
     import sys
+    import time
 
     import rclpy
-    from rclpy.executors import ExternalShutdownException
+    from rclpy.executors import ExternalShutdownException, SingleThreadedExecutor
+    from rclpy.signals import SignalHandlerOptions
 
     from ..exceptions import FrictionJointError
 
-    rclpy.init(args=args)
-    node = None
+    stop = []
+
+    def on_signal(signum, frame):
+        stop.append(signum)
+        if len(stop) > 1:
+            raise KeyboardInterrupt
+
+    rclpy.init(args=args, signal_handler_options=SignalHandlerOptions.NO)
+    old = {s: signal.signal(s, on_signal) for s in (signal.SIGINT, signal.SIGTERM)}
+    node = executor = None
     status = 0
     try:
         node = factory()
-        rclpy.spin(node)
+        executor = SingleThreadedExecutor()
+        executor.add_node(node)
+        while not stop and rclpy.ok():
+            executor.spin_once(timeout_sec=0.1)
+        t_end = time.monotonic() + 30.0
+        while drain and rclpy.ok() and time.monotonic() < t_end:
+            t0 = time.monotonic()
+            executor.spin_once(timeout_sec=0.3)
+            if time.monotonic() - t0 >= 0.3:
+                break                                   # idle: everything queued is done
     except FrictionJointError as exc:
         print(f'{name}: error: {exc}', file=sys.stderr)
         status = 2
@@ -219,6 +242,17 @@ def run_node(factory, name, args=None):
     except SystemExit as exc:
         status = exc.code or 0
     finally:
+        for sig, handler in old.items():
+            signal.signal(sig, handler)
+        if node is not None and rclpy.ok():
+            from rclpy.duration import Duration
+            for pub in node.publishers:          # let reliable peers take the last samples
+                try:
+                    pub.wait_for_all_acked(Duration(seconds=2.0))
+                except Exception:                # noqa: BLE001 - best effort on the way out
+                    pass
+        if executor is not None:
+            executor.shutdown()
         if node is not None:
             node.destroy_node()
         rclpy.try_shutdown()

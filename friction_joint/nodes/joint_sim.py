@@ -197,7 +197,7 @@ class JointSimNode(Node):
 
 
 def main(args=None):
-    return run_node(JointSimNode, 'joint_sim', args)
+    return run_node(JointSimNode, 'joint_sim', args, drain=False)
 
 
 if __name__ == '__main__':
