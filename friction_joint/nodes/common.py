@@ -231,8 +231,8 @@ def run_node(factory, name, args=None, drain=True):
         t_end = time.monotonic() + 30.0
         while drain and rclpy.ok() and time.monotonic() < t_end:
             t0 = time.monotonic()
-            executor.spin_once(timeout_sec=0.3)
-            if time.monotonic() - t0 >= 0.3:
+            executor.spin_once(timeout_sec=1.0)
+            if time.monotonic() - t0 >= 1.0:
                 break                                   # idle: everything queued is done
     except FrictionJointError as exc:
         print(f'{name}: error: {exc}', file=sys.stderr)

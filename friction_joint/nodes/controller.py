@@ -55,15 +55,16 @@ class ControllerNode(Node):
         rate = self.p['rate'] or self.gear.section('simulation')['rate']
         self.kp, self.kd = pd_gains(self.gear.inertia, self.p['rise_time'], self.p['overshoot'])
         self.dt = 1.0 / rate
-        self.ctrl = Controller(self.gear, self.kp, self.kd, self.p['friction_ff'], self.dt,
-                               self.p['ff_velocity'])
+        self.ctrl = self._controller()
+        self.ctrl(0.0, 0.0, 25.0, 0.0)              # compile the kernels before data flows
+        self.ctrl = self._controller()
         self.traj = SineTrajectory(self.p['amplitude'], self.p['omega'], self.p['offset'])
         self.pair = StampPairing(self.p['sync'])
         self.t0 = None
         self.last_ns = None
         self.last_cmd = None
         self.rejected = 0
-        qos = QoSProfile(depth=100, reliability=ReliabilityPolicy.RELIABLE)
+        qos = QoSProfile(depth=1000, reliability=ReliabilityPolicy.RELIABLE)
         self.pub = self.create_publisher(JointState, '/joint_command', qos)
         self.create_subscription(JointState, '/joint_states', self.on_state, qos)
         self.create_subscription(Temperature, '/joint_temperature', self.on_temperature, qos)
@@ -71,11 +72,14 @@ class ControllerNode(Node):
         self.get_logger().info(f'eq. 17 controller for {self.joint}: kp {self.kp:.1f} Nm/rad, '
                                f'kd {self.kd:.2f} Nm s/rad, friction feed-forward {self.p["friction_ff"]}')
 
+    def _controller(self):
+        return Controller(self.gear, self.kp, self.kd, self.p['friction_ff'], self.dt,
+                          self.p['ff_velocity'])
+
     def apply(self, name, value):
         self.p[name] = value
         if name in ('friction_ff', 'ff_velocity'):
-            self.ctrl = Controller(self.gear, self.kp, self.kd, self.p['friction_ff'], self.dt,
-                                   self.p['ff_velocity'])
+            self.ctrl = self._controller()
         else:
             self.traj = SineTrajectory(self.p['amplitude'], self.p['omega'], self.p['offset'])
         self.get_logger().info(f'{name} set to {value!r}')

@@ -45,11 +45,13 @@ class EstimatorNode(Node):
         self.joint = self.gear.joint_name
         self.dt = 1.0 / (self.p['rate'] or self.gear.section('simulation')['rate'])
         self.observer = self._observer()
+        self.observer(0.0, 0.0, 0.0, 25.0)          # compile the kernels before data flows
+        self.observer = self._observer()
         self.pair = StampPairing(self.p['sync'])
         self.last_ns = None
         self.last_msg = None
         self.rejected = 0
-        qos = QoSProfile(depth=100, reliability=ReliabilityPolicy.RELIABLE)
+        qos = QoSProfile(depth=1000, reliability=ReliabilityPolicy.RELIABLE)
         self.pub = self.create_publisher(JointState, '/external_torque', qos)
         self.create_subscription(JointState, '/joint_states', self.on_state, qos)
         self.create_subscription(Temperature, '/joint_temperature', self.on_temperature, qos)

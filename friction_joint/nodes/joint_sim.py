@@ -70,9 +70,12 @@ class JointSimNode(Node):
         self.p = declare_node_params(self, own, VALIDATORS)
         xi0 = self.declare_parameter('xi0', float('nan')).value
         self.gear = declare_gear(self, own=list(DEFAULTS))
-        self.plant = Plant(self.gear, model=self.p['friction_model'] or None,
-                           xi0=None if math.isnan(xi0) else xi0,
-                           seed=None if self.p['seed'] < 0 else self.p['seed'], q0=self.p['q0'])
+        def plant():
+            return Plant(self.gear, model=self.p['friction_model'] or None,
+                         xi0=None if math.isnan(xi0) else xi0,
+                         seed=None if self.p['seed'] < 0 else self.p['seed'], q0=self.p['q0'])
+        plant().step(0.0)                           # compile the kernels before data flows
+        self.plant = plant()
         self.joint = self.gear.joint_name
         self.lockstep = self.p['mode'] == 'lockstep'
         self.tau_cmd = 0.0
@@ -80,7 +83,7 @@ class JointSimNode(Node):
         self.rejected = 0
         self.done = False
         self.n_end = int(round(self.p['duration'] * self.plant.rate)) if self.p['duration'] > 0 else 0
-        qos = QoSProfile(depth=100, reliability=ReliabilityPolicy.RELIABLE)
+        qos = QoSProfile(depth=1000, reliability=ReliabilityPolicy.RELIABLE)
         self.pub_state = self.create_publisher(JointState, '/joint_states', qos)
         self.pub_temp = self.create_publisher(Temperature, '/joint_temperature', qos)
         self.pub_link = self.create_publisher(WrenchStamped, '/link_torque', qos)
