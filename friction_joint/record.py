@@ -15,8 +15,9 @@ counts are printed.  A second signal skips the drain.  The bag is written into a
 temporary directory next to ``OUT`` and renamed when complete, so ``OUT`` is
 either a complete recording or absent.
 
-QoS: reliable, keep-last 1000 (a third of a second at 3 kHz) for every topic
-except ``/clock`` (best effort).  A reliable subscription does not match a
+QoS: reliable with keep-all history for every topic (a recorder that falls
+behind for a moment must not let its queue overwrite messages it has
+acknowledged), except ``/clock`` (best effort, keep-last 1000).  A reliable subscription does not match a
 best-effort publisher; record such a topic from a reliable republisher.
 """
 import argparse
@@ -35,7 +36,7 @@ from .exceptions import RecordingError
 __all__ = ['record', 'Recorder', 'parse_topics', 'message_class', 'install_signals',
            'format_counts', 'register', 'main', 'QOS_DEPTH']
 
-#: keep-last depth of the subscriptions
+#: keep-last depth of the /clock subscription
 QOS_DEPTH = 1000
 
 _BATCH = 0.002      # s to let messages queue up between takes (bag time is DDS time)
@@ -100,11 +101,14 @@ class Recorder:
                                      'rosbags Jazzy typestore')
             cls = message_class(topic, msgtype)
             conn = writer.add_connection(topic, msgtype, typestore=typestore)
-            qos = QoSProfile(
-                history=HistoryPolicy.KEEP_LAST, depth=QOS_DEPTH,
-                reliability=(ReliabilityPolicy.BEST_EFFORT if topic == '/clock'
-                             else ReliabilityPolicy.RELIABLE),
-                durability=DurabilityPolicy.VOLATILE)
+            if topic == '/clock':
+                qos = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=QOS_DEPTH,
+                                 reliability=ReliabilityPolicy.BEST_EFFORT,
+                                 durability=DurabilityPolicy.VOLATILE)
+            else:
+                qos = QoSProfile(history=HistoryPolicy.KEEP_ALL,
+                                 reliability=ReliabilityPolicy.RELIABLE,
+                                 durability=DurabilityPolicy.VOLATILE)
             holder = []
             sub = node.create_subscription(cls, topic, self._callback(topic, cls, conn, holder),
                                            qos, raw=True)
