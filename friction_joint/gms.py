@@ -39,7 +39,8 @@ import numpy as np
 
 from ._jit import njit
 from .exceptions import GearConfigError
-from .static import broadcast_batch, curve_params, g_abs, pack_static, s_visc, sign
+from ._sampled import SampledFrictionModel
+from .static import curve_params, g_abs, s_visc, sign
 
 __all__ = ['GMS', 'gms_update']
 
@@ -110,7 +111,7 @@ def pack_gms(flist):
     return k, alpha, np.array([f.gms.c for f in flist], dtype=float)
 
 
-class GMS:
+class GMS(SampledFrictionModel):
     """Modified GMS model for one gear or a batch of B gears.
 
     Parameters
@@ -120,16 +121,9 @@ class GMS:
     """
 
     def __init__(self, frictions):
-        self.single = not isinstance(frictions, (list, tuple))
-        flist = [frictions] if self.single else list(frictions)
-        self.packed = pack_static(flist)
+        flist = self._init_batch(frictions)
         self.k, self.alpha, self.c = pack_gms(flist)
-        self._buf = np.zeros((4, 1, 1))
         self.reset()
-
-    @property
-    def batch(self):
-        return self.packed.batch
 
     @property
     def state(self):
@@ -142,27 +136,12 @@ class GMS:
         self.stick = np.ones(self.k.shape, dtype=np.int8)
         self.slipdir = np.zeros(self.k.shape, dtype=np.float64)
 
+    def _run(self, qd, xi, tl, dt, out):
+        _gms_run(*self.packed.args(), self.k, self.alpha, self.c, qd, xi, tl, dt,
+                 self.z, self.stick, self.slipdir, out)
+
     def simulate(self, qd, xi, tau_l, dt, reset=False):
         """Friction torque for a sampled velocity sequence (see :class:`~friction_joint.lugre.LuGre`)."""
         if reset:
             self.reset()
-        qd, xi, tl = broadcast_batch(self.batch, qd, xi, tau_l)
-        tau = np.empty_like(qd)
-        _gms_run(*self.packed.args(), self.k, self.alpha, self.c, qd, xi, np.abs(tl), float(dt),
-                 self.z, self.stick, self.slipdir, tau)
-        return tau[0] if self.single else tau
-
-    def step(self, qd, xi, tau_l, dt):
-        """Advance one sample; returns the friction torque (float, or (B,) for a batch)."""
-        if not self.single:
-            tau = self.simulate(np.reshape(qd, (-1, 1)) if np.ndim(qd) else qd,
-                                np.reshape(xi, (-1, 1)) if np.ndim(xi) else xi,
-                                np.reshape(tau_l, (-1, 1)) if np.ndim(tau_l) else tau_l, dt)
-            return tau[:, 0]
-        buf = self._buf
-        buf[0, 0, 0] = qd
-        buf[1, 0, 0] = xi
-        buf[2, 0, 0] = abs(tau_l)
-        _gms_run(*self.packed.args(), self.k, self.alpha, self.c, buf[0], buf[1], buf[2],
-                 float(dt), self.z, self.stick, self.slipdir, buf[3])
-        return float(buf[3, 0, 0])
+        return self._simulate(qd, xi, tau_l, dt)

@@ -27,8 +27,8 @@ import numpy as np
 
 from ._jit import njit
 from .exceptions import GearConfigError
-from .static import (StaticFriction, broadcast_batch, curve_params, g_abs, pack_static,
-                     s_visc)
+from ._sampled import SampledFrictionModel
+from .static import StaticFriction, curve_params, g_abs, s_visc
 
 __all__ = ['LuGre', 'lugre_update', 'lugre_torque']
 
@@ -69,7 +69,7 @@ def _lugre_run(temp, load, delta_s, kappa, t_lo, t_hi, sigma0, sigma1,
         z[b] = zb
 
 
-class LuGre:
+class LuGre(SampledFrictionModel):
     """Modified LuGre model for one gear or a batch of B gears.
 
     Parameters
@@ -85,20 +85,13 @@ class LuGre:
     """
 
     def __init__(self, frictions):
-        self.single = not isinstance(frictions, (list, tuple))
-        flist = [frictions] if self.single else list(frictions)
+        flist = self._init_batch(frictions)
         for f in flist:
             if f.lugre is None:
                 raise GearConfigError('LuGre model needs friction.lugre (sigma0, sigma1)')
-        self.packed = pack_static(flist)
         self.sigma0 = np.array([f.lugre.sigma0 for f in flist])
         self.sigma1 = np.array([f.lugre.sigma1 for f in flist])
         self.z = np.zeros(len(flist))
-        self._buf = np.zeros((4, 1, 1))
-
-    @property
-    def batch(self):
-        return self.packed.batch
 
     @property
     def state(self):
@@ -112,6 +105,9 @@ class LuGre:
         """Put the state at the steady state of velocity qd (sliding)."""
         g, _ = StaticFriction.from_packed(self.packed).components(qd, xi, tau_l)
         self.z = np.asarray(g, dtype=float)[:, -1] / self.sigma0
+
+    def _run(self, qd, xi, tl, dt, out):
+        _lugre_run(*self.packed.args(), self.sigma0, self.sigma1, qd, xi, tl, dt, self.z, out)
 
     def simulate(self, qd, xi, tau_l, dt, z0=None):
         """Friction torque for a sampled velocity sequence.
@@ -132,23 +128,4 @@ class LuGre:
         """
         if z0 is not None:
             self.reset(z0)
-        qd, xi, tl = broadcast_batch(self.batch, qd, xi, tau_l)
-        tau = np.empty_like(qd)
-        p = self.packed
-        _lugre_run(*p.args(), self.sigma0, self.sigma1, qd, xi, np.abs(tl), float(dt), self.z, tau)
-        return tau[0] if self.single else tau
-
-    def step(self, qd, xi, tau_l, dt):
-        """Advance one sample; returns the friction torque (float, or (B,) for a batch)."""
-        if not self.single:
-            tau = self.simulate(np.reshape(qd, (-1, 1)) if np.ndim(qd) else qd,
-                                np.reshape(xi, (-1, 1)) if np.ndim(xi) else xi,
-                                np.reshape(tau_l, (-1, 1)) if np.ndim(tau_l) else tau_l, dt)
-            return tau[:, 0]
-        buf = self._buf
-        buf[0, 0, 0] = qd
-        buf[1, 0, 0] = xi
-        buf[2, 0, 0] = abs(tau_l)
-        _lugre_run(*self.packed.args(), self.sigma0, self.sigma1, buf[0], buf[1], buf[2],
-                   float(dt), self.z, buf[3])
-        return float(buf[3, 0, 0])
+        return self._simulate(qd, xi, tau_l, dt)

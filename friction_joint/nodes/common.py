@@ -9,7 +9,7 @@ from ..exceptions import GearConfigError
 from ..gear import SCHEMA, Section, gear_from_flat
 
 __all__ = ['gear_keys', 'declare_gear', 'declare_node_params', 'stamp_to_ns', 'ns_to_stamp',
-           'joint_index', 'finite', 'StampPairing']
+           'joint_index', 'finite', 'StampPairing', 'Rejects', 'PairedInput', 'run_node']
 
 
 def gear_keys(schema=SCHEMA, prefix=''):
@@ -185,6 +185,48 @@ class StampPairing:
         for d in (self.temps, self.pending):
             while len(d) > self.max_pending:
                 d.pop(next(iter(d)))
+
+
+class Rejects:
+    """Mixin: log (rate-limited) and count messages a node ignores."""
+
+    rejected = 0
+
+    def _reject(self, what):
+        self.rejected += 1
+        if self.rejected <= 10 or self.rejected % 1000 == 0:
+            self.get_logger().warn(f'ignored {what} (rejected so far: {self.rejected})')
+
+
+class PairedInput(Rejects):
+    """Mixin: validated /joint_states + /joint_temperature input, paired by stamp.
+
+    The node sets ``joint``, ``pair`` (:class:`StampPairing`) and
+    ``state_fields`` (JointState fields it needs) and implements
+    ``process(ns, values, xi)``.
+    """
+
+    state_fields = ('position', 'velocity')
+
+    def on_temperature(self, msg):
+        if not finite(msg.temperature):
+            self._reject('a non-finite temperature')
+            return
+        for item in self.pair.temperature(stamp_to_ns(msg.header.stamp), msg.temperature):
+            self.process(*item)
+
+    def on_state(self, msg):
+        i = joint_index(msg, self.joint)
+        arrays = [getattr(msg, f) for f in self.state_fields]
+        if i is None or i >= min(len(a) for a in arrays):
+            self._reject(f'a joint state without {"/".join(self.state_fields)} for {self.joint}')
+            return
+        values = tuple(a[i] for a in arrays)
+        if not finite(*values):
+            self._reject('a joint state with NaN/inf')
+            return
+        for item in self.pair.state(stamp_to_ns(msg.header.stamp), values):
+            self.process(*item)
 
 
 def run_node(factory, name, args=None, drain=True):

@@ -24,8 +24,8 @@ from sensor_msgs.msg import JointState, Temperature
 
 from ..control import Controller, SineTrajectory, pd_gains
 from ..friction import FRICTION_KINDS
-from .common import (StampPairing, declare_gear, declare_node_params, finite, joint_index,
-                     parameter_guard, run_node, stamp_to_ns)
+from .common import (PairedInput, StampPairing, declare_gear, declare_node_params,
+                     parameter_guard, run_node)
 
 __all__ = ['ControllerNode', 'main']
 
@@ -44,7 +44,7 @@ VALIDATORS = {
 }
 
 
-class ControllerNode(Node):
+class ControllerNode(PairedInput, Node):
     """Wires :class:`~friction_joint.control.Controller` to topics."""
 
     def __init__(self):
@@ -63,7 +63,6 @@ class ControllerNode(Node):
         self.t0 = None
         self.last_ns = None
         self.last_cmd = None
-        self.rejected = 0
         qos = QoSProfile(depth=1000, reliability=ReliabilityPolicy.RELIABLE)
         self.pub = self.create_publisher(JointState, '/joint_command', qos)
         self.create_subscription(JointState, '/joint_states', self.on_state, qos)
@@ -84,31 +83,7 @@ class ControllerNode(Node):
             self.traj = SineTrajectory(self.p['amplitude'], self.p['omega'], self.p['offset'])
         self.get_logger().info(f'{name} set to {value!r}')
 
-    def _reject(self, what):
-        self.rejected += 1
-        if self.rejected <= 10 or self.rejected % 1000 == 0:
-            self.get_logger().warn(f'ignored {what} (rejected so far: {self.rejected})')
-
-    def on_temperature(self, msg):
-        if not finite(msg.temperature):
-            self._reject('a non-finite temperature')
-            return
-        for item in self.pair.temperature(stamp_to_ns(msg.header.stamp), msg.temperature):
-            self.control(*item)
-
-    def on_state(self, msg):
-        i = joint_index(msg, self.joint)
-        if i is None or i >= min(len(msg.position), len(msg.velocity)):
-            self._reject(f'a joint state without position/velocity for {self.joint}')
-            return
-        q, qd = msg.position[i], msg.velocity[i]
-        if not finite(q, qd):
-            self._reject('a joint state with NaN/inf')
-            return
-        for item in self.pair.state(stamp_to_ns(msg.header.stamp), (q, qd)):
-            self.control(*item)
-
-    def control(self, ns, state, xi):
+    def process(self, ns, state, xi):
         if ns == self.last_ns:                   # the same state again: same answer
             self.pub.publish(self.last_cmd)
             return

@@ -22,8 +22,8 @@ from sensor_msgs.msg import JointState, Temperature
 
 from ..friction import FRICTION_KINDS
 from ..observer import DisturbanceObserver
-from .common import (StampPairing, declare_gear, declare_node_params, finite, joint_index,
-                     parameter_guard, run_node, stamp_to_ns)
+from .common import (PairedInput, StampPairing, declare_gear, declare_node_params,
+                     parameter_guard, run_node)
 
 __all__ = ['EstimatorNode', 'main']
 
@@ -35,8 +35,10 @@ VALIDATORS = {
 }
 
 
-class EstimatorNode(Node):
+class EstimatorNode(PairedInput, Node):
     """Wires :class:`~friction_joint.observer.DisturbanceObserver` to topics."""
+
+    state_fields = ('position', 'velocity', 'effort')
 
     def __init__(self):
         super().__init__('estimator')
@@ -50,7 +52,6 @@ class EstimatorNode(Node):
         self.pair = StampPairing(self.p['sync'])
         self.last_ns = None
         self.last_msg = None
-        self.rejected = 0
         qos = QoSProfile(depth=1000, reliability=ReliabilityPolicy.RELIABLE)
         self.pub = self.create_publisher(JointState, '/external_torque', qos)
         self.create_subscription(JointState, '/joint_states', self.on_state, qos)
@@ -70,31 +71,7 @@ class EstimatorNode(Node):
         self.observer.reset(tau_ext=est)
         self.get_logger().info(f'{name} set to {value!r}')
 
-    def _reject(self, what):
-        self.rejected += 1
-        if self.rejected <= 10 or self.rejected % 1000 == 0:
-            self.get_logger().warn(f'ignored {what} (rejected so far: {self.rejected})')
-
-    def on_temperature(self, msg):
-        if not finite(msg.temperature):
-            self._reject('a non-finite temperature')
-            return
-        for item in self.pair.temperature(stamp_to_ns(msg.header.stamp), msg.temperature):
-            self.estimate(*item)
-
-    def on_state(self, msg):
-        i = joint_index(msg, self.joint)
-        if i is None or i >= min(len(msg.position), len(msg.velocity), len(msg.effort)):
-            self._reject(f'a joint state without position/velocity/effort for {self.joint}')
-            return
-        q, qd, tau = msg.position[i], msg.velocity[i], msg.effort[i]
-        if not finite(q, qd, tau):
-            self._reject('a joint state with NaN/inf')
-            return
-        for item in self.pair.state(stamp_to_ns(msg.header.stamp), (q, qd, tau)):
-            self.estimate(*item)
-
-    def estimate(self, ns, state, xi):
+    def process(self, ns, state, xi):
         if self.last_ns is not None and ns <= self.last_ns:
             if ns == self.last_ns:
                 self.pub.publish(self.last_msg)

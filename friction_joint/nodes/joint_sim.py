@@ -42,8 +42,8 @@ from rosgraph_msgs.msg import Clock
 from sensor_msgs.msg import JointState, Temperature
 
 from ..plant import Plant
-from .common import (declare_gear, declare_node_params, finite, joint_index, ns_to_stamp, run_node,
-                     stamp_to_ns)
+from .common import (Rejects, declare_gear, declare_node_params, finite, joint_index, ns_to_stamp,
+                     run_node, stamp_to_ns)
 
 __all__ = ['JointSimNode', 'main']
 
@@ -61,7 +61,7 @@ VALIDATORS = {
 }
 
 
-class JointSimNode(Node):
+class JointSimNode(Rejects, Node):
     """Wires the :class:`~friction_joint.plant.Plant` to topics and a timer."""
 
     def __init__(self):
@@ -80,7 +80,6 @@ class JointSimNode(Node):
         self.lockstep = self.p['mode'] == 'lockstep'
         self.tau_cmd = 0.0
         self.contact = 0.0
-        self.rejected = 0
         self.done = False
         self.n_end = int(round(self.p['duration'] * self.plant.rate)) if self.p['duration'] > 0 else 0
         qos = QoSProfile(depth=1000, reliability=ReliabilityPolicy.RELIABLE)
@@ -106,11 +105,6 @@ class JointSimNode(Node):
             f'{self.plant.rate:g} Hz, xi0 {self.plant.thermal.xi:.2f} degC)')
 
     # ---------------------------------------------------------------- input
-    def _reject(self, what):
-        self.rejected += 1
-        if self.rejected <= 10 or self.rejected % 1000 == 0:
-            self.get_logger().warn(f'ignored {what} (rejected so far: {self.rejected})')
-
     def on_command(self, msg):
         i = joint_index(msg, self.joint)
         if i is None or i >= len(msg.effort) or not finite(msg.effort[i]):

@@ -1,0 +1,43 @@
+"""Shared driver of the batched, sampled-velocity friction models (LuGre, GMS)."""
+import numpy as np
+
+from .static import broadcast_batch, pack_static
+
+__all__ = ['SampledFrictionModel']
+
+
+class SampledFrictionModel:
+    """Batch bookkeeping, input broadcasting and the low-overhead single step.
+
+    Subclasses implement ``_run(qd, xi, tau_l, dt, out)`` on (B, T) arrays
+    (advancing their state in place) and ``reset()``.
+    """
+
+    def _init_batch(self, frictions):
+        self.single = not isinstance(frictions, (list, tuple))
+        flist = [frictions] if self.single else list(frictions)
+        self.packed = pack_static(flist)
+        self._buf = np.zeros((4, 1, 1))
+        return flist
+
+    @property
+    def batch(self):
+        return self.packed.batch
+
+    def _simulate(self, qd, xi, tau_l, dt):
+        qd, xi, tl = broadcast_batch(self.batch, qd, xi, tau_l)
+        tau = np.empty_like(qd)
+        self._run(qd, xi, np.abs(tl), float(dt), tau)
+        return tau[0] if self.single else tau
+
+    def step(self, qd, xi, tau_l, dt):
+        """Advance one sample; returns the friction torque (float, or (B,) for a batch)."""
+        if not self.single:
+            col = [np.reshape(a, (-1, 1)) if np.ndim(a) else a for a in (qd, xi, tau_l)]
+            return self._simulate(*col, dt)[:, 0]
+        buf = self._buf
+        buf[0, 0, 0] = qd
+        buf[1, 0, 0] = xi
+        buf[2, 0, 0] = abs(tau_l)
+        self._run(buf[0], buf[1], buf[2], float(dt), buf[3])
+        return float(buf[3, 0, 0])
