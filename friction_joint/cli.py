@@ -14,7 +14,8 @@ from .exceptions import FrictionJointError
 __all__ = ['main']
 
 #: subcommand modules, in the order ``--help`` lists them
-SUBCOMMANDS = ('friction_joint.classic', 'friction_joint.experiments', 'friction_joint.demo',
+SUBCOMMANDS = ('friction_joint.classic', 'friction_joint.experiments',
+               'friction_joint.identify_command', 'friction_joint.demo',
                'friction_joint.record', 'friction_joint.replay', 'friction_joint.bringup')
 
 

@@ -32,12 +32,18 @@ The command ``friction_joint experiment NAME --model M.yaml --truth T.yaml
 ``DIR/summary.json``, all atomically (temporary files renamed into place,
 the JSON last).  ``--duration-scale`` multiplies every duration (settling,
 evaluation window, chirp length) and is meant for quick test runs.
+
+``identification`` (Section V-A) is different: it only needs ``--truth`` and
+writes a *recording* (``--out BAG``, a rosbag2 MCAP directory or ``.mcap``
+file) of the identification excitation of :mod:`friction_joint.excitation`
+for ``friction_joint identify``.
 """
 import collections
 import io
 import json
 import math
 import os
+import sys
 import tempfile
 import time
 
@@ -51,7 +57,7 @@ from .observer import DisturbanceObserver
 from .plant import Plant
 
 __all__ = ['ExperimentError', 'ExperimentResult', 'Experiment', 'EXPERIMENTS',
-           'SumOfSines', 'chirp', 'compensation', 'estimation', 'run_experiment',
+           'SumOfSines', 'chirp', 'compensation', 'estimation', 'identification', 'run_experiment',
            'write_results', 'register']
 
 #: friction feed-forward / observer models compared
@@ -68,8 +74,13 @@ class ExperimentError(FrictionJointError, ValueError):
 #: ``summary``: dict of plain numbers; ``figures``: {file name: draw(fig)}
 ExperimentResult = collections.namedtuple('ExperimentResult', ['summary', 'figures'])
 
-#: ``func(model, truth, duration_scale) -> ExperimentResult``, ``help`` one line
-Experiment = collections.namedtuple('Experiment', ['func', 'help'])
+#: ``func(model, truth, duration_scale) -> ExperimentResult``, ``help`` one line;
+#: ``output``: ``'results'`` (figures + summary.json in a directory) or ``'recording'``
+#: (``func(model, truth, duration_scale, progress=None)`` returns ``(topics, summary)``,
+#: written as a rosbag2 recording);
+#: ``needs_model``: the experiment uses the ``--model`` gear file
+Experiment = collections.namedtuple('Experiment', ['func', 'help', 'output', 'needs_model'],
+                                    defaults=('results', True))
 
 
 # ---------------------------------------------------------------- helpers ---
@@ -574,6 +585,28 @@ def estimation(model, truth, duration_scale=1.0):
     return ExperimentResult(summary, {'estimation.png': (draw, (12, 10))})
 
 
+# --------------------------------------------------------- identification ---
+
+def identification(model, truth, duration_scale=1.0, progress=None):
+    """Identification excitation (paper Section V-A): a recording for ``friction_joint identify``.
+
+    Constant-velocity plateaus 0.01..3.5 rad/s in both directions at four
+    temperatures across the truth's range, the lever at different angles,
+    and slow pre-sliding sinusoids; see :mod:`friction_joint.excitation`.
+    ``model`` is not used; ``progress(message)`` is called once per
+    temperature block.
+
+    Returns
+    -------
+    topics : dict
+        Contract topics, the input of :func:`friction_joint.bag.write_recording`.
+    summary : dict
+        Plan and run facts (block temperatures, planned plateaus, duration).
+    """
+    from .excitation import simulate_identification
+    return simulate_identification(truth, _check_scale(duration_scale), progress=progress)
+
+
 #: command-line name -> experiment
 EXPERIMENTS = {
     'chirp': Experiment(chirp, 'open-loop chirp torques, measured vs LuGre/GMS simulation (Fig. 5)'),
@@ -581,6 +614,11 @@ EXPERIMENTS = {
                                              'none/LuGre/GMS at 27 and 35 degC (Fig. 6-7)'),
     'estimation': Experiment(estimation, 'external torque estimation with the disturbance '
                                          'observer, with and without friction model (Fig. 8)'),
+    'identification': Experiment(identification, 'constant-velocity plateaus at several '
+                                                 'temperatures and loads plus pre-sliding '
+                                                 'sinusoids, written as a recording (--out BAG) '
+                                                 'for "friction_joint identify" (Section V-A)',
+                                 'recording', False),
 }
 
 
@@ -611,8 +649,10 @@ def _render_png(draw, size):
     return buf.getvalue()
 
 
-def write_results(result, out_dir):
+def write_results(result, out_dir, json_name='summary.json'):
     """Write the figures and ``summary.json`` of ``result`` into ``out_dir`` atomically.
+
+    ``json_name`` names the JSON file (default ``summary.json``).
 
     Everything is rendered in memory, written to temporary files in
     ``out_dir`` (created if missing), then renamed into place with
@@ -626,7 +666,7 @@ def write_results(result, out_dir):
     """
     targets = [(name, _render_png(draw, size)) for name, (draw, size) in result.figures.items()]
     text = json.dumps(_json_clean(result.summary), indent=2, allow_nan=False) + '\n'
-    targets.append(('summary.json', text.encode('utf-8')))
+    targets.append((json_name, text.encode('utf-8')))
     try:
         os.makedirs(out_dir, exist_ok=True)
     except OSError as exc:
@@ -652,21 +692,42 @@ def write_results(result, out_dir):
     return paths
 
 
-def run_experiment(name, model_path, truth_path, out_dir, duration_scale=1.0):
+def run_experiment(name, model_path, truth_path, out_dir, duration_scale=1.0, progress=None):
     """Load the gear files, run experiment ``name`` and write its results.
+
+    ``model_path`` may be None for experiments that do not use a model
+    (``identification``).  Experiments with ``output == 'recording'`` write a
+    rosbag2 recording at ``out_dir`` (which must not exist); the others write
+    their figures and ``summary.json`` into the directory ``out_dir``.
 
     Returns
     -------
     list of str
-        The paths written (figures, then ``summary.json``).
+        The paths written (figures, then ``summary.json``; or the recording).
     """
     if name not in EXPERIMENTS:
         raise ExperimentError(f'unknown experiment {name!r}; choose from {", ".join(EXPERIMENTS)}')
+    exp = EXPERIMENTS[name]
     scale = _check_scale(duration_scale)
-    model = load_gear(model_path)
+    if exp.needs_model and model_path is None:
+        raise ExperimentError(f'experiment {name} needs --model (the identified model gear file)')
+    if exp.output == 'recording' and os.path.lexists(out_dir):
+        raise ExperimentError(f'{out_dir} exists already: the {name} experiment writes a new '
+                              'recording there; choose another --out')
+    model = load_gear(model_path) if model_path is not None else None
     truth = load_gear(truth_path)
     start = time.perf_counter()
-    result = EXPERIMENTS[name].func(model, truth, scale)
+    if exp.output == 'recording':
+        from .bag import write_recording
+        topics, summary = exp.func(model, truth, scale, progress=progress)
+        path = write_recording(out_dir, topics, joint_name=truth.joint_name)
+        summary['wall_time_s'] = time.perf_counter() - start
+        if progress is not None:
+            progress(f'{len(summary.get("plateaus", []))} plateaus planned, '
+                     f'{summary.get("duration_s", 0.0):.1f} s simulated in '
+                     f'{summary["wall_time_s"]:.1f} s')
+        return [path]
+    result = exp.func(model, truth, scale)
     result.summary['model_file'] = os.path.abspath(model_path)
     result.summary['truth_file'] = os.path.abspath(truth_path)
     result.summary['wall_time_s'] = time.perf_counter() - start
@@ -674,7 +735,8 @@ def run_experiment(name, model_path, truth_path, out_dir, duration_scale=1.0):
 
 
 def _run(args):
-    paths = run_experiment(args.name, args.model, args.truth, args.out, args.duration_scale)
+    paths = run_experiment(args.name, args.model, args.truth, args.out, args.duration_scale,
+                           progress=lambda m: print(m, file=sys.stderr, flush=True))
     print('wrote ' + ', '.join(paths))
     return 0
 
@@ -688,12 +750,14 @@ def register(subparsers):
                     'file, and write its PNG figures and DIR/summary.json.')
     parser.add_argument('name', choices=tuple(EXPERIMENTS), metavar='NAME',
                         help='; '.join(f'{k}: {v.help}' for k, v in EXPERIMENTS.items()))
-    parser.add_argument('--model', required=True, metavar='M.yaml',
-                        help='gear file of the identified model (controller, observer, simulation)')
+    parser.add_argument('--model', metavar='M.yaml',
+                        help='gear file of the identified model (controller, observer, '
+                             'simulation); required by every experiment but identification')
     parser.add_argument('--truth', required=True, metavar='T.yaml',
                         help='gear file of the simulated hardware (plant)')
     parser.add_argument('--out', required=True, metavar='DIR',
-                        help='output directory (created if missing)')
+                        help='output directory (created if missing); for identification the '
+                             'recording to write (a rosbag2 directory, or a .mcap file)')
     parser.add_argument('--duration-scale', type=float, default=1.0, metavar='X',
                         help='multiply all run durations by X (default 1; small values for '
                              'quick tests)')
