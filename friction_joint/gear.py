@@ -280,6 +280,7 @@ class GearParams:
     friction: FrictionParams
     data: dict = dataclasses.field(repr=False, compare=False)
     source: str = None
+    given: frozenset = dataclasses.field(default=frozenset(), repr=False, compare=False)
 
     def section(self, name):
         """A validated simulator section (``'lever'``, ``'thermal'``, ...) with defaults."""
@@ -298,11 +299,17 @@ class GearParams:
         """A new GearParams with ``changes`` (a nested dict) merged in and validated."""
         data = copy.deepcopy(self.data)
         _merge(data, changes)
-        return gear_from_dict(data, source=self.source)
+        return gear_from_dict(data, source=self.source,
+                              given=self.given | _given_keys(changes))
 
     def to_dict(self):
-        """The gear file's content: ``{'/**': {'ros__parameters': ...}}``."""
-        return {'/**': {'ros__parameters': _prune(copy.deepcopy(self.data))}}
+        """The gear file's content: ``{'/**': {'ros__parameters': ...}}``.
+
+        Keys the source did not give and that still hold their default are
+        left out, so writing a gear does not change its model structure
+        (e.g. an absent ``delta_v`` stays absent, meaning linear viscous).
+        """
+        return {'/**': {'ros__parameters': _prune(copy.deepcopy(self.data), SCHEMA, self.given)}}
 
 
 def _merge(dst, src):
@@ -313,16 +320,36 @@ def _merge(dst, src):
             dst[key] = val
 
 
-def _prune(d):
-    """Drop None-valued (absent optional) keys for writing."""
-    return {k: _prune(v) if isinstance(v, dict) else v for k, v in d.items() if v is not None}
+def _given_keys(d, prefix=''):
+    out = set()
+    for k, v in d.items():
+        name = prefix + str(k)
+        out.add(name)
+        if isinstance(v, dict):
+            out |= _given_keys(v, name + '.')
+    return frozenset(out)
+
+
+def _prune(d, fields, given, prefix=''):
+    """Drop absent optional keys, and defaults that were not given, for writing."""
+    out = {}
+    for k, v in d.items():
+        name = prefix + k
+        spec = fields.get(k)
+        if v is None:
+            continue
+        if isinstance(v, dict) and isinstance(spec, Section):
+            out[k] = _prune(v, spec.fields, given, name + '.')
+        elif name in given or spec is None or spec.default is REQUIRED or v != spec.default:
+            out[k] = v
+    return out
 
 
 def _tup(x):
     return None if x is None else tuple(x)
 
 
-def gear_from_dict(params, source=None):
+def gear_from_dict(params, source=None, given=None):
     """Validate a ``ros__parameters`` mapping and return :class:`GearParams`.
 
     Parameters
@@ -331,6 +358,8 @@ def gear_from_dict(params, source=None):
         The nested mapping under ``ros__parameters`` (not the whole file).
     source : str, optional
         Where it came from, used in error messages.
+    given : set of str, optional
+        Dotted keys given explicitly (default: those present in ``params``).
 
     Raises
     ------
@@ -346,7 +375,8 @@ def gear_from_dict(params, source=None):
     except GearConfigError as exc:
         raise GearConfigError(where + str(exc)) from None
     gear = GearParams(data['joint_name'], data['gear_ratio'], data['inertia'],
-                      friction, data, source)
+                      friction, data, source,
+                      _given_keys(params) if given is None else frozenset(given))
     _warn_passivity(gear, where)
     return gear
 
