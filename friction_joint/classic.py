@@ -31,11 +31,7 @@ The command ``friction_joint classic EXPERIMENT --out DIR`` (see
 :func:`register`) runs one experiment and writes ``DIR/EXPERIMENT.png`` and
 ``DIR/EXPERIMENT.json``, both atomically.
 """
-import io
-import json
 import math
-import os
-import secrets
 import warnings
 
 import numpy as np
@@ -44,6 +40,7 @@ from .exceptions import FrictionJointError, GearConfigWarning
 from .gear import gear_from_dict
 from .joint import Joint
 from .lugre import LuGre
+from .output import json_bytes, render_png, write_files
 from .static import StaticFriction
 
 __all__ = ['CANUDAS_1995', 'canudas_gear', 'presliding', 'frictional_lag', 'breakaway',
@@ -549,30 +546,11 @@ EXPERIMENTS = {
 }
 
 
-def _json_clean(obj):
-    """Plain JSON types; non-finite floats become null."""
-    if isinstance(obj, dict):
-        return {str(k): _json_clean(v) for k, v in obj.items()}
-    if isinstance(obj, (list, tuple)):
-        return [_json_clean(v) for v in obj]
-    if isinstance(obj, (float, np.floating)):
-        return float(obj) if math.isfinite(obj) else None
-    if isinstance(obj, np.integer):
-        return int(obj)
-    return obj
-
-
-def _render_png(name, result):
-    from matplotlib.backends.backend_agg import FigureCanvasAgg
-    from matplotlib.figure import Figure
-    fig = Figure(figsize=(10, 5) if name != 'stick-slip' else (9, 6.5))
-    FigureCanvasAgg(fig)
-    EXPERIMENTS[name][1](fig, result)
-    fig.suptitle(EXPERIMENTS[name][2] + ' (LuGre, Canudas de Wit et al. 1995 parameters)')
-    fig.tight_layout()
-    buf = io.BytesIO()
-    fig.savefig(buf, format='png', dpi=110)
-    return buf.getvalue()
+def _draw(name, result):
+    def draw(fig):
+        EXPERIMENTS[name][1](fig, result)
+        fig.suptitle(EXPERIMENTS[name][2] + ' (LuGre, Canudas de Wit et al. 1995 parameters)')
+    return draw
 
 
 def write_experiment(name, result, out_dir):
@@ -587,33 +565,9 @@ def write_experiment(name, result, out_dir):
     tuple of str
         Paths of the PNG and JSON files.
     """
-    text = json.dumps(_json_clean(result['summary']), indent=2) + '\n'
-    png = _render_png(name, result)
-    try:
-        os.makedirs(out_dir, exist_ok=True)
-    except OSError as exc:
-        raise FrictionJointError(
-            f'cannot create output directory {out_dir}: {exc.strerror}') from None
-    targets = [(os.path.join(out_dir, name + '.png'), png),
-               (os.path.join(out_dir, name + '.json'), text.encode('utf-8'))]
-    temps = []
-    try:
-        for path, data in targets:
-            tmp = os.path.join(out_dir, f'.{name}-{os.getpid()}-{secrets.token_hex(4)}.tmp')
-            # os.open with mode 0o666 honours the umask (mkstemp would give 0600)
-            fd = os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o666)
-            temps.append(tmp)
-            with os.fdopen(fd, 'wb') as fh:
-                fh.write(data)
-        for (path, _), tmp in zip(targets, temps):
-            os.replace(tmp, path)
-    except OSError as exc:
-        raise FrictionJointError(f'cannot write to {out_dir}: {exc.strerror}') from None
-    finally:
-        for tmp in temps:
-            if os.path.exists(tmp):
-                os.unlink(tmp)
-    return tuple(path for path, _ in targets)
+    png = render_png(_draw(name, result), (10, 5) if name != 'stick-slip' else (9, 6.5), dpi=110)
+    return tuple(write_files(out_dir, [(name + '.png', png),
+                                       (name + '.json', json_bytes(result['summary']))]))
 
 
 def _run(args):

@@ -39,12 +39,9 @@ file) of the identification excitation of :mod:`friction_joint.excitation`
 for ``friction_joint identify``.
 """
 import collections
-import io
-import json
 import math
 import os
 import sys
-import tempfile
 import time
 
 import numpy as np
@@ -54,6 +51,7 @@ from .exceptions import FrictionJointError, GearConfigError
 from .gear import load_gear
 from .joint import Joint
 from .observer import DisturbanceObserver
+from .output import json_bytes, render_png, write_files
 from .plant import Plant
 
 __all__ = ['ExperimentError', 'ExperimentResult', 'Experiment', 'EXPERIMENTS',
@@ -624,31 +622,6 @@ EXPERIMENTS = {
 
 # ----------------------------------------------------------------- output ---
 
-def _json_clean(obj):
-    """Plain JSON types; non-finite floats become null."""
-    if isinstance(obj, dict):
-        return {str(k): _json_clean(v) for k, v in obj.items()}
-    if isinstance(obj, (list, tuple)):
-        return [_json_clean(v) for v in obj]
-    if isinstance(obj, (float, np.floating)):
-        return float(obj) if math.isfinite(obj) else None
-    if isinstance(obj, np.integer):
-        return int(obj)
-    return obj
-
-
-def _render_png(draw, size):
-    from matplotlib.backends.backend_agg import FigureCanvasAgg
-    from matplotlib.figure import Figure
-    fig = Figure(figsize=size)
-    FigureCanvasAgg(fig)
-    draw(fig)
-    fig.tight_layout()
-    buf = io.BytesIO()
-    fig.savefig(buf, format='png', dpi=100)
-    return buf.getvalue()
-
-
 def write_results(result, out_dir, json_name='summary.json'):
     """Write the figures and ``summary.json`` of ``result`` into ``out_dir`` atomically.
 
@@ -664,32 +637,9 @@ def write_results(result, out_dir, json_name='summary.json'):
     list of str
         The paths written.
     """
-    targets = [(name, _render_png(draw, size)) for name, (draw, size) in result.figures.items()]
-    text = json.dumps(_json_clean(result.summary), indent=2, allow_nan=False) + '\n'
-    targets.append((json_name, text.encode('utf-8')))
-    try:
-        os.makedirs(out_dir, exist_ok=True)
-    except OSError as exc:
-        raise ExperimentError(f'cannot create output directory {out_dir}: {exc.strerror}') from None
-    temps = []
-    try:
-        for name, data in targets:
-            fd, tmp = tempfile.mkstemp(dir=out_dir, prefix=f'.{name}-', suffix='.tmp')
-            temps.append(tmp)
-            with os.fdopen(fd, 'wb') as fh:
-                fh.write(data)
-        paths = []
-        for (name, _), tmp in zip(targets, temps):
-            path = os.path.join(out_dir, name)
-            os.replace(tmp, path)
-            paths.append(path)
-    except OSError as exc:
-        raise ExperimentError(f'cannot write to {out_dir}: {exc.strerror}') from None
-    finally:
-        for tmp in temps:
-            if os.path.exists(tmp):
-                os.unlink(tmp)
-    return paths
+    targets = [(name, render_png(draw, size)) for name, (draw, size) in result.figures.items()]
+    targets.append((json_name, json_bytes(result.summary)))
+    return write_files(out_dir, targets, ExperimentError)
 
 
 def run_experiment(name, model_path, truth_path, out_dir, duration_scale=1.0, progress=None):

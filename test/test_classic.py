@@ -268,9 +268,9 @@ def test_cli_writes_png_and_json(tmp_path, name):
 
 
 def test_cli_leaves_nothing_on_error(tmp_path, monkeypatch):
-    def broken(name, result):
+    def broken(draw, size, dpi=100):
         raise RuntimeError('figure failed')
-    monkeypatch.setattr(classic, '_render_png', broken)
+    monkeypatch.setattr(classic, 'render_png', broken)
     monkeypatch.setitem(classic.EXPERIMENTS, 'lag',
                         (lambda: classic.frictional_lag(samples_per_period=2000),)
                         + classic.EXPERIMENTS['lag'][1:])

@@ -1,0 +1,88 @@
+"""Writing results: figures rendered in memory, files replaced atomically.
+
+Every command that writes results renders them completely first, writes them
+to temporary files next to their destination, and only then renames them
+into place (:func:`os.replace`), in the order given (put the JSON summary
+last: its presence means the files before it belong to it).  An error leaves
+no partial result behind.
+"""
+import io
+import json
+import math
+import os
+import secrets
+
+import numpy as np
+
+from .exceptions import FrictionJointError
+
+__all__ = ['json_clean', 'json_bytes', 'render_png', 'write_files']
+
+
+def json_clean(obj):
+    """Plain JSON types; non-finite floats become null."""
+    if isinstance(obj, dict):
+        return {str(k): json_clean(v) for k, v in obj.items()}
+    if isinstance(obj, (list, tuple, np.ndarray)):
+        return [json_clean(v) for v in obj]
+    if isinstance(obj, (float, np.floating)):
+        return float(obj) if math.isfinite(obj) else None
+    if isinstance(obj, (np.integer, np.bool_)):
+        return obj.item()
+    return obj
+
+
+def json_bytes(obj):
+    """``obj`` as indented JSON (UTF-8 bytes)."""
+    return (json.dumps(json_clean(obj), indent=2, allow_nan=False) + '\n').encode('utf-8')
+
+
+def render_png(draw, size, dpi=100):
+    """Render ``draw(fig)`` on a new Agg figure of ``size`` inches; returns PNG bytes."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
+    fig = Figure(figsize=size)
+    FigureCanvasAgg(fig)
+    draw(fig)
+    fig.tight_layout()
+    buf = io.BytesIO()
+    fig.savefig(buf, format='png', dpi=dpi)
+    return buf.getvalue()
+
+
+def write_files(out_dir, targets, error=FrictionJointError):
+    """Write ``[(file name, bytes), ...]`` into ``out_dir`` atomically, in order.
+
+    ``out_dir`` is created if missing.  Files get the usual permissions (the
+    umask applies).  Raises ``error`` naming the directory if it cannot be
+    written; no partial file is left.
+
+    Returns
+    -------
+    list of str
+        The paths written.
+    """
+    try:
+        os.makedirs(out_dir, exist_ok=True)
+    except OSError as exc:
+        raise error(f'cannot create output directory {out_dir}: {exc.strerror}') from None
+    temps = []
+    try:
+        for name, data in targets:
+            tmp = os.path.join(out_dir, f'.{name}-{os.getpid()}-{secrets.token_hex(4)}.tmp')
+            fd = os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o666)
+            temps.append(tmp)
+            with os.fdopen(fd, 'wb') as fh:
+                fh.write(data)
+        paths = []
+        for (name, _), tmp in zip(targets, temps):
+            path = os.path.join(out_dir, name)
+            os.replace(tmp, path)
+            paths.append(path)
+    except OSError as exc:
+        raise error(f'cannot write to {out_dir}: {exc.strerror}') from None
+    finally:
+        for tmp in temps:
+            if os.path.exists(tmp):
+                os.unlink(tmp)
+    return paths
