@@ -71,12 +71,41 @@ def run_demo(out, model=None, truth=None, duration_scale=1.0):
         lines += [f'### {name} ({time.perf_counter() - t0:.1f} s)', '']
         lines += [f'![{f}]({name}/{f})' for f in _figures(d)]
         lines += ['', '```json', json.dumps(summary, indent=1), '```', '']
+    lines += _identification(out, model, truth, duration_scale, cli_main)
     path = os.path.join(out, 'report.md')
     tmp = path + '.tmp'
     with open(tmp, 'w', encoding='utf-8') as fh:
         fh.write('\n'.join(lines))
     os.replace(tmp, path)
     return path
+
+
+def _identification(out, model, truth, duration_scale, cli_main):
+    """Record the paper's identification excitation on the simulator and identify."""
+    import shutil
+    d = os.path.join(out, 'identification')
+    bag = os.path.join(d, 'excitation')
+    if os.path.exists(d):
+        shutil.rmtree(d)
+    t0 = time.perf_counter()
+    if cli_main(['experiment', 'identification', '--truth', truth, '--out', bag,
+                 '--duration-scale', str(0.25 * duration_scale)]) != 0:
+        raise FrictionJointError('experiment identification failed')
+    t1 = time.perf_counter()
+    gear = os.path.join(d, 'identified.yaml')
+    report = os.path.join(d, 'report')
+    if cli_main(['identify', bag, '--model', model, '--out', gear, '--report', report]) != 0:
+        raise FrictionJointError('identify failed')
+    t2 = time.perf_counter()
+    with open(gear, encoding='utf-8') as fh:
+        header = [ln[2:].rstrip() for ln in fh if ln.startswith('# ')]
+    lines = ['## Identification from a recording (the paper\'s three steps)', '',
+             f'`friction_joint experiment identification --truth {os.path.basename(truth)}` recorded '
+             f'the excitation in {t1 - t0:.1f} s; `friction_joint identify` fitted the structure of '
+             f'`{os.path.basename(model)}` in {t2 - t1:.1f} s and wrote `identification/identified.yaml`:',
+             '', '```'] + header[:40] + ['```', '']
+    lines += [f'![{f}](identification/report/{f})' for f in _figures(report)]
+    return lines + ['']
 
 
 def _ros_run(out, model, truth, duration):
