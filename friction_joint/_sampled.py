@@ -10,7 +10,8 @@ class SampledFrictionModel:
     """Batch bookkeeping, input broadcasting and the low-overhead single step.
 
     Subclasses implement ``_run(qd, xi, tau_l, dt, out)`` on (B, T) arrays
-    (advancing their state in place) and ``reset()``.
+    (advancing their state in place) and ``reset()``; ``friction.offset`` is
+    added here.
     """
 
     def _init_batch(self, frictions):
@@ -18,6 +19,7 @@ class SampledFrictionModel:
         flist = [frictions] if self.single else list(frictions)
         self.packed = pack_static(flist)
         self._buf = np.zeros((4, 1, 1))
+        self._offset = float(self.packed.offset[0])
         return flist
 
     @property
@@ -28,6 +30,7 @@ class SampledFrictionModel:
         qd, xi, tl = broadcast_batch(self.batch, qd, xi, tau_l)
         tau = np.empty_like(qd)
         self._run(qd, xi, np.abs(tl), float(dt), tau)
+        tau += self.packed.offset[:, None]
         return tau[0] if self.single else tau
 
     def step(self, qd, xi, tau_l, dt):
@@ -40,4 +43,4 @@ class SampledFrictionModel:
         buf[1, 0, 0] = xi
         buf[2, 0, 0] = abs(tau_l)
         self._run(buf[0], buf[1], buf[2], float(dt), buf[3])
-        return float(buf[3, 0, 0])
+        return float(buf[3, 0, 0]) + self._offset

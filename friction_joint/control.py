@@ -121,7 +121,7 @@ class Controller:
         """Torque command for one sample; components are kept in ``self.last``."""
         tau_g = self.gravity(q)
         v = qd if self.ff_velocity == 'measured' else qd_d
-        tau_f = self.friction.step(v, xi, abs(tau_g), self.dt)
+        tau_f = self.friction.step(v, xi, abs(tau_g), self.dt, q)
         tau_pd = self.kp * (q_d - q) + self.kd * (qd_d - qd)
         tau = self.J * qdd_d + tau_pd + tau_g + tau_f
         self.last = {'pd': tau_pd, 'gravity': tau_g, 'friction': tau_f, 'inertia': self.J * qdd_d}

@@ -15,6 +15,11 @@ Keys beyond the contract's base keys (all optional):
 ``friction.temperature_range``
     ``[lo, hi]`` degC: xi is clipped to this range before the polynomials are
     evaluated, and the curve is checked for physical values over it.
+``friction.offset``
+    a constant torque (Nm) added to the friction torque of every model: in
+    sliding, friction then differs by direction (the ``asymmetry`` effect).
+``friction.position_ripple``
+    torque ripple sum_n A_n sin(n c q + phi_n) added to the friction torque.
 ``friction.lugre.sigma0`` / ``sigma1``
     bristle stiffness (Nm/rad) and micro-damping (Nm s/rad), eq. 10.
 ``friction.gms.k`` / ``alpha`` / ``c``
@@ -175,6 +180,7 @@ FRICTION_SCHEMA = {
         'alpha': FloatList(None, min_len=1, positive=True, doc='element torque fractions, sum 1'),
         'c': Float(positive=True, doc='attraction parameter C, Nm/s'),
     }, doc='GMS parameters (eq. 11-13)'),
+    'offset': Float(0.0, doc='constant torque added to the friction torque, Nm'),
     'position_ripple': Section({
         'cycles_per_rev': Float(REQUIRED, positive=True, doc='fundamental, cycles per output revolution'),
         'amplitude': FloatList(REQUIRED, min_len=1, doc='Nm, one per harmonic 1..n'),
@@ -264,6 +270,7 @@ class FrictionParams:
     lugre: LuGreParams = None
     gms: GMSParams = None
     position_ripple: RippleParams = None
+    offset: float = 0.0
 
 
 @dataclasses.dataclass(frozen=True)
@@ -423,7 +430,7 @@ def _friction_from(fr):
         fc_load=_tup(fr['fc_load']), fv_load=_tup(fr['fv_load']), fs_load=_tup(fr['fs_load']),
         vs_load=_tup(fr['vs_load']), delta_v_load=_tup(fr['delta_v_load']),
         velocity_scale=fr['velocity_scale'], temperature_range=(lo, hi), lugre=lugre, gms=gms,
-        position_ripple=ripple)
+        position_ripple=ripple, offset=fr['offset'])
 
 
 def _raw_curve(friction, xi):

@@ -241,7 +241,7 @@ def static_joint_step(q, v, f, jj, fc, fs, fv, vs, dv, ds, kap, h):
 
 
 @njit
-def _inputs(temp, load, t_lo, t_hi, kext, mgl, rip_a, rip_p, rip_c, b, q, te_in, xi):
+def _inputs(temp, load, t_lo, t_hi, kext, mgl, rip_a, rip_p, rip_c, rip_o, b, q, te_in, xi):
     """External torque, ripple torque and curve parameters for set b at position q.
 
     Called with the half-step position q + h qd / 2: together with the
@@ -249,7 +249,7 @@ def _inputs(temp, load, t_lo, t_hi, kext, mgl, rip_a, rip_p, rip_c, b, q, te_in,
     a position-Verlet (symplectic, second-order) scheme.
     """
     te = te_in + kext[b] * q + mgl[b] * math.sin(q)
-    rip = 0.0
+    rip = rip_o[b]
     for n in range(rip_a.shape[1]):
         rip += rip_a[b, n] * math.sin((n + 1) * rip_c[b] * q + rip_p[b, n])
     fc, fs, fv, vs, dv = curve_params(temp, load, t_lo, t_hi, b, xi, abs(te))
@@ -257,13 +257,13 @@ def _inputs(temp, load, t_lo, t_hi, kext, mgl, rip_a, rip_p, rip_c, b, q, te_in,
 
 
 @njit
-def _run_lugre(temp, load, delta_s, kappa, t_lo, t_hi, rip_a, rip_p, rip_c, sg0, sg1, jj,
+def _run_lugre(temp, load, delta_s, kappa, t_lo, t_hi, rip_a, rip_p, rip_c, rip_o, sg0, sg1, jj,
                mgl, kext, tau, tau_ext_in, xi, h, q, v, z, out_q, out_v, out_tr, out_te):
     nb, nt = tau.shape
     for b in range(nb):
         for k in range(nt):
             te, rip, fc, fs, fv, vs, dv = _inputs(temp, load, t_lo, t_hi, kext, mgl, rip_a, rip_p,
-                                                  rip_c, b, q[b] + 0.5 * h * v[b],
+                                                  rip_c, rip_o, b, q[b] + 0.5 * h * v[b],
                                                   tau_ext_in[b, k], xi[b, k])
             q[b], v[b], z[b], tr = lugre_joint_step(
                 q[b], v[b], z[b], tau[b, k] - te - rip, jj[b], sg0[b], sg1[b],
@@ -275,14 +275,14 @@ def _run_lugre(temp, load, delta_s, kappa, t_lo, t_hi, rip_a, rip_p, rip_c, sg0,
 
 
 @njit
-def _run_gms(temp, load, delta_s, kappa, t_lo, t_hi, rip_a, rip_p, rip_c, k_el, alpha, cc, jj,
+def _run_gms(temp, load, delta_s, kappa, t_lo, t_hi, rip_a, rip_p, rip_c, rip_o, k_el, alpha, cc, jj,
              mgl, kext, tau, tau_ext_in, xi, h, q, v, z, stick, slipdir,
              out_q, out_v, out_tr, out_te):
     nb, nt = tau.shape
     for b in range(nb):
         for k in range(nt):
             te, rip, fc, fs, fv, vs, dv = _inputs(temp, load, t_lo, t_hi, kext, mgl, rip_a, rip_p,
-                                                  rip_c, b, q[b] + 0.5 * h * v[b],
+                                                  rip_c, rip_o, b, q[b] + 0.5 * h * v[b],
                                                   tau_ext_in[b, k], xi[b, k])
             q[b], v[b], tr = gms_joint_step(
                 q[b], v[b], z[b], stick[b], slipdir[b], k_el[b], alpha[b], cc[b],
@@ -294,13 +294,13 @@ def _run_gms(temp, load, delta_s, kappa, t_lo, t_hi, rip_a, rip_p, rip_c, k_el, 
 
 
 @njit
-def _run_static(temp, load, delta_s, kappa, t_lo, t_hi, rip_a, rip_p, rip_c, jj, mgl, kext,
+def _run_static(temp, load, delta_s, kappa, t_lo, t_hi, rip_a, rip_p, rip_c, rip_o, jj, mgl, kext,
                 tau, tau_ext_in, xi, h, q, v, out_q, out_v, out_tr, out_te):
     nb, nt = tau.shape
     for b in range(nb):
         for k in range(nt):
             te, rip, fc, fs, fv, vs, dv = _inputs(temp, load, t_lo, t_hi, kext, mgl, rip_a, rip_p,
-                                                  rip_c, b, q[b] + 0.5 * h * v[b],
+                                                  rip_c, rip_o, b, q[b] + 0.5 * h * v[b],
                                                   tau_ext_in[b, k], xi[b, k])
             q[b], v[b], tr = static_joint_step(q[b], v[b], tau[b, k] - te - rip, jj[b],
                                                fc, fs, fv, vs, dv, delta_s[b], kappa[b], h)
@@ -311,7 +311,7 @@ def _run_static(temp, load, delta_s, kappa, t_lo, t_hi, rip_a, rip_p, rip_c, jj,
 
 
 def pack_ripple(flist):
-    """Ripple amplitudes/phases (B, n) and fundamentals (B,) (zeros where absent)."""
+    """Ripple amplitudes/phases (B, n), fundamentals (B,) and offsets (B,) (zeros where absent)."""
     n = max([len(f.position_ripple.amplitude) for f in flist if f.position_ripple] + [1])
     amp = np.zeros((len(flist), n))
     phase = np.zeros((len(flist), n))
@@ -322,7 +322,7 @@ def pack_ripple(flist):
             amp[b, :len(r.amplitude)] = r.amplitude
             phase[b, :len(r.phase)] = r.phase
             cyc[b] = r.cycles_per_rev
-    return amp, phase, cyc
+    return amp, phase, cyc, np.array([f.offset for f in flist], dtype=float)
 
 
 class JointTrajectory:

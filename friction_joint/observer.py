@@ -62,7 +62,7 @@ class DisturbanceObserver:
     def __call__(self, tau, q, qd, xi):
         """One sample: measured drive torque, position, velocity, temperature -> tau_ext^."""
         tau_g = self.mgl * np.sin(q)
-        self.tau_friction = self.friction.step(qd, xi, abs(self.estimate), self.dt)
+        self.tau_friction = self.friction.step(qd, xi, abs(self.estimate), self.dt, q)
         bjq = self.beta * self.J * qd
         self.estimate = self.q_filter(tau + bjq - tau_g - self.tau_friction) - bjq
         return self.estimate

@@ -49,18 +49,19 @@ class PackedStatic:
         Temperature coefficients (powers 0..nT-1) of fc, fs, fv, vs, delta_v.
     load : ndarray, shape (B, 5, nL)
         Load coefficients (powers 1..nL).
-    delta_s, velocity_scale, t_lo, t_hi : ndarray, shape (B,)
+    delta_s, velocity_scale, t_lo, t_hi, offset : ndarray, shape (B,)
     """
 
-    __slots__ = ('temp', 'load', 'delta_s', 'velocity_scale', 't_lo', 't_hi')
+    __slots__ = ('temp', 'load', 'delta_s', 'velocity_scale', 't_lo', 't_hi', 'offset')
 
-    def __init__(self, temp, load, delta_s, velocity_scale, t_lo, t_hi):
+    def __init__(self, temp, load, delta_s, velocity_scale, t_lo, t_hi, offset=None):
         self.temp = temp
         self.load = load
         self.delta_s = delta_s
         self.velocity_scale = velocity_scale
         self.t_lo = t_lo
         self.t_hi = t_hi
+        self.offset = np.zeros(len(delta_s)) if offset is None else offset
 
     @property
     def batch(self):
@@ -106,7 +107,8 @@ def pack_static(frictions):
         np.array([f.delta_s for f in frictions], dtype=float),
         np.array([f.velocity_scale for f in frictions], dtype=float),
         np.array([f.temperature_range[0] for f in frictions], dtype=float),
-        np.array([f.temperature_range[1] for f in frictions], dtype=float))
+        np.array([f.temperature_range[1] for f in frictions], dtype=float),
+        np.array([f.offset for f in frictions], dtype=float))
 
 
 # ---------------------------------------------------------------- kernels ---
@@ -246,9 +248,10 @@ class StaticFriction:
         return self._out(g), self._out(s)
 
     def torque(self, qd, xi, tau_l=0.0):
-        """Static friction torque tau_rs (Nm) at velocity qd (rad/s)."""
+        """Static friction torque tau_rs (Nm) at velocity qd (rad/s), plus ``friction.offset``."""
         g, s = self.components(qd, xi, tau_l)
-        return g + s
+        off = self.packed.offset[0] if self.single else self.packed.offset[:, None]
+        return g + s + off
 
     def parameters(self, xi, tau_l=0.0):
         """Evaluated curve parameters as a dict of arrays, keys :data:`PARAMETERS`."""

@@ -124,3 +124,22 @@ def test_static_joint_sticks_below_breakaway(gear):
     assert np.all(tr.q == 0.0)
     tr = j.simulate(np.full(300, 5.0), DT, xi=30.0)
     assert tr.qd[-1] > 0.0
+
+
+@pytest.mark.parametrize('offset', [-0.3, 0.25])
+def test_offset_is_part_of_every_model(gear, offset):
+    g = gear.replace({'friction': {'offset': offset}})
+    v = np.array([-1.0, 0.05, 2.0])
+    ref = StaticFriction(gear.friction).torque(v, 30.0, 3.0) + offset
+    np.testing.assert_allclose(StaticFriction(g.friction).torque(v, 30.0, 3.0), ref, rtol=1e-12)
+    qd = np.repeat(v[:, None], 6000, axis=1)
+    np.testing.assert_allclose(LuGre([g.friction] * 3).simulate(qd, 30.0, 3.0, DT)[:, -1], ref,
+                               rtol=1e-6)
+    np.testing.assert_allclose(GMS([g.friction] * 3).simulate(qd, 30.0, 3.0, DT)[:, -1], ref,
+                               rtol=1e-6)
+    # in sliding the friction magnitude differs by direction by 2 |offset|
+    j = Joint(g, model='static')
+    up = j.simulate(np.full(24000, 6.0), DT, xi=30.0)
+    assert up.tau_r[-1] == pytest.approx(6.0, rel=1e-5)
+    assert StaticFriction(gear.friction).torque(up.qd[-1], 30.0)[0] == pytest.approx(6.0 - offset,
+                                                                                    rel=1e-5)

@@ -141,7 +141,8 @@ def test_observer_recovers_contact_torque_step(seed):
 
 
 def test_observer_with_exact_friction_model_sees_only_the_contact():
-    truth = load_gear('config/csd25.yaml')
+    truth = load_gear('config/csd25.yaml').replace({'friction': {
+        'offset': 0.2, 'position_ripple': {'cycles_per_rev': 160.0, 'amplitude': [0.1], 'phase': [0.5]}}})
     p = Plant(truth, ideal_sensors=True, xi0=30.0)
     c = Controller(truth, *pd_gains(truth.inertia), friction='lugre', dt=p.dt)
     with_f = DisturbanceObserver(truth, beta=60.0, dt=p.dt, friction='lugre', gravity=True)
