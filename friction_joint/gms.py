@@ -47,7 +47,7 @@ __all__ = ['GMS', 'gms_update']
 G_MIN = 1e-12
 
 
-@njit
+@njit(inline='always')
 def gms_update(z, stick, slipdir, k, alpha, c, v, h, gabs):
     """Advance the N element states in place over a step of constant velocity v.
 

@@ -240,7 +240,7 @@ def static_joint_step(q, v, f, jj, fc, fs, fv, vs, dv, ds, kap, h):
     return q + 0.5 * h * (v + vn), vn, fr
 
 
-@njit
+@njit(inline='always')
 def _inputs(temp, load, t_lo, t_hi, kext, mgl, rip_a, rip_p, rip_c, rip_o, b, q, te_in, xi):
     """External torque, ripple torque and curve parameters for set b at position q.
 

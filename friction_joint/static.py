@@ -113,7 +113,7 @@ def pack_static(frictions):
 
 # ---------------------------------------------------------------- kernels ---
 
-@njit
+@njit(inline='always')
 def _poly(temp, load, b, p, x, tl):
     acc = 0.0
     xp = 1.0
@@ -127,7 +127,7 @@ def _poly(temp, load, b, p, x, tl):
     return acc
 
 
-@njit
+@njit(inline='always')
 def curve_params(temp, load, t_lo, t_hi, b, xi, tl):
     """(F_c, F_s, F_v, v_s, delta_v) of set b at temperature xi, load tl."""
     x = min(max(xi, t_lo[b]), t_hi[b])
