@@ -16,7 +16,8 @@ __all__ = ['main']
 #: subcommand modules, in the order ``--help`` lists them
 SUBCOMMANDS = ('friction_joint.classic', 'friction_joint.experiments',
                'friction_joint.identify_command', 'friction_joint.demo',
-               'friction_joint.record', 'friction_joint.replay', 'friction_joint.bringup')
+               'friction_joint.record', 'friction_joint.replay', 'friction_joint.bringup',
+               'friction_joint.diagnose_command')
 
 
 def build_parser():
