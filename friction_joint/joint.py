@@ -21,7 +21,9 @@ is solved *exactly* (matrix exponential in closed form via phi-functions).
 Its eigenvalues always have negative real part, so the step is A-stable: no
 divergence for any stiffness or step.  Two passes per step: a cheap
 implicit-Euler predictor of the end velocity (viscous term s held at its
-start value), then the exact solve with the LuGre rate and Stribeck curve
+start value, or solved implicitly where its slope is stiff, which is always
+the case near qd = 0 when delta_v < 1: this keeps a sticking joint from
+chattering across zero velocity), then the exact solve with the LuGre rate and Stribeck curve
 evaluated at the mid-step velocity and s replaced by its chord between the
 start and predicted end velocity (s has an infinite slope at qd = 0 when
 delta_v < 1, so a tangent would be wrong).  Against a Radau solution the
@@ -177,13 +179,56 @@ def _chord(fv, dv, kap, v0, v1, s0):
 
 
 @njit
+def _implicit_visc(m, r, c, dv, vguess):
+    """Root of m v + c sign(v)|v|^dv = r (m > 0, c >= 0); unique, sign(v) = sign(r).
+
+    Newton on the convex increasing function of w = |v|^dv (dv < 1) or
+    u = |v| (dv >= 1): after its first step it approaches the root from
+    above, so it converges from any start.  Warm start at |vguess|.
+    """
+    if r == 0.0:
+        return 0.0
+    ar = abs(r)
+    if c == 0.0:
+        return r / m
+    same = vguess != 0.0 and (vguess > 0.0) == (r > 0.0)
+    if dv < 1.0:
+        p = 1.0 / dv
+        w = abs(vguess) ** dv if same else min(ar / c, (ar / m) ** dv)
+        for _ in range(50):
+            wp1 = w ** (p - 1.0)
+            dw = (m * wp1 * w + c * w - ar) / (m * p * wp1 + c)
+            w -= dw
+            if abs(dw) <= 1e-13 * w:
+                break
+        u = w ** p
+    else:
+        u = abs(vguess) if same else ar / m
+        for _ in range(50):
+            up1 = u ** (dv - 1.0)
+            du = (m * u + c * up1 * u - ar) / (m + c * dv * up1)
+            u -= du
+            if abs(du) <= 1e-13 * u:
+                break
+    return u if r > 0.0 else -u
+
+
+@njit
 def lugre_joint_step(q, v, z, f, jj, sg0, sg1, fc, fs, fv, vs, dv, ds, kap, h):
     """One coupled step of joint + LuGre; returns (q, v, z, tau_r) at the step's end."""
     s0 = s_visc(fv, dv, kap, v)
-    # predictor: LuGre rate at v, viscous held constant
+    # predictor: implicit Euler, LuGre rate at v; s(vn) implicit where its slope
+    # is stiff (h s'(v) > J/2, always near qd = 0), else held at s(v)
     a = sg0 * abs(v) / max(g_abs(fc, fs, vs, ds, kap, v), G_MIN)
-    vn = _implicit_euler_v(-a, 1.0, -(sg0 - sg1 * a) / jj, -sg1 / jj, 0.0, (f - s0) / jj, z, v, h)
-    # corrector: rate at mid-step velocity, viscous chord
+    if v == 0.0 or h * dv * s0 / v > 0.5 * jj:
+        dd = 1.0 + h * a
+        vn = _implicit_visc(jj + h * (sg1 + h * sg0) / dd,
+                            jj * v + h * (f - (sg0 - sg1 * a) * z / dd),
+                            h * fv * kap ** dv, dv, v)
+    else:
+        vn = _implicit_euler_v(-a, 1.0, -(sg0 - sg1 * a) / jj, -sg1 / jj, 0.0, (f - s0) / jj,
+                               z, v, h)
+    # corrector: rate at mid-step velocity, viscous chord (unchanged)
     vm = 0.5 * (v + vn)
     a = sg0 * abs(vm) / max(g_abs(fc, fs, vs, ds, kap, vm), G_MIN)
     c, sc = _chord(fv, dv, kap, v, vn, s0)
