@@ -1,0 +1,199 @@
+"""Benchmark of the ROS 2 side: rates, latency, lockstep speed, recorder throughput.
+
+    .venv/bin/python benchmarks/bench_nodes.py [--quick]
+
+1. realtime mode (joint_sim at 1 kHz + controller) for 60 s (10 s with
+   --quick), recorded: achieved /joint_states rate, gaps, and the state ->
+   command round-trip latency (the controller answers each state with a
+   command carrying the state's stamp; latency = the recorder's receive time
+   of the command - stamp);
+2. lockstep mode (joint_sim + controller): simulated steps per wall second;
+3. recorder throughput: a publisher floods /joint_states for 5 s; the
+   recorder's count written is compared with the count published.
+
+Runs in its own ROS domain with localhost-only discovery; every process it
+starts is stopped (SIGINT, then the process group is killed).
+"""
+import argparse
+import os
+import re
+import signal
+import subprocess
+import sys
+import tempfile
+import time
+
+import numpy as np
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+ROOT = os.path.dirname(HERE)
+PY = sys.executable
+TRUTH = os.path.join(ROOT, 'config', 'csd25_truth.yaml')
+MODEL = os.path.join(ROOT, 'config', 'csd25.yaml')
+
+
+def env():
+    e = dict(os.environ)
+    e['ROS_DOMAIN_ID'] = str(150 + os.getpid() % 60)
+    e['ROS_AUTOMATIC_DISCOVERY_RANGE'] = 'LOCALHOST'
+    e.pop('ROS_LOCALHOST_ONLY', None)
+    return e
+
+
+def start(argv, e):
+    return subprocess.Popen(argv, env=e, stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
+                            text=True, start_new_session=True)
+
+
+def stop(p, timeout=30):
+    if p.poll() is None:
+        try:
+            os.killpg(p.pid, signal.SIGINT)
+            p.wait(timeout)
+        except (ProcessLookupError, subprocess.TimeoutExpired):
+            pass
+    try:
+        os.killpg(p.pid, signal.SIGKILL)
+    except ProcessLookupError:
+        pass
+    out = p.communicate(timeout=10)[0] if p.stdout else ''
+    return out
+
+
+def node(name, gear, **params):
+    argv = [PY, '-m', f'friction_joint.nodes.{name}', '--ros-args', '--params-file', gear]
+    for k, v in params.items():
+        argv += ['-p', f'{k}:={v}']
+    return argv
+
+
+def realtime(seconds, e):
+    """Sim + controller in real time, measured from a zero-loss recording.
+
+    An in-process rclpy subscriber cannot keep up with 2 kHz of input (it
+    takes one message per executor turn), so the recorder is the instrument:
+    rate and gaps from the /joint_states stamps, latency = DDS receive time of
+    each /joint_command minus its stamp (the stamp of the state it answers,
+    taken by the simulator when it published that state).
+    """
+    from friction_joint.bag import read_recording
+    with tempfile.TemporaryDirectory() as d:
+        out = os.path.join(d, 'rt')
+        rec = start([PY, '-m', 'friction_joint', 'record', out, '--topics', '/joint_states',
+                     '/joint_command', '/joint_temperature'], e)
+        time.sleep(2.0)
+        sim = start(node('joint_sim', TRUTH, mode='realtime'), e)
+        ctrl = start(node('controller', MODEL, rate=1000.0, sync='false'), e)
+        time.sleep(seconds + 5.0)
+        stop(ctrl)
+        stop(sim)
+        stop(rec, timeout=60)
+        r = read_recording(out)
+    js, cmd = r.joint_states, r.joint_command
+    t0 = js.t[0] + 4.0                                  # skip start-up
+    sel = (js.t >= t0) & (js.t < t0 + seconds)
+    ts = js.t[sel]
+    gaps = np.diff(ts) * 1e3
+    csel = (cmd.t >= t0) & (cmd.t < t0 + seconds)
+    lat = (cmd.t_recv[csel] - cmd.t[csel]) * 1e3
+    return {'rate_hz': len(ts) / seconds, 'gap_p99_ms': float(np.percentile(gaps, 99)),
+            'gap_max_ms': float(np.max(gaps)), 'latency_p50_ms': float(np.percentile(lat, 50)),
+            'latency_p99_ms': float(np.percentile(lat, 99)), 'commands': int(csel.sum())}
+
+
+def lockstep(sim_seconds, e):
+    sim = start(node('joint_sim', TRUTH, mode='lockstep', duration=float(sim_seconds),
+                     start_delay=0.5), e)
+    ctrl = start(node('controller', MODEL), e)
+    try:
+        out = ''
+        t0 = None
+        for line in sim.stdout:
+            out += line
+            if 'lockstep simulation' in line:
+                pass
+            if t0 is None and 'lockstep simulation' in line:
+                t0 = time.monotonic()
+            if 'done' in line:
+                break
+        wall = time.monotonic() - t0
+        sim.wait(30)
+    finally:
+        stop(ctrl)
+        stop(sim)
+    steps = int(round(sim_seconds * 3000))
+    return {'steps': steps, 'wall_s': wall, 'steps_per_s': steps / wall}
+
+
+FLOOD = '''
+import sys, time, rclpy
+from rclpy.qos import HistoryPolicy, QoSProfile, ReliabilityPolicy
+from sensor_msgs.msg import JointState
+rclpy.init()
+n = rclpy.create_node('flood')
+pub = n.create_publisher(JointState, '/joint_states', QoSProfile(history=HistoryPolicy.KEEP_ALL, reliability=ReliabilityPolicy.RELIABLE))
+t = time.monotonic() + 10
+while pub.get_subscription_count() < 1 and time.monotonic() < t:
+    rclpy.spin_once(n, timeout_sec=0.05)
+time.sleep(1.0)
+rate, secs = float(sys.argv[1]), float(sys.argv[2])
+k = 0
+t0 = time.monotonic()
+while time.monotonic() - t0 < secs:
+    m = JointState(); m.header.stamp.sec = k // 1000; m.header.stamp.nanosec = (k % 1000) * 1000000
+    m.name = ['joint']; m.position = [k * 1e-3]; m.velocity = [0.0]; m.effort = [0.0]
+    pub.publish(m); k += 1
+    if rate > 0:
+        while time.monotonic() - t0 < k / rate:
+            pass
+pub.wait_for_all_acked(rclpy.duration.Duration(seconds=5))
+print('published', k, flush=True)
+n.destroy_node(); rclpy.shutdown()
+'''
+
+
+def recorder(rate, seconds, e):
+    with tempfile.TemporaryDirectory() as d:
+        out = os.path.join(d, 'bag')
+        rec = start([PY, '-m', 'friction_joint', 'record', out, '--topics', '/joint_states'], e)
+        time.sleep(2.0)
+        t0 = time.monotonic()
+        pub = subprocess.run([PY, '-c', FLOOD, str(rate), str(seconds)], env=e, text=True,
+                             capture_output=True, timeout=120)
+        wall = time.monotonic() - t0
+        time.sleep(1.0)
+        log = stop(rec, timeout=60)
+        published = int(re.search(r'published (\d+)', pub.stdout).group(1))
+        m = re.search(r'/joint_states: (\d+)', log)
+        written = int(m.group(1)) if m else -1
+    return {'published': published, 'written': written, 'lost': published - written,
+            'rate_msg_s': published / seconds, 'wall_s': wall}
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument('--quick', action='store_true', help='10 s instead of 60 s of real time')
+    a = ap.parse_args()
+    e = env()
+    os.environ.update({k: e[k] for k in ('ROS_DOMAIN_ID', 'ROS_AUTOMATIC_DISCOVERY_RANGE')})
+    secs = 10.0 if a.quick else 60.0
+    rt = realtime(secs, e)
+    print(f'realtime {secs:g} s: /joint_states {rt["rate_hz"]:.1f} Hz (target 1000 +- 1 %), '
+          f'gap p99 {rt["gap_p99_ms"]:.2f} ms, max {rt["gap_max_ms"]:.2f} ms; '
+          f'state->command latency p50 {rt["latency_p50_ms"]:.3f} ms, p99 {rt["latency_p99_ms"]:.3f} ms',
+          flush=True)
+    ls = lockstep(1.0 if a.quick else 3.0, e)
+    print(f'lockstep: {ls["steps"]} steps in {ls["wall_s"]:.2f} s = {ls["steps_per_s"]:.0f} steps/s '
+          f'({ls["steps_per_s"] / 3000:.3f} x real time)', flush=True)
+    r3 = recorder(3000.0, 5.0, e)
+    rf = recorder(0.0, 5.0, e)
+    for name, r in (('3 kHz', r3), ('flood', rf)):
+        print(f'recorder {name}: published {r["published"]}, written {r["written"]}, '
+              f'lost {r["lost"]} ({r["rate_msg_s"]:.0f} msg/s)', flush=True)
+    print(f'rate_hz={rt["rate_hz"]:.1f} latency_p50_ms={rt["latency_p50_ms"]:.3f} '
+          f'latency_p99_ms={rt["latency_p99_ms"]:.3f} lockstep_steps_per_s={ls["steps_per_s"]:.0f} '
+          f'recorder_lost={r3["lost"] + rf["lost"]} recorder_flood_msg_s={rf["rate_msg_s"]:.0f}')
+
+
+if __name__ == '__main__':
+    main()
