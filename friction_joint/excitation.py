@@ -83,7 +83,7 @@ import numpy as np
 from .exceptions import FrictionJointError
 from .plant import Plant
 
-__all__ = ['EXCITATION', 'BlockPlan', 'plan_block', 'block_temperatures', 'speeds',
+__all__ = ['EXCITATION', 'BlockPlan', 'plan_block', 'block_temperatures', 'speeds', 'record_segment',
            'simulate_identification']
 
 #: the default identification experiment
@@ -304,6 +304,40 @@ def _gains(inertia, bandwidth):
     return inertia * bandwidth ** 2, 2.0 * inertia * bandwidth
 
 
+def record_segment(plant, command, q_ref, qd_ref, every, t_off, out, temp_t, temp_xi):
+    """Run ``plant`` closed loop over a reference and append the measured record.
+
+    ``command(sample, k) -> tau`` is the control law for step k.  Appends to
+    ``out`` (lists per key: t, q, qd, effort, tau (link torque), cmd, q_d,
+    qd_d; decimated by ``every``, times shifted by ``t_off``) and to the
+    temperature sample lists ``temp_t``, ``temp_xi``.
+    """
+    n = len(q_ref)
+    rec = {k: np.empty(n) for k in ('t', 'q', 'qd', 'effort', 'tau', 'cmd')}
+    s = plant.last
+    tt, tx = [s.t], [s.xi]
+    step = plant.step
+    for k in range(n):
+        cmd = command(s, k)
+        rec['t'][k] = s.t
+        rec['q'][k] = s.q
+        rec['qd'][k] = s.qd
+        rec['effort'][k] = s.effort
+        rec['tau'][k] = s.tau_link
+        rec['cmd'][k] = cmd
+        s = step(cmd)
+        if s.xi_new:
+            tt.append(s.t)
+            tx.append(s.xi)
+    sel = slice(0, n, every)
+    for key in ('t', 'q', 'qd', 'effort', 'tau', 'cmd'):
+        out[key].append(rec[key][sel] + (t_off if key == 't' else 0.0))
+    out['q_d'].append(q_ref[sel])
+    out['qd_d'].append(qd_ref[sel])
+    temp_t.append(np.asarray(tt) + t_off)
+    temp_xi.append(np.asarray(tx))
+
+
 def simulate_identification(truth, duration_scale=1.0, seed=None, cfg=None, presliding=True,
                             progress=None):
     """Run the identification excitation on the simulated test bed.
@@ -361,32 +395,9 @@ def simulate_identification(truth, duration_scale=1.0, seed=None, cfg=None, pres
         q_ref, qd_ref, qdd_ref = plan.arrays()
         gear = truth.replace({'thermal': {'ambient': float(xi0), 'initial': float(xi0)}})
         plant = Plant(gear, xi0=float(xi0), seed=seed0 + b, q0=0.0)
-        n = len(q_ref)
-        rec = {k: np.empty(n) for k in ('t', 'q', 'qd', 'effort', 'tau', 'cmd')}
-        s = plant.last
-        tt, tx = [s.t], [s.xi]
-        step = plant.step
-        sin = math.sin
-        for k in range(n):
-            q, qd = s.q, s.qd
-            cmd = J * qdd_ref[k] + kp * (q_ref[k] - q) + kd * (qd_ref[k] - qd) + mgl * sin(q)
-            rec['t'][k] = s.t
-            rec['q'][k] = q
-            rec['qd'][k] = qd
-            rec['effort'][k] = s.effort
-            rec['tau'][k] = s.tau_link
-            rec['cmd'][k] = cmd
-            s = step(cmd)
-            if s.xi_new:
-                tt.append(s.t)
-                tx.append(s.xi)
-        sel = slice(0, n, every)
-        for key in ('t', 'q', 'qd', 'effort', 'tau', 'cmd'):
-            out[key].append(rec[key][sel] + (t_off if key == 't' else 0.0))
-        out['q_d'].append(q_ref[sel])
-        out['qd_d'].append(qd_ref[sel])
-        temp_t.append(np.asarray(tt) + t_off)
-        temp_xi.append(np.asarray(tx))
+        record_segment(plant, lambda s, k: (J * qdd_ref[k] + kp * (q_ref[k] - s.q)
+                                            + kd * (qd_ref[k] - s.qd) + mgl * math.sin(s.q)),
+                       q_ref, qd_ref, every, t_off, out, temp_t, temp_xi)
         plateaus += [dict(p, t0=p['t0'] + t_off, t1=p['t1'] + t_off, block=b)
                      for p in plan.plateaus]
         pres += [dict(p, t0=p['t0'] + t_off, t1=p['t1'] + t_off, block=b) for p in plan.presliding]

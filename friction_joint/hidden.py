@@ -79,6 +79,7 @@ import numpy as np
 
 from .bag import write_recording
 from .control import Controller, pd_gains
+from .excitation import record_segment
 from .exceptions import FrictionJointError, GearConfigWarning
 from .plant import Plant
 
@@ -412,33 +413,11 @@ def simulate_recording(truth_gear, path=None, duration=90.0, seed=0, base_gear=N
         plant = Plant(gear, xi0=float(xi0), seed=int(seed) * 101 + b, q0=q_start)
         ctrl = Controller(base, kp, kd, 'none', dt)
         n = len(q_ref)
-        rec = {k: np.empty(n) for k in ('t', 'q', 'qd', 'effort', 'tau', 'cmd')}
-        s = plant.last
-        tt, tx = [s.t], [s.xi]
-        step = plant.step
-        for k in range(n):
-            q, qd = s.q, s.qd
-            cmd = ctrl(q, qd, s.xi, q_ref[k], qd_ref[k], qdd_ref[k])
-            rec['t'][k] = s.t
-            rec['q'][k] = q
-            rec['qd'][k] = qd
-            rec['effort'][k] = s.effort
-            rec['tau'][k] = s.tau_link
-            rec['cmd'][k] = cmd
-            s = step(cmd)
-            if s.xi_new:
-                tt.append(s.t)
-                tx.append(s.xi)
-        sel = slice(0, n, every)
-        for key in ('t', 'q', 'qd', 'effort', 'tau', 'cmd'):
-            out[key].append(rec[key][sel] + (t_off if key == 't' else 0.0))
-        out['q_d'].append(q_ref[sel])
-        out['qd_d'].append(qd_ref[sel])
-        temp_t.append(np.asarray(tt) + t_off)
-        temp_xi.append(np.asarray(tx))
+        record_segment(plant, lambda s, k: ctrl(s.q, s.qd, s.xi, q_ref[k], qd_ref[k], qdd_ref[k]),
+                       q_ref, qd_ref, every, t_off, out, temp_t, temp_xi)
         segments.append({'temperature': float(xi0), 't0': t_off, 't1': t_off + n * dt,
                          'xi_end': float(plant.thermal.xi)})
-        q_start = float(s.q_true)
+        q_start = float(plant.last.q_true)
         t_off += n * dt + conf['gap']
 
     cat = {k: np.concatenate(v) for k, v in out.items()}
