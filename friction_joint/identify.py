@@ -495,20 +495,15 @@ def _fit(structure, plateaus, t_range, load_ref, theta0=None, stepwise=True, pro
         return layout, theta, prob, info
     prev = theta[lmask].copy()
     for it in range(max_iterations):
-        t = time.perf_counter()
-        theta, res = prob.solve(theta, tmask)
-        info['steps'].append({'step': 1, 'iteration': it, 'cost': 2 * res.cost,
-                              'nfev': int(res.nfev), 'time_s': time.perf_counter() - t})
-        if progress:
-            progress(f'  step 1 (velocity, temperature), pass {it + 1}: RMS '
-                     f'{math.sqrt(2 * res.cost / len(prob.y)):.4f} Nm')
-        t = time.perf_counter()
-        theta, res = prob.solve(theta, lmask)
-        info['steps'].append({'step': 2, 'iteration': it, 'cost': 2 * res.cost,
-                              'nfev': int(res.nfev), 'time_s': time.perf_counter() - t})
-        if progress:
-            progress(f'  step 2 (load), pass {it + 1}: RMS '
-                     f'{math.sqrt(2 * res.cost / len(prob.y)):.4f} Nm')
+        for step, mask, label in ((1, tmask, 'step 1 (velocity, temperature)'),
+                                  (2, lmask, 'step 2 (load)')):
+            t = time.perf_counter()
+            theta, res = prob.solve(theta, mask)
+            info['steps'].append({'step': step, 'iteration': it, 'cost': 2 * res.cost,
+                                  'nfev': int(res.nfev), 'time_s': time.perf_counter() - t})
+            if progress:
+                progress(f'  {label}, pass {it + 1}: RMS '
+                         f'{math.sqrt(2 * res.cost / len(prob.y)):.4f} Nm')
         change = np.max(np.abs(theta[lmask] - prev) / np.maximum(np.abs(theta[lmask]), 1e-3))
         prev = theta[lmask].copy()
         if change < tol:
