@@ -158,29 +158,20 @@ def design(s, ctx):
         e = np.exp(-np.abs(v / vs) ** ctx.ds)
     else:
         e = 0.0
-    hc = h * (1.0 - e)
-    for k in range(s.nfc):
-        cols.append(hc * ctx.u ** k)
-        names.append(('fc', k))
-    for j in range(1, s.nfc_load + 1):
-        cols.append(hc * ctx.vl ** j)
-        names.append(('fc_load', j))
+    def terms(base, name, n_temp, n_load):
+        # polynomial in the temperature variable u (powers 0..) and the load vl (powers 1..)
+        for k in range(n_temp):
+            cols.append(base * ctx.u ** k)
+            names.append((name, k))
+        for m in range(1, n_load + 1):
+            cols.append(base * ctx.vl ** m)
+            names.append((name + '_load', m))
+
+    terms(h * (1.0 - e), 'fc', s.nfc, s.nfc_load)
     if s.nfs:
-        he = h * e
-        for k in range(s.nfs):
-            cols.append(he * ctx.u ** k)
-            names.append(('fs', k))
-        for j in range(1, s.nfs_load + 1):
-            cols.append(he * ctx.vl ** j)
-            names.append(('fs_load', j))
+        terms(h * e, 'fs', s.nfs, s.nfs_load)
     dv = s.dv + ctx.dv_shift
-    visc = sgn * np.abs(v) ** np.maximum(dv, 0.05)
-    for k in range(s.nfv):
-        cols.append(visc * ctx.u ** k)
-        names.append(('fv', k))
-    for j in range(1, s.nfv_load + 1):
-        cols.append(visc * ctx.vl ** j)
-        names.append(('fv_load', j))
+    terms(sgn * np.abs(v) ** np.maximum(dv, 0.05), 'fv', s.nfv, s.nfv_load)
     for n in range(1, s.ripple + 1):
         arg = n * s.cyc * d.q
         cols.append(np.sin(arg))

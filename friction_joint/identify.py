@@ -605,14 +605,9 @@ def select_orders(plateaus, structure, max_order=2, max_load_order=2, threshold=
               'accepted': True}]
     if progress:
         progress(f'orders auto: all constant, no load terms: held-out RMS {best:.4f} Nm')
-    while True:
-        cands = []
-        for p in cur.params:
-            if cur.orders[p] < max_order:
-                cands.append(cur.with_orders({p: cur.orders[p] + 1}))
-        for p in ('fc', 'fv'):
-            if p in cur.orders and cur.load_orders.get(p, 0) < max_load_order:
-                cands.append(cur.with_orders(load_orders={p: cur.load_orders.get(p, 0) + 1}))
+
+    def score(cands, label):
+        """Held-out RMS of each candidate the data can determine; logged in ``trace``."""
         results = []
         for cand in cands:
             try:
@@ -625,7 +620,18 @@ def select_orders(plateaus, structure, max_order=2, max_load_order=2, threshold=
             trace.append({'orders': dict(cand.orders), 'load_orders': dict(cand.load_orders),
                           'cv_rms': cv, 'accepted': False})
             if progress:
-                progress(f'orders auto: try {cand.describe()}: held-out RMS {cv:.4f} Nm')
+                progress(f'orders auto: {label} {cand.describe()}: held-out RMS {cv:.4f} Nm')
+        return results
+
+    while True:
+        cands = []
+        for p in cur.params:
+            if cur.orders[p] < max_order:
+                cands.append(cur.with_orders({p: cur.orders[p] + 1}))
+        for p in ('fc', 'fv'):
+            if p in cur.orders and cur.load_orders.get(p, 0) < max_load_order:
+                cands.append(cur.with_orders(load_orders={p: cur.load_orders.get(p, 0) + 1}))
+        results = score(cands, 'try')
         if not results:
             break
         cv, cand = min(results, key=lambda r: r[0])
@@ -642,16 +648,7 @@ def select_orders(plateaus, structure, max_order=2, max_load_order=2, threshold=
         cands = [cur.with_orders({p: cur.orders[p] - 1}) for p in cur.params if cur.orders[p] > 0]
         cands += [cur.with_orders(load_orders={p: cur.load_orders[p] - 1})
                   for p in cur.load_params]
-        results = []
-        for cand in cands:
-            _, th, _, _ = _fit(cand, plateaus, t_range, load_ref, stepwise=False)
-            cv = cross_validate(plateaus, cand, folds, th)
-            results.append((cv, cand))
-            trace.append({'orders': dict(cand.orders), 'load_orders': dict(cand.load_orders),
-                          'cv_rms': cv, 'accepted': False})
-            if progress:
-                progress(f'orders auto: try without one order: {cand.describe()}: held-out '
-                         f'RMS {cv:.4f} Nm')
+        results = score(cands, 'try without one order:')
         if not results:
             break
         cv, cand = min(results, key=lambda r: r[0])
