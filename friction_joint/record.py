@@ -86,9 +86,15 @@ class Recorder:
         ``(topic, msgtype)`` pairs.
     typestore : rosbags.typesys.store.Typestore
         Provides the message definitions stored in the bag.
+    log : callable, optional
+        Receives a line whenever the number of publishers matched on a topic changes
+        (``'/topic: 1 publisher matched'``).  A publisher's messages are recorded only
+        from the moment the recorder's side has matched it: DDS marks what a volatile
+        reader missed before that as lost.
     """
 
-    def __init__(self, node, writer, topics, typestore):
+    def __init__(self, node, writer, topics, typestore, log=None):
+        from rclpy.event_handler import SubscriptionEventCallbacks
         from rclpy.qos import (DurabilityPolicy, HistoryPolicy, QoSProfile,
                                ReliabilityPolicy)
         self.writer = writer
@@ -110,10 +116,19 @@ class Recorder:
                                  reliability=ReliabilityPolicy.RELIABLE,
                                  durability=DurabilityPolicy.VOLATILE)
             holder = []
+            events = None if log is None else SubscriptionEventCallbacks(
+                matched=self._matched(topic, log))
             sub = node.create_subscription(cls, topic, self._callback(topic, cls, conn, holder),
-                                           qos, raw=True)
+                                           qos, raw=True, event_callbacks=events)
             holder.append(sub)
             self._subs.append(sub)
+
+    @staticmethod
+    def _matched(topic, log):
+        def callback(status):
+            n = status.current_count
+            log(f'{topic}: {n} publisher{"" if n == 1 else "s"} matched')
+        return callback
 
     def _callback(self, topic, cls, conn, holder):
         write = self.writer.write
@@ -220,7 +235,7 @@ def record(out, topics=None, duration=None, args=None, log=None, stop=None):
         writer = Writer(os.path.join(tmp, base), version=9, storage_plugin=StoragePlugin.MCAP)
         writer.open()
         try:
-            recorder = Recorder(node, writer, pairs, typestore)
+            recorder = Recorder(node, writer, pairs, typestore, log=log)
             log(f'recording {", ".join(t for t, _ in pairs)} to {out} '
                 f'({"for %g s" % duration if duration else "Ctrl-C to stop"})')
             t_end = None if duration is None else time.monotonic() + duration

@@ -140,8 +140,15 @@ def spawn(cmd, env, cwd=None):
 
 
 def reliable_qos(depth=1000):
-    """Reliable, volatile, keep-last ``depth`` (the recorder's and replay's QoS)."""
+    """Reliable, volatile, keep-last ``depth``; ``depth=None``: keep-all.
+
+    A keep-last publisher drops a sample a reader has not acknowledged once ``depth``
+    newer ones are queued; a keep-all one keeps it until it is repaired.
+    """
     from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
+    if depth is None:
+        return QoSProfile(history=HistoryPolicy.KEEP_ALL, reliability=ReliabilityPolicy.RELIABLE,
+                          durability=DurabilityPolicy.VOLATILE)
     return QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=depth,
                       reliability=ReliabilityPolicy.RELIABLE,
                       durability=DurabilityPolicy.VOLATILE)

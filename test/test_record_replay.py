@@ -46,8 +46,9 @@ def test_record_counts_every_message(ros_node, spawn, tmp_path):
     out = tmp_path / 'rec'
     rec = spawn(CLI + ['record', out, '--topics', '/joint_states'])
     assert rec.wait_for('recording /joint_states', 30), rec.describe()
-    pub = ros_node.node.create_publisher(JointState, '/joint_states', reliable_qos())
+    pub = ros_node.node.create_publisher(JointState, '/joint_states', reliable_qos(None))
     assert ros_node.wait_for_subscribers(pub), rec.describe()
+    assert rec.wait_for('/joint_states: 1 publisher matched', 10), rec.describe()
     _publish(ros_node, pub, [_joint_state(i) for i in range(n)], rate=3000.0)
     assert rec.stop() == 0, rec.describe()
     assert f'recorded {n} messages (/joint_states: {n}) to {out}' in rec.stdout, rec.describe()
@@ -75,9 +76,11 @@ def test_record_duration_default_topics_read_back(ros_node, spawn, tmp_path):
     out = tmp_path / 'rec'
     rec = spawn(CLI + ['record', out, '--duration', '4'])
     assert rec.wait_for('recording', 30), rec.describe()
-    js = ros_node.node.create_publisher(JointState, '/joint_states', reliable_qos())
+    js = ros_node.node.create_publisher(JointState, '/joint_states', reliable_qos(None))
     tp = ros_node.node.create_publisher(Temperature, '/joint_temperature', reliable_qos())
     assert ros_node.wait_for_subscribers(js) and ros_node.wait_for_subscribers(tp)
+    assert rec.wait_for('/joint_states: 1 publisher matched', 10), rec.describe()
+    assert rec.wait_for('/joint_temperature: 1 publisher matched', 10), rec.describe()
     for i in range(5):
         m = Temperature()
         m.header.stamp.sec = 100 + i // 2

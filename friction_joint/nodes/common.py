@@ -9,7 +9,7 @@ from ..exceptions import GearConfigError
 from ..gear import SCHEMA, Section, gear_from_flat
 
 __all__ = ['gear_keys', 'declare_gear', 'declare_node_params', 'stamp_to_ns', 'ns_to_stamp',
-           'joint_index', 'finite', 'StampPairing', 'Rejects', 'PairedInput', 'run_node']
+           'joint_index', 'finite', 'stream_qos', 'StampPairing', 'Rejects', 'PairedInput', 'run_node']
 
 
 def gear_keys(schema=SCHEMA, prefix=''):
@@ -119,6 +119,30 @@ def parameter_guard(node, defaults, validators, apply):
             apply(p.name, value)
         return SetParametersResult(successful=True)
     node.add_on_set_parameters_callback(callback)
+
+
+#: keep-last depth of the topics' QoS
+QOS_DEPTH = 1000
+
+
+def stream_qos(lossless=False):
+    """Reliable, volatile QoS of the contract topics.
+
+    Parameters
+    ----------
+    lossless : bool
+        Keep-all history (for publishers in lockstep / synchronised runs): a sample
+        that a subscriber (the recorder, say) has not acknowledged stays queued until
+        DDS has repaired it.  The default keep-last ``QOS_DEPTH`` lets a publisher run
+        in real time past a stalled subscriber, which then loses the samples pushed
+        out of the queue before they were repaired.
+    """
+    from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
+    if lossless:
+        return QoSProfile(history=HistoryPolicy.KEEP_ALL, reliability=ReliabilityPolicy.RELIABLE,
+                          durability=DurabilityPolicy.VOLATILE)
+    return QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=QOS_DEPTH,
+                      reliability=ReliabilityPolicy.RELIABLE, durability=DurabilityPolicy.VOLATILE)
 
 
 def stamp_to_ns(stamp):

@@ -19,13 +19,12 @@ same stamp (see :class:`~friction_joint.nodes.common.StampPairing`);
 import sys
 
 from rclpy.node import Node
-from rclpy.qos import QoSProfile, ReliabilityPolicy
 from sensor_msgs.msg import JointState, Temperature
 
 from ..control import Controller, SineTrajectory, pd_gains
 from ..friction import FRICTION_KINDS
 from .common import (PairedInput, StampPairing, declare_gear, declare_node_params,
-                     parameter_guard, run_node)
+                     parameter_guard, run_node, stream_qos)
 
 __all__ = ['ControllerNode', 'main']
 
@@ -63,8 +62,9 @@ class ControllerNode(PairedInput, Node):
         self.t0 = None
         self.last_ns = None
         self.last_cmd = None
-        qos = QoSProfile(depth=1000, reliability=ReliabilityPolicy.RELIABLE)
-        self.pub = self.create_publisher(JointState, '/joint_command', qos)
+        qos = stream_qos()
+        self.pub = self.create_publisher(JointState, '/joint_command',
+                                         stream_qos(lossless=self.p['sync']))
         self.create_subscription(JointState, '/joint_states', self.on_state, qos)
         self.create_subscription(Temperature, '/joint_temperature', self.on_temperature, qos)
         parameter_guard(self, {k: DEFAULTS[k] for k in RUNTIME}, VALIDATORS, self.apply)

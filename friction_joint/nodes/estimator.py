@@ -17,13 +17,12 @@ Section V-D), ``rate`` (sample rate, default ``simulation.rate``), ``sync``
 import sys
 
 from rclpy.node import Node
-from rclpy.qos import QoSProfile, ReliabilityPolicy
 from sensor_msgs.msg import JointState, Temperature
 
 from ..friction import FRICTION_KINDS
 from ..observer import DisturbanceObserver
 from .common import (PairedInput, StampPairing, declare_gear, declare_node_params,
-                     parameter_guard, run_node)
+                     parameter_guard, run_node, stream_qos)
 
 __all__ = ['EstimatorNode', 'main']
 
@@ -52,8 +51,9 @@ class EstimatorNode(PairedInput, Node):
         self.pair = StampPairing(self.p['sync'])
         self.last_ns = None
         self.last_msg = None
-        qos = QoSProfile(depth=1000, reliability=ReliabilityPolicy.RELIABLE)
-        self.pub = self.create_publisher(JointState, '/external_torque', qos)
+        qos = stream_qos()
+        self.pub = self.create_publisher(JointState, '/external_torque',
+                                         stream_qos(lossless=self.p['sync']))
         self.create_subscription(JointState, '/joint_states', self.on_state, qos)
         self.create_subscription(Temperature, '/joint_temperature', self.on_temperature, qos)
         parameter_guard(self, {'friction': DEFAULTS['friction']}, VALIDATORS, self.apply)

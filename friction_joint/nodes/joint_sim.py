@@ -37,13 +37,12 @@ import sys
 
 from geometry_msgs.msg import WrenchStamped
 from rclpy.node import Node
-from rclpy.qos import QoSProfile, ReliabilityPolicy
 from rosgraph_msgs.msg import Clock
 from sensor_msgs.msg import JointState, Temperature
 
 from ..plant import Plant
 from .common import (Rejects, declare_gear, declare_node_params, finite, joint_index, ns_to_stamp,
-                     run_node, stamp_to_ns)
+                     run_node, stamp_to_ns, stream_qos)
 
 __all__ = ['JointSimNode', 'main']
 
@@ -82,10 +81,10 @@ class JointSimNode(Rejects, Node):
         self.contact = 0.0
         self.done = False
         self.n_end = int(round(self.p['duration'] * self.plant.rate)) if self.p['duration'] > 0 else 0
-        qos = QoSProfile(depth=1000, reliability=ReliabilityPolicy.RELIABLE)
-        self.pub_state = self.create_publisher(JointState, '/joint_states', qos)
-        self.pub_temp = self.create_publisher(Temperature, '/joint_temperature', qos)
-        self.pub_link = self.create_publisher(WrenchStamped, '/link_torque', qos)
+        qos, out = stream_qos(), stream_qos(lossless=self.lockstep)
+        self.pub_state = self.create_publisher(JointState, '/joint_states', out)
+        self.pub_temp = self.create_publisher(Temperature, '/joint_temperature', out)
+        self.pub_link = self.create_publisher(WrenchStamped, '/link_torque', out)
         self.pub_clock = self.create_publisher(Clock, '/clock', 10) if self.lockstep else None
         self.create_subscription(JointState, '/joint_command', self.on_command, qos)
         self.create_subscription(WrenchStamped, '/contact_torque', self.on_contact, qos)
