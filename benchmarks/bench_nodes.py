@@ -164,7 +164,7 @@ def recorder(rate, seconds, e):
         time.sleep(1.0)
         log = stop(rec, timeout=60)
         published = int(re.search(r'published (\d+)', pub.stdout).group(1))
-        m = re.search(r'/joint_states: (\d+)', log)
+        m = re.search(r'recorded \d+ messages \(/joint_states: (\d+)', log)
         written = int(m.group(1)) if m else -1
     return {'published': published, 'written': written, 'lost': published - written,
             'rate_msg_s': published / seconds, 'wall_s': wall}

@@ -117,11 +117,16 @@ class Controller:
         """tau_g(q) = m g l sin(q) of the model's lever."""
         return self.mgl * math.sin(q)
 
-    def __call__(self, q, qd, xi, q_d, qd_d=0.0, qdd_d=0.0):
-        """Torque command for one sample; components are kept in ``self.last``."""
+    def __call__(self, q, qd, xi, q_d, qd_d=0.0, qdd_d=0.0, dt=None):
+        """Torque command for one sample; components are kept in ``self.last``.
+
+        ``dt`` is the time since the previous sample when it differs from the
+        control period (a real-time loop that skipped stale samples); it
+        advances the dynamic friction model's state.
+        """
         tau_g = self.gravity(q)
         v = qd if self.ff_velocity == 'measured' else qd_d
-        tau_f = self.friction.step(v, xi, abs(tau_g), self.dt, q)
+        tau_f = self.friction.step(v, xi, abs(tau_g), self.dt if dt is None else dt, q)
         tau_pd = self.kp * (q_d - q) + self.kd * (qd_d - qd)
         tau = self.J * qdd_d + tau_pd + tau_g + tau_f
         self.last = {'pd': tau_pd, 'gravity': tau_g, 'friction': tau_f, 'inertia': self.J * qdd_d}

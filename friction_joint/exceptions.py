@@ -1,7 +1,7 @@
 """Exceptions raised by friction_joint, named for the problem they report."""
 
 __all__ = ['FrictionJointError', 'GearConfigError', 'GearConfigWarning',
-           'RecordingError', 'ExcitationError']
+           'RecordingError', 'ExcitationError', 'SimulationError']
 
 
 class FrictionJointError(Exception):
@@ -22,3 +22,7 @@ class RecordingError(FrictionJointError):
 
 class ExcitationError(FrictionJointError):
     """Data do not contain the experiment needed to determine a quantity."""
+
+
+class SimulationError(FrictionJointError):
+    """The simulated state left the finite range (an unstable loop or a runaway command)."""

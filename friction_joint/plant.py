@@ -4,8 +4,11 @@ This is the "hardware" of the experiments: it runs the **truth** gear file.
 Controllers and observers only see its :class:`Sample` measurements and run
 their own **model** gear file.
 """
+import math
+
 import numpy as np
 
+from .exceptions import SimulationError
 from .joint import Joint
 from .sensors import CurrentLoop, Encoder, TemperatureSensor, VelocityEstimator
 from .thermal import ThermalModel
@@ -104,6 +107,11 @@ class Plant:
         """
         tau_app = self.current(tau_cmd) if not self.ideal else float(tau_cmd)
         q, qd, tau_r, tau_ext = self.joint.step(tau_app, self.dt, self.thermal.xi, tau_contact)
+        if not (math.isfinite(q) and math.isfinite(qd)):
+            raise SimulationError(
+                f'the joint state is no longer finite at t = {self.t + self.dt:.4f} s '
+                f'(q = {q}, qd = {qd}, command {tau_cmd} Nm): the closed loop is unstable '
+                'or the command ran away')
         self.thermal.step(abs(tau_r * qd), self.dt)
         xi_new = False
         if not self.ideal:

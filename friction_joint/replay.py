@@ -45,8 +45,8 @@ def _clock_bytes(ns):
     return b'\x00\x01\x00\x00' + _STAMP.pack(ns // 1_000_000_000, ns % 1_000_000_000)
 
 
-def replay(bag, rate=1.0, topics=None, clock=True, loop=False, wait=2.0, args=None, log=None,
-           stop=None):
+def replay(bag, rate=1.0, topics=None, clock=True, loop=False, wait=2.0, settle=0.5, args=None,
+           log=None, stop=None):
     """Publish the messages of ``bag`` with their original timing.
 
     Parameters
@@ -63,6 +63,10 @@ def replay(bag, rate=1.0, topics=None, clock=True, loop=False, wait=2.0, args=No
         Start over at the end until stopped.
     wait : float
         Seconds to wait for a subscriber on every topic before playing.
+    settle : float
+        Seconds to wait after that: the publisher's side of a match comes first,
+        and a volatile subscriber drops (and DDS then marks as lost) what arrives
+        before its own side has matched.
     args : list of str, optional
         Command line for ``rclpy`` (``--ros-args ...``).
     log : callable, optional
@@ -89,6 +93,8 @@ def replay(bag, rate=1.0, topics=None, clock=True, loop=False, wait=2.0, args=No
     log = log or (lambda line: print(line, file=sys.stderr, flush=True))
     if not rate >= 0:
         raise RecordingError(f'--rate must be >= 0, got {rate}')
+    if not settle >= 0:
+        raise RecordingError(f'--settle must be >= 0, got {settle}')
     available = recording_topics(bag)
     if topics:
         missing = [t for t in topics if t not in available]
@@ -129,6 +135,8 @@ def replay(bag, rate=1.0, topics=None, clock=True, loop=False, wait=2.0, args=No
         while not stop.is_set() and time.monotonic() < t_wait and \
                 any(p.get_subscription_count() == 0 for p in every):
             time.sleep(0.01)
+        if settle > 0 and all(p.get_subscription_count() > 0 for p in every):
+            stop.wait(settle)
         log(f'replaying {", ".join(selected)}{" + /clock" if clock else ""} from {bag} '
             f'at rate {rate:g}')
 
@@ -186,11 +194,15 @@ def build_parser(parser):
     parser.add_argument('--wait', type=float, default=2.0, metavar='S',
                         help='wait up to S seconds for a subscriber on every topic before '
                              'playing (default 2)')
+    parser.add_argument('--settle', type=float, default=0.5, metavar='S',
+                        help='then wait S seconds more so that every subscriber has matched '
+                             'from its side too (default 0.5)')
     return parser
 
 
 def _run(args):
-    counts = replay(args.bag, args.rate, args.topics, args.clock, args.loop, args.wait)
+    counts = replay(args.bag, args.rate, args.topics, args.clock, args.loop, args.wait,
+                    args.settle)
     print(f'replayed {format_counts(counts)} from {args.bag}', flush=True)
     return 0
 
@@ -222,7 +234,7 @@ def main(args=None):
     opts = parser.parse_args(remove_ros_args(args=argv)[1:])
     try:
         counts = replay(opts.bag, opts.rate, opts.topics, opts.clock, opts.loop, opts.wait,
-                        args=argv)
+                        opts.settle, args=argv)
     except RecordingError as exc:
         print(f'replay: error: {exc}', file=sys.stderr)
         return 2

@@ -34,6 +34,20 @@ def test_frictionless_pendulum_conserves_energy():
     assert out['q_true'].min() < -0.99           # swings through to the other side
 
 
+def test_unstable_loop_ends_with_a_named_error_not_garbage():
+    from friction_joint.exceptions import SimulationError
+    truth = load_gear('config/csd25_truth.yaml')
+    p = Plant(truth, q0=0.01)
+    samples = 0
+    with pytest.raises(SimulationError, match='no longer finite'):
+        for _ in range(200_000):                 # positive feedback: grows as exp(t sqrt(k/J))
+            p.step(5e3 * p.last.q if p.last is not None else 0.0)
+            samples += 1
+    assert samples > 100                         # it ran, then stopped at the blow-up
+    with pytest.raises(SimulationError, match='command inf'):
+        Plant(truth).step(float('inf'))
+
+
 def test_pendulum_with_friction_dissipates_and_sticks():
     truth = load_gear('config/csd25_truth.yaml')
     p = Plant(truth, q0=1.2, ideal_sensors=True, xi0=30.0)

@@ -261,7 +261,9 @@ def run_node(factory, name, args=None, drain=True):
     finished), so no answer is lost; a second signal exits at once.  Bad
     parameters (:class:`~friction_joint.exceptions.FrictionJointError`) end
     with a one-line error naming the problem and exit status 2.  A node may
-    end itself by raising ``SystemExit(0)`` from a callback.
+    end itself by raising ``SystemExit(0)`` from a callback.  A node with a
+    ``spin_step(executor)`` method runs its own loop: it is called instead of
+    ``executor.spin_once``.
 
     The single-threaded executor is used: ``rclpy.experimental.EventsExecutor``
     is faster but was seen to stop delivering messages to one of two
@@ -292,8 +294,9 @@ def run_node(factory, name, args=None, drain=True):
         node = factory()
         executor = SingleThreadedExecutor()
         executor.add_node(node)
+        spin = getattr(node, 'spin_step', None) or (lambda ex: ex.spin_once(timeout_sec=0.1))
         while not stop and rclpy.ok():
-            executor.spin_once(timeout_sec=0.1)
+            spin(executor)
         t_end = time.monotonic() + 30.0
         while drain and rclpy.ok() and time.monotonic() < t_end:
             t0 = time.monotonic()

@@ -13,7 +13,11 @@ Run-time parameters (validated; a bad value is rejected with a reason and
 the node keeps running): ``friction_ff`` (none | static | lugre | gms),
 ``ff_velocity`` (measured | desired), ``amplitude``, ``omega``, ``offset``.
 ``sync`` (default true) pairs each state with the temperature sample of the
-same stamp (see :class:`~friction_joint.nodes.common.StampPairing`);
+same stamp (see :class:`~friction_joint.nodes.common.StampPairing`) and
+answers every state (lockstep); with ``sync:=false`` (a real-time plant) the
+node answers only the newest queued state, skipping (and counting) stale
+ones, so a moment of overload does not turn into a growing delay, and the
+friction feed-forward advances by the stamps' time difference.
 ``rate`` is the control rate (default ``simulation.rate``).
 """
 import sys
@@ -65,7 +69,8 @@ class ControllerNode(PairedInput, Node):
         qos = stream_qos()
         self.pub = self.create_publisher(JointState, '/joint_command',
                                          stream_qos(lossless=self.p['sync']))
-        self.create_subscription(JointState, '/joint_states', self.on_state, qos)
+        self.sub_state = self.create_subscription(JointState, '/joint_states', self.on_state, qos)
+        self.stale = 0
         self.create_subscription(Temperature, '/joint_temperature', self.on_temperature, qos)
         parameter_guard(self, {k: DEFAULTS[k] for k in RUNTIME}, VALIDATORS, self.apply)
         self.get_logger().info(f'eq. 17 controller for {self.joint}: kp {self.kp:.1f} Nm/rad, '
@@ -83,6 +88,19 @@ class ControllerNode(PairedInput, Node):
             self.traj = SineTrajectory(self.p['amplitude'], self.p['omega'], self.p['offset'])
         self.get_logger().info(f'{name} set to {value!r}')
 
+    def on_state(self, msg):
+        if not self.p['sync']:
+            # real time: answer the newest state only; the ones queued behind it are stale
+            with self.sub_state.handle:
+                while (taken := self.sub_state.handle.take_message(JointState, False)) is not None:
+                    msg = taken[0]
+                    self.stale += 1
+                    if self.stale in (1, 10, 100) or self.stale % 10000 == 0:
+                        self.get_logger().warning(
+                            f'skipped {self.stale} stale joint states so far (the loop is '
+                            'behind: answering the newest)')
+        super().on_state(msg)
+
     def process(self, ns, state, xi):
         if ns == self.last_ns:                   # the same state again: same answer
             self.pub.publish(self.last_cmd)
@@ -93,7 +111,8 @@ class ControllerNode(PairedInput, Node):
             self.t0 = ns
         q, qd = state
         q_d, qd_d, qdd_d = self.traj((ns - self.t0) * 1e-9)
-        tau = self.ctrl(q, qd, xi, q_d, qd_d, qdd_d)
+        dt = None if self.p['sync'] or self.last_ns is None else (ns - self.last_ns) * 1e-9
+        tau = self.ctrl(q, qd, xi, q_d, qd_d, qdd_d, dt=dt)
         cmd = JointState()
         cmd.header.stamp.sec, cmd.header.stamp.nanosec = divmod(ns, 1_000_000_000)
         cmd.name = [self.joint]

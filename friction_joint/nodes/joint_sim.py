@@ -12,9 +12,17 @@ an injected contact for estimator tests).
 Modes (parameter ``mode``):
 
 ``realtime``
-    A wall-clock timer at ``publish_rate`` (default 1 kHz) advances the
-    plant by ``simulation.rate / publish_rate`` steps with the latest
-    command held; stamps are ROS time; temperature at ``simulation.temperature_rate``.
+    Ticks at ``publish_rate`` (default 1 kHz) on the monotonic clock: each tick
+    takes the newest ``/joint_command`` and ``/contact_torque``, advances the
+    plant by ``simulation.rate / publish_rate`` steps with that command held
+    and publishes the state stamped with ROS time; temperature at
+    ``simulation.temperature_rate``.  The node runs its own loop (sleep to the
+    tick's due time, take the inputs straight from the subscriptions) instead
+    of an rclpy timer: a turn of the rclpy executor costs about 0.2 ms, so a
+    timer-driven loop cannot hold 1 kHz on a busy machine.  The executor is
+    turned every ``SPIN_EVERY`` ticks for parameter services.  A tick that is
+    late is run at once (at most ``MAX_CATCH_UP`` in a row, then the schedule
+    restarts from now and the skipped ticks are counted and logged).
 ``lockstep``
     Simulated time.  The node publishes the state of step k (stamp k dt,
     plus /clock and the temperature sample with the same stamp) and advances
@@ -34,6 +42,7 @@ gear file's friction.model), resend_period, wait_subscribers, start_delay.
 """
 import math
 import sys
+import time
 
 from geometry_msgs.msg import WrenchStamped
 from rclpy.node import Node
@@ -45,6 +54,11 @@ from .common import (Rejects, declare_gear, declare_node_params, finite, joint_i
                      run_node, stamp_to_ns, stream_qos)
 
 __all__ = ['JointSimNode', 'main']
+
+#: realtime: ticks run back to back when late before the schedule restarts
+MAX_CATCH_UP = 20
+#: realtime: ticks between turns of the executor (parameter services, lockstep-free topics)
+SPIN_EVERY = 20
 
 DEFAULTS = {'mode': 'realtime', 'publish_rate': 1000.0, 'duration': 0.0, 'xi0': float('nan'),
             'q0': 0.0, 'seed': -1, 'friction_model': '', 'resend_period': 0.2,
@@ -86,8 +100,10 @@ class JointSimNode(Rejects, Node):
         self.pub_temp = self.create_publisher(Temperature, '/joint_temperature', out)
         self.pub_link = self.create_publisher(WrenchStamped, '/link_torque', out)
         self.pub_clock = self.create_publisher(Clock, '/clock', 10) if self.lockstep else None
-        self.create_subscription(JointState, '/joint_command', self.on_command, qos)
-        self.create_subscription(WrenchStamped, '/contact_torque', self.on_contact, qos)
+        self.sub_command = self.create_subscription(JointState, '/joint_command',
+                                                    self.on_command, qos)
+        self.sub_contact = self.create_subscription(WrenchStamped, '/contact_torque',
+                                                    self.on_contact, qos)
         if self.lockstep:
             self.started = False
             self.ready_since = None
@@ -98,7 +114,9 @@ class JointSimNode(Rejects, Node):
             self.temp_every = max(1, int(round(self.p['publish_rate'] /
                                                self.gear.section('simulation')['temperature_rate'])))
             self.ticks = 0
-            self.timer = self.create_timer(1.0 / self.p['publish_rate'], self.on_tick)
+            self.period = 1.0 / self.p['publish_rate']
+            self.next_tick = None
+            self.skipped = 0
         self.get_logger().info(
             f'{self.p["mode"]} simulation of {self.joint} ({self.plant.joint.model} friction, '
             f'{self.plant.rate:g} Hz, xi0 {self.plant.thermal.xi:.2f} degC)')
@@ -180,6 +198,41 @@ class JointSimNode(Rejects, Node):
         if self.last_sent is None or now - self.last_sent >= self.p['resend_period']:
             self.last_sent = now
             self.publish(self.plant.last, temperature=True)
+
+    def spin_step(self, executor):
+        """One turn of the node's main loop (called by ``run_node``)."""
+        if self.lockstep:
+            executor.spin_once(timeout_sec=0.1)
+            return
+        now = time.monotonic()
+        if self.next_tick is None:
+            self.next_tick = now
+        if now < self.next_tick:
+            time.sleep(min(self.next_tick - now, 0.1))
+            return
+        if now - self.next_tick > MAX_CATCH_UP * self.period:
+            late = int((now - self.next_tick) / self.period)
+            self.skipped += late
+            self.next_tick = now
+            self.get_logger().warning(
+                f'{late} ticks late: skipped them ({self.skipped} in all); the machine does '
+                'not keep up with publish_rate', throttle_duration_sec=5.0)
+        self.next_tick += self.period
+        self.take(self.sub_command, JointState, self.on_command)
+        self.take(self.sub_contact, WrenchStamped, self.on_contact)
+        self.on_tick()
+        if self.ticks % SPIN_EVERY == 0:
+            executor.spin_once(timeout_sec=0.0)
+
+    @staticmethod
+    def take(sub, cls, callback):
+        """Hand everything queued on ``sub`` to ``callback`` without an executor turn."""
+        with sub.handle:
+            while True:
+                taken = sub.handle.take_message(cls, False)
+                if taken is None:
+                    return
+                callback(taken[0])
 
     def on_tick(self):
         s = None
