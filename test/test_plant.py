@@ -126,6 +126,21 @@ def test_gains_meet_rise_time_and_overshoot(seed):
         assert os_ == pytest.approx(overshoot, abs=tol_os)
 
 
+def test_controller_dt_argument_advances_the_friction_state():
+    model = load_gear('config/csd25.yaml')
+    rng = np.random.default_rng(11)
+    period = 1.0 / 3000.0
+    k = int(rng.integers(2, 6))                  # a real-time loop that skipped k - 1 states
+    a = Controller(model, 500.0, 10.0, 'lugre', dt=period)
+    b = Controller(model, 500.0, 10.0, 'lugre', dt=k * period)
+    c = Controller(model, 500.0, 10.0, 'lugre', dt=period)
+    for i in range(5):
+        args = (0.1 + 0.01 * i, 0.05, 30.0, 0.12, 0.3, 0.0)
+        ta, tb, tc = a(*args, dt=k * period), b(*args), c(*args)
+        assert ta == tb
+        assert abs(ta - tc) > 1e-6               # the bristle state moved by k periods, not one
+
+
 def test_pd_gains_rejects_bad_specs():
     for args in ((0.1, 0.04, 0.0), (0.1, 0.04, 1.2), (0.1, -1.0, 0.06), (-0.1, 0.04, 0.06)):
         with pytest.raises(FrictionJointError):
