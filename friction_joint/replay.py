@@ -14,8 +14,14 @@ replayed like any topic.  With ``--loop`` the data start over and so does the
 clock (time jumps back, as with ``ros2 bag play --loop``).
 
 Before playing, the publishers wait up to ``--wait`` seconds until every topic
-has a subscriber (DDS drops what is published before a subscriber is matched);
-at the end they wait until reliable subscribers have acknowledged everything.
+has a subscriber (DDS drops what is published before a subscriber is matched),
+then ``--settle`` seconds for the subscribers' side of the match; at the end
+they wait until reliable subscribers have acknowledged everything.  The
+publishers are reliable with keep-all history: a sample a subscriber has not
+acknowledged yet (lost in transport on a busy machine, say) stays queued until
+DDS has repaired it, instead of being pushed out by newer ones.  A subscriber
+that stops taking messages altogether ends the replay with an error once its
+queue is full.
 """
 import argparse
 import struct
@@ -27,10 +33,8 @@ from .bag import iter_messages, recording_topics
 from .exceptions import RecordingError
 from .record import format_counts, install_signals, message_class
 
-__all__ = ['replay', 'register', 'main', 'QOS_DEPTH']
+__all__ = ['replay', 'register', 'main']
 
-#: keep-last depth of the publishers
-QOS_DEPTH = 1000
 
 _STAMP = struct.Struct('<iI')
 _CLOCK_TYPE = 'rosgraph_msgs/msg/Clock'
@@ -89,6 +93,8 @@ def replay(bag, rate=1.0, topics=None, clock=True, loop=False, wait=2.0, settle=
     from rclpy.duration import Duration
     from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
     from rclpy.signals import SignalHandlerOptions
+    from rclpy.impl.implementation_singleton import rclpy_implementation
+    RCLError = rclpy_implementation.RCLError
 
     log = log or (lambda line: print(line, file=sys.stderr, flush=True))
     if not rate >= 0:
@@ -122,7 +128,7 @@ def replay(bag, rate=1.0, topics=None, clock=True, loop=False, wait=2.0, settle=
         rclpy.init(args=args, context=context, signal_handler_options=SignalHandlerOptions.NO)
         node = rclpy.create_node('friction_joint_replay', context=context,
                                  start_parameter_services=False)
-        qos = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=QOS_DEPTH,
+        qos = QoSProfile(history=HistoryPolicy.KEEP_ALL,
                          reliability=ReliabilityPolicy.RELIABLE,
                          durability=DurabilityPolicy.VOLATILE)
         pubs = {t: node.create_publisher(cls, t, qos) for t, cls in classes.items()}
@@ -162,7 +168,12 @@ def replay(bag, rate=1.0, topics=None, clock=True, loop=False, wait=2.0, settle=
                         now_clock = ns
                         clock_pub.publish(_clock_bytes(ns))
                         counts['/clock'] += 1
-                pubs[topic].publish(raw)
+                try:
+                    pubs[topic].publish(raw)
+                except RCLError as exc:
+                    raise RecordingError(f'{topic}: publishing failed after {counts[topic]} '
+                                         f'messages ({exc}); a subscriber has stopped taking '
+                                         'messages') from None
                 counts[topic] += 1
             if not loop:
                 break

@@ -100,8 +100,10 @@ def test_replay_into_estimator_equals_live(lockstep_bag, spawn, ros_node):
     assert ros_node.wait_for_publishers(sub, timeout=20)
     player = spawn([PY, '-m', 'friction_joint', 'replay', str(lockstep_bag), '--rate', '0.25',
                     '--topics', '/joint_states', '/joint_temperature'])
-    assert ros_node.spin_until(lambda: len(got) >= len(live), timeout=120), (
-        f'{len(got)} of {len(live)} estimates\n' + player.describe() + est.describe())
+    done = ros_node.spin_until(lambda: len(got) >= len(live), timeout=120)
+    missing = sorted(set(live) - set(got))
+    assert done, (f'{len(got)} of {len(live)} estimates, missing steps {missing[:5]} .. '
+                  f'{missing[-5:]}\n' + player.describe() + est.describe())
     keys = sorted(live)
     np.testing.assert_allclose([got[k] for k in keys], [live[k] for k in keys], rtol=0, atol=1e-9)
 

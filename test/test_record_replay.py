@@ -174,3 +174,18 @@ def test_replay_single_mcap_fast_without_clock(ros_node, spawn, tmp_path):
     assert clock[0] == pytest.approx(1010.0)                    # the bag's own /clock
     rep = spawn(CLI + ['replay', tmp_path / 'one.mcap', '--topics', '/nope'])
     assert rep.wait(timeout=60) == 2 and 'no /nope topic' in rep.stderr
+
+
+def test_replay_ends_with_an_error_when_a_subscriber_stops_taking(ros_node, spawn, tmp_path):
+    from sensor_msgs.msg import JointState
+    n = int(np.random.default_rng(5).integers(20_000, 25_000))
+    _replay_bag(tmp_path / 'bag', n)
+    ros_node.node.create_subscription(JointState, '/joint_states', lambda m: None,
+                                      reliable_qos(None))      # keep-all, never spun
+    rep = spawn(CLI + ['replay', tmp_path / 'bag', '--rate', '0', '--no-clock',
+                       '--topics', '/joint_states'])
+    assert rep.wait(timeout=120) == 2, rep.describe()
+    m = re.search(r'/joint_states: publishing failed after (\d+) messages .* a subscriber has '
+                  r'stopped taking messages', rep.stderr)
+    assert m and 0 < int(m.group(1)) < n, rep.describe()
+    assert 'replayed' not in rep.stdout
