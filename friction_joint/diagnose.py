@@ -50,12 +50,13 @@ and figures; all written atomically (:mod:`friction_joint.output`).
 import dataclasses
 import math
 import time
+import warnings
 
 import numpy as np
 from scipy import stats
 
-from .exceptions import ExcitationError, GearConfigError
-from .gear import GMSParams, LuGreParams, RippleParams, gear_from_dict
+from .exceptions import ExcitationError, GearConfigError, GearConfigWarning
+from .gear import GMSParams, LuGreParams, RippleParams, gear_from_dict, passivity_bound
 from . import diagnose_model as dm
 from .diagnose_data import load_data
 
@@ -297,9 +298,33 @@ def extended_gear(base, s, coef, data):
         nlo, nhi = max(lo, math.floor(xlo * 10) / 10), min(hi, math.ceil(xhi * 10) / 10)
         if nhi > nlo:
             fr['temperature_range'] = [nlo, nhi]
-    data_d = base.replace(changes).to_dict()['/**']['ros__parameters']
+    gear = _validated(base, changes, quiet=True)
+    f = gear.friction
+    if f.lugre is not None and f.fs is not None:
+        # a Stribeck dip added to a LuGre base can make the base's sigma1 non-passive
+        # (Astrom & Canudas de Wit 2008): keep sigma1 below the bound with a margin
+        bound = float(np.min(passivity_bound(f, np.linspace(*f.temperature_range, 21))))
+        if f.lugre.sigma1 >= bound:
+            sigma1 = float(f'{PASSIVITY_MARGIN * bound:.4g}')
+            fr['lugre'] = {'sigma0': f.lugre.sigma0, 'sigma1': sigma1}
+            coef['sigma1_passivity'] = {'from': f.lugre.sigma1, 'to': sigma1, 'bound': bound}
+            gear = _validated(base, changes)
+    return gear
+
+
+#: sigma1 of an extended LuGre model is set to this fraction of the passivity bound
+#: when the base's value exceeds it
+PASSIVITY_MARGIN = 0.9
+
+
+def _validated(base, changes, quiet=False):
+    new = base.replace(changes)
+    data_d = new.to_dict()['/**']['ros__parameters']
     try:
-        return gear_from_dict(data_d, source='extended model', given=base.replace(changes).given)
+        with warnings.catch_warnings():
+            if quiet:
+                warnings.simplefilter('ignore', GearConfigWarning)
+            return gear_from_dict(data_d, source='extended model', given=new.given)
     except GearConfigError as exc:
         raise ExcitationError(f'the extended model fitted to the recordings is not physical '
                               f'({exc}); the recordings do not determine it well') from None

@@ -210,6 +210,11 @@ def markdown(diag, figure_names, model_path):
                      f'{"**yes**" if c["significant"] else "no"} |')
     lines += ['', 'Named effects: gain when added (against the model at that round); the others: '
               'gain against the final model.', '']
+    adj = rep['extended_fit'].get('sigma1_passivity')
+    if adj:
+        lines += [f'`extended.yaml`: friction.lugre.sigma1 lowered from {adj["from"]:g} to '
+                  f'{adj["to"]:g}, below the passivity bound sigma2 Fc / (Fs - Fc) = '
+                  f'{adj["bound"]:.4g} of the extended curve (Astrom & Canudas de Wit 2008).', '']
     for name in figure_names:
         lines += [f'![{name}]({name})', '']
     lines += ['## Timing', '', '| stage | s |', '|---|---|']
