@@ -99,7 +99,7 @@ def test_replay_into_estimator_equals_live(lockstep_bag, spawn, ros_node):
     assert est.wait_for('external torque observer', 30), est.describe()
     assert ros_node.wait_for_publishers(sub, timeout=20)
     player = spawn([PY, '-m', 'friction_joint', 'replay', str(lockstep_bag), '--rate', '0.25',
-                    '--topics', '/joint_states', '/joint_temperature'])
+                    '--wait', '60', '--topics', '/joint_states', '/joint_temperature'])
     done = ros_node.spin_until(lambda: len(got) >= len(live), timeout=120)
     missing = sorted(set(live) - set(got))
     assert done, (f'{len(got)} of {len(live)} estimates, missing steps {missing[:5]} .. '
