@@ -9,7 +9,8 @@ from ..exceptions import GearConfigError
 from ..gear import SCHEMA, Section, gear_from_flat
 
 __all__ = ['gear_keys', 'declare_gear', 'declare_node_params', 'stamp_to_ns', 'ns_to_stamp',
-           'joint_index', 'finite', 'stream_qos', 'StampPairing', 'Rejects', 'PairedInput', 'run_node']
+           'joint_index', 'finite', 'stream_qos', 'take_queued', 'StampPairing', 'Rejects',
+           'PairedInput', 'run_node']
 
 
 def gear_keys(schema=SCHEMA, prefix=''):
@@ -143,6 +144,19 @@ def stream_qos(lossless=False):
                           durability=DurabilityPolicy.VOLATILE)
     return QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=QOS_DEPTH,
                       reliability=ReliabilityPolicy.RELIABLE, durability=DurabilityPolicy.VOLATILE)
+
+
+def take_queued(sub, cls):
+    """The messages already queued on subscription ``sub`` (oldest first).
+
+    Taken straight from the subscription, without a turn of the executor (which
+    costs about 0.2 ms in rclpy); ``cls`` is the subscription's message type.
+    """
+    out = []
+    with sub.handle:
+        while (taken := sub.handle.take_message(cls, False)) is not None:
+            out.append(taken[0])
+    return out
 
 
 def stamp_to_ns(stamp):

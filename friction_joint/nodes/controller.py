@@ -28,7 +28,7 @@ from sensor_msgs.msg import JointState, Temperature
 from ..control import Controller, SineTrajectory, pd_gains
 from ..friction import FRICTION_KINDS
 from .common import (PairedInput, StampPairing, declare_gear, declare_node_params,
-                     parameter_guard, run_node, stream_qos)
+                     parameter_guard, run_node, stream_qos, take_queued)
 
 __all__ = ['ControllerNode', 'main']
 
@@ -91,14 +91,13 @@ class ControllerNode(PairedInput, Node):
     def on_state(self, msg):
         if not self.p['sync']:
             # real time: answer the newest state only; the ones queued behind it are stale
-            with self.sub_state.handle:
-                while (taken := self.sub_state.handle.take_message(JointState, False)) is not None:
-                    msg = taken[0]
-                    self.stale += 1
-                    if self.stale in (1, 10, 100) or self.stale % 10000 == 0:
-                        self.get_logger().warning(
-                            f'skipped {self.stale} stale joint states so far (the loop is '
-                            'behind: answering the newest)')
+            queued = take_queued(self.sub_state, JointState)
+            if queued:
+                msg = queued[-1]
+                self.stale += len(queued)
+                self.get_logger().warning(
+                    f'skipped {self.stale} stale joint states so far (the loop is behind: '
+                    'answering the newest)', throttle_duration_sec=5.0)
         super().on_state(msg)
 
     def process(self, ns, state, xi):

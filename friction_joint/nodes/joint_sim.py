@@ -51,13 +51,13 @@ from sensor_msgs.msg import JointState, Temperature
 
 from ..plant import Plant
 from .common import (Rejects, declare_gear, declare_node_params, finite, joint_index, ns_to_stamp,
-                     run_node, stamp_to_ns, stream_qos)
+                     run_node, stamp_to_ns, stream_qos, take_queued)
 
 __all__ = ['JointSimNode', 'main']
 
 #: realtime: ticks run back to back when late before the schedule restarts
 MAX_CATCH_UP = 20
-#: realtime: ticks between turns of the executor (parameter services, lockstep-free topics)
+#: realtime: ticks between turns of the executor (parameter services)
 SPIN_EVERY = 20
 
 DEFAULTS = {'mode': 'realtime', 'publish_rate': 1000.0, 'duration': 0.0, 'xi0': float('nan'),
@@ -218,21 +218,13 @@ class JointSimNode(Rejects, Node):
                 f'{late} ticks late: skipped them ({self.skipped} in all); the machine does '
                 'not keep up with publish_rate', throttle_duration_sec=5.0)
         self.next_tick += self.period
-        self.take(self.sub_command, JointState, self.on_command)
-        self.take(self.sub_contact, WrenchStamped, self.on_contact)
+        for msg in take_queued(self.sub_command, JointState):
+            self.on_command(msg)
+        for msg in take_queued(self.sub_contact, WrenchStamped):
+            self.on_contact(msg)
         self.on_tick()
         if self.ticks % SPIN_EVERY == 0:
             executor.spin_once(timeout_sec=0.0)
-
-    @staticmethod
-    def take(sub, cls, callback):
-        """Hand everything queued on ``sub`` to ``callback`` without an executor turn."""
-        with sub.handle:
-            while True:
-                taken = sub.handle.take_message(cls, False)
-                if taken is None:
-                    return
-                callback(taken[0])
 
     def on_tick(self):
         s = None
