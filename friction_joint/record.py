@@ -34,7 +34,7 @@ from .bag import CONTRACT_TYPES
 from .exceptions import RecordingError
 
 __all__ = ['record', 'Recorder', 'parse_topics', 'message_class', 'install_signals',
-           'format_counts', 'register', 'main', 'QOS_DEPTH']
+           'format_counts', 'register', 'console_main', 'main', 'QOS_DEPTH']
 
 #: keep-last depth of the /clock subscription
 QOS_DEPTH = 1000
@@ -289,8 +289,8 @@ def build_parser(parser):
     return parser
 
 
-def _run(args):
-    counts = record(args.out, args.topics, args.duration)
+def _run(args, ros_args=None):
+    counts = record(args.out, args.topics, args.duration, args=ros_args)
     print(f'recorded {format_counts(counts)} to {args.out}', flush=True)
     return 0
 
@@ -306,28 +306,34 @@ def register(subparsers):
     return parser
 
 
-def main(args=None):
-    """Console script ``record`` (``ros2 run friction_joint record OUT ...``).
+def console_main(prog, description, build, run, args=None):
+    """Body of the ``record`` / ``replay`` console scripts (``ros2 run friction_joint PROG``).
 
-    ``args`` is a full command line including the program name, as for ``rclpy.init``;
-    default ``sys.argv``.  ROS arguments (``--ros-args ...``) go to rclpy.
+    ``args`` is a full command line including the program name, as for ``rclpy.init``
+    (default ``sys.argv``); ROS arguments (``--ros-args ...``) go to rclpy.  ``build``
+    adds the options to a parser, ``run(opts, ros_args)`` does the work and prints the
+    result.  A :class:`RecordingError` ends with ``PROG: error: ...`` and status 2,
+    Ctrl-C with 130.
     """
     from rclpy.executors import ExternalShutdownException
     from rclpy.utilities import remove_ros_args
 
     argv = list(sys.argv if args is None else args)
-    parser = build_parser(argparse.ArgumentParser(
-        prog='record', description='Record topics into a rosbag2 recording (MCAP).'))
+    parser = build(argparse.ArgumentParser(prog=prog, description=description))
     opts = parser.parse_args(remove_ros_args(args=argv)[1:])
     try:
-        counts = record(opts.out, opts.topics, opts.duration, args=argv)
+        return run(opts, argv)
     except RecordingError as exc:
-        print(f'record: error: {exc}', file=sys.stderr)
+        print(f'{prog}: error: {exc}', file=sys.stderr)
         return 2
     except (KeyboardInterrupt, ExternalShutdownException):
         return 130
-    print(f'recorded {format_counts(counts)} to {opts.out}', flush=True)
-    return 0
+
+
+def main(args=None):
+    """Console script ``record`` (``ros2 run friction_joint record OUT ...``)."""
+    return console_main('record', 'Record topics into a rosbag2 recording (MCAP).',
+                        build_parser, _run, args)
 
 
 if __name__ == '__main__':

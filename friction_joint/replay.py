@@ -23,7 +23,6 @@ DDS has repaired it, instead of being pushed out by newer ones.  A subscriber
 that stops taking messages altogether ends the replay with an error once its
 queue is full.
 """
-import argparse
 import struct
 import sys
 import threading
@@ -31,7 +30,7 @@ import time
 
 from .bag import iter_messages, recording_topics
 from .exceptions import RecordingError
-from .record import format_counts, install_signals, message_class
+from .record import console_main, format_counts, install_signals, message_class
 
 __all__ = ['replay', 'register', 'main']
 
@@ -211,9 +210,9 @@ def build_parser(parser):
     return parser
 
 
-def _run(args):
+def _run(args, ros_args=None):
     counts = replay(args.bag, args.rate, args.topics, args.clock, args.loop, args.wait,
-                    args.settle)
+                    args.settle, args=ros_args)
     print(f'replayed {format_counts(counts)} from {args.bag}', flush=True)
     return 0
 
@@ -231,28 +230,9 @@ def register(subparsers):
 
 
 def main(args=None):
-    """Console script ``replay`` (``ros2 run friction_joint replay BAG ...``).
-
-    ``args`` is a full command line including the program name, as for ``rclpy.init``;
-    default ``sys.argv``.
-    """
-    from rclpy.executors import ExternalShutdownException
-    from rclpy.utilities import remove_ros_args
-
-    argv = list(sys.argv if args is None else args)
-    parser = build_parser(argparse.ArgumentParser(
-        prog='replay', description='Publish a recording again, with /clock.'))
-    opts = parser.parse_args(remove_ros_args(args=argv)[1:])
-    try:
-        counts = replay(opts.bag, opts.rate, opts.topics, opts.clock, opts.loop, opts.wait,
-                        opts.settle, args=argv)
-    except RecordingError as exc:
-        print(f'replay: error: {exc}', file=sys.stderr)
-        return 2
-    except (KeyboardInterrupt, ExternalShutdownException):
-        return 130
-    print(f'replayed {format_counts(counts)} from {opts.bag}', flush=True)
-    return 0
+    """Console script ``replay`` (``ros2 run friction_joint replay BAG ...``)."""
+    return console_main('replay', 'Publish a recording again, with /clock.', build_parser,
+                        _run, args)
 
 
 if __name__ == '__main__':
