@@ -29,11 +29,11 @@ setup(
     entry_points={
         'console_scripts': [
             'friction_joint = friction_joint.cli:main',
-            'joint_sim = friction_joint.nodes.joint_sim:main',
-            'controller = friction_joint.nodes.controller:main',
-            'estimator = friction_joint.nodes.estimator:main',
-            'record = friction_joint.record:main',
-            'replay = friction_joint.replay:main',
+            'joint_sim = friction_joint.ros.nodes.joint_sim:main',
+            'controller = friction_joint.ros.nodes.controller:main',
+            'estimator = friction_joint.ros.nodes.estimator:main',
+            'record = friction_joint.cli.record:main',
+            'replay = friction_joint.cli.replay:main',
         ],
     },
 )

@@ -7,7 +7,7 @@
 
 What it does
 ------------
-1. Simulates (:func:`friction_joint.hidden.simulate_recording`) a 90 s
+1. Simulates (:func:`friction_joint.experiments.hidden.simulate_recording`) a 90 s
    measured-style recording of ``config/csd25_base.yaml`` plus one hidden effect
    of mid-range size (default ``thermal``) into a temporary directory: three
    temperature segments, /joint_states, /link_torque and /joint_command at
@@ -34,7 +34,7 @@ ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 sys.path.insert(0, ROOT)
 
 import friction_joint  # noqa: E402
-from friction_joint.hidden import EFFECTS, apply_effect, simulate_recording  # noqa: E402
+from friction_joint.experiments.hidden import EFFECTS, apply_effect, simulate_recording  # noqa: E402
 
 BASE = os.path.join(ROOT, 'config', 'csd25_base.yaml')
 

@@ -18,7 +18,7 @@ What it does
    * steps 1-2 (static curve: temperature and load coefficients, standard
      errors, per-temperature fits),
    * step 3 (LuGre and GMS pre-sliding pattern search), if
-     :mod:`friction_joint.presliding` is available,
+     :mod:`friction_joint.identification.presliding` is available,
    * the report figures.
 3. Prints the numbers and the accuracy against the truth.
 
@@ -38,11 +38,11 @@ import numpy as np
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 sys.path.insert(0, ROOT)
 
-from friction_joint.bag import write_recording  # noqa: E402
-from friction_joint.excitation import EXCITATION, plan_block, simulate_identification  # noqa: E402
+from friction_joint.bag.reader import write_recording  # noqa: E402
+from friction_joint.experiments.excitation import EXCITATION, plan_block, simulate_identification  # noqa: E402
 from friction_joint.gear import load_gear  # noqa: E402
-from friction_joint.identify_command import identify_recordings  # noqa: E402
-from friction_joint.static import StaticFriction  # noqa: E402
+from friction_joint.identification.pipeline import identify_recordings  # noqa: E402
+from friction_joint.models.static import StaticFriction  # noqa: E402
 
 TRUTH = os.path.join(ROOT, 'config', 'csd25_truth.yaml')
 STRUCTURE = os.path.join(ROOT, 'config', 'csd25.yaml')
@@ -102,8 +102,8 @@ def main():
     step3 = tm['time_step_3_s']
     fig_s = float('nan')
     if not args.no_report:
-        from friction_joint.experiments import _render_png
-        from friction_joint.identify_report import identification_figures
+        from friction_joint.experiments.paper import _render_png
+        from friction_joint.identification.report import identification_figures
         t0 = time.perf_counter()
         for draw, size in identification_figures(run.identifier, run.recordings).values():
             _render_png(draw, size)

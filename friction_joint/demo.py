@@ -117,8 +117,8 @@ def _ros_run(out, model, truth, duration):
     import matplotlib.pyplot as plt
     import numpy as np
 
-    from .bag import read_recording
-    from .bringup import bringup
+    from .bag.reader import read_recording
+    from .ros.bringup import bringup
 
     bag = os.path.join(out, 'bag')
     if os.path.exists(bag):

@@ -466,7 +466,7 @@ def passivity_bound(friction, xi):
     the velocity where the Stribeck dip happens; for delta_v = 1 this is the
     exact linear coefficient.  Returns inf where F_s <= F_c.
     """
-    from .static import StaticFriction
+    from .models.static import StaticFriction
     p = StaticFriction(friction).parameters(np.atleast_1d(xi))
     kappa = friction.velocity_scale
     v = p['vs'] / kappa

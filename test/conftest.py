@@ -1,41 +1,10 @@
-"""Shared fixtures: isolated ROS 2 domains and process handling (see ``roshelpers.py``)."""
+"""Test-suite settings shared by every test directory.
+
+Tests name the shipped files by their path in the source tree
+(``config/csd25.yaml``), so the suite runs from the repository root whatever
+directory pytest (or ``colcon test``) was started in.
+"""
 import os
-import sys
 
-import pytest
-
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-
-import roshelpers  # noqa: E402
-
-
-@pytest.fixture
-def ros_env(monkeypatch):
-    """Environment dict of a fresh ROS domain; also applied to ``os.environ`` for the test."""
-    env = roshelpers.ros_environ()
-    for key in ('ROS_DOMAIN_ID', 'ROS_AUTOMATIC_DISCOVERY_RANGE'):
-        monkeypatch.setenv(key, env[key])
-    monkeypatch.delenv('ROS_LOCALHOST_ONLY', raising=False)
-    return env
-
-
-@pytest.fixture
-def spawn(ros_env):
-    """``spawn(cmd, env=None)`` -> :class:`roshelpers.Proc`, stopped at the end of the test."""
-    procs = []
-
-    def start(cmd, env=None, cwd=None):
-        proc = roshelpers.Proc(cmd, ros_env if env is None else env, cwd)
-        procs.append(proc)
-        return proc
-
-    yield start
-    for proc in reversed(procs):
-        proc.stop()
-
-
-@pytest.fixture
-def ros_node(ros_env):
-    """An in-test :class:`roshelpers.TestNode` in the test's domain."""
-    with roshelpers.ros_node('test_node', ros_env['ROS_DOMAIN_ID']) as node:
-        yield node
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+os.chdir(ROOT)

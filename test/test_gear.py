@@ -8,7 +8,7 @@ import yaml
 
 from friction_joint import GearConfigError, GearConfigWarning, gear_from_dict, load_gear, save_gear
 from friction_joint.gear import gear_from_flat
-from friction_joint.static import StaticFriction
+from friction_joint.models.static import StaticFriction
 
 BASE = {
     'joint_name': 'j1', 'gear_ratio': 80.0, 'inertia': 0.12,

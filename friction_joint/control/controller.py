@@ -1,0 +1,133 @@
+"""Joint controller of eq. 17 and PD gain design from step-response specs.
+
+    tau = J qdd_d + k_p (q_d - q) + k_d (qd_d - qd) + tau_g(q) + psi tau_rd(z, qd, xi, tau_L)   (17)
+
+With the inertia and gravity feed-forward exact, the error obeys
+J e'' + k_d e' + k_p e = 0, a second-order system with omega_n^2 = k_p / J and
+2 zeta omega_n = k_d / J.  :func:`pd_gains` picks zeta from the maximum
+overshoot and omega_n from the 10-90 % rise time of that system's step
+response (found numerically, not from an approximation formula).
+"""
+import math
+
+import numpy as np
+from scipy.optimize import brentq
+
+from ..exceptions import FrictionJointError
+from ..models.friction import friction_model
+
+__all__ = ['pd_gains', 'step_metrics', 'SineTrajectory', 'Controller']
+
+
+def _zeta_from_overshoot(overshoot):
+    lo = math.log(overshoot)
+    return -lo / math.sqrt(math.pi ** 2 + lo ** 2)
+
+
+def _unit_step(tn, zeta):
+    """Step response of wn^2/(s^2 + 2 zeta wn s + wn^2) at normalised time tn = wn t."""
+    wd = math.sqrt(1.0 - zeta ** 2)
+    return 1.0 - math.exp(-zeta * tn) * (math.cos(wd * tn) + zeta / wd * math.sin(wd * tn))
+
+
+def pd_gains(inertia, rise_time=0.04, overshoot=0.06):
+    """PD gains of eq. 17 from a 10-90 % rise time and a maximum overshoot.
+
+    Parameters
+    ----------
+    inertia : float
+        J, kg m^2.
+    rise_time : float
+        10-90 % rise time of the step response, s (paper: 0.04 s).
+    overshoot : float
+        Maximum overshoot as a fraction, 0 < overshoot < 1 (paper: 0.06).
+
+    Returns
+    -------
+    kp, kd : float
+        Nm/rad and Nm s/rad.
+    """
+    if not inertia > 0:
+        raise FrictionJointError(f'inertia must be > 0, got {inertia}')
+    if not rise_time > 0:
+        raise FrictionJointError(f'rise time must be > 0, got {rise_time}')
+    if not 0.0 < overshoot < 1.0:
+        raise FrictionJointError(f'overshoot must be a fraction in (0, 1), got {overshoot}')
+    zeta = _zeta_from_overshoot(overshoot)
+    peak = math.pi / math.sqrt(1.0 - zeta ** 2)          # normalised time of the first peak
+    t10 = brentq(lambda x: _unit_step(x, zeta) - 0.1, 0.0, peak)
+    t90 = brentq(lambda x: _unit_step(x, zeta) - 0.9, 0.0, peak)
+    wn = (t90 - t10) / rise_time
+    return inertia * wn ** 2, 2.0 * zeta * wn * inertia
+
+
+def step_metrics(t, y, final):
+    """10-90 % rise time and maximum overshoot (fraction) of a step response."""
+    y = np.asarray(y) / final
+    t10 = np.interp(0.1, y[: np.argmax(y >= 0.9) + 1], t[: np.argmax(y >= 0.9) + 1])
+    t90 = np.interp(0.9, y[: np.argmax(y >= 0.9) + 1], t[: np.argmax(y >= 0.9) + 1])
+    return t90 - t10, max(0.0, float(np.max(y)) - 1.0)
+
+
+class SineTrajectory:
+    """q_d(t) = a sin(w t) + offset, with its first two derivatives (paper: w = 1.5)."""
+
+    def __init__(self, amplitude, omega=1.5, offset=0.0):
+        self.a, self.w, self.offset = float(amplitude), float(omega), float(offset)
+
+    def __call__(self, t):
+        s, c = math.sin(self.w * t), math.cos(self.w * t)
+        return (self.offset + self.a * s, self.a * self.w * c, -self.a * self.w ** 2 * s)
+
+
+class Controller:
+    """PD + inertia/gravity feed-forward + friction feed-forward (eq. 17).
+
+    Parameters
+    ----------
+    gear : GearParams
+        The *model* gear (inertia, lever, friction).
+    kp, kd : float
+        Gains, e.g. from :func:`pd_gains`.
+    friction : {'lugre', 'gms', 'static', 'none'}
+        Model used for the friction feed-forward; ``'none'`` is psi = 0.
+    dt : float
+        Control period (s).
+    ff_velocity : {'measured', 'desired'}
+        Velocity fed to the friction model: the measured qd as in eq. 17
+        (default), or the desired qd_d (a common, noise-free variant).
+    """
+
+    def __init__(self, gear, kp, kd, friction='lugre', dt=1.0 / 3000.0, ff_velocity='measured'):
+        if ff_velocity not in ('measured', 'desired'):
+            raise FrictionJointError(f"ff_velocity must be 'measured' or 'desired', got {ff_velocity!r}")
+        self.gear = gear
+        self.J = gear.inertia
+        self.mgl = gear.mgl
+        self.kp, self.kd, self.dt = float(kp), float(kd), float(dt)
+        self.kind = friction
+        self.ff_velocity = ff_velocity
+        self.friction = friction_model(gear, friction)
+        self.last = {}
+
+    def reset(self):
+        self.friction.reset()
+
+    def gravity(self, q):
+        """tau_g(q) = m g l sin(q) of the model's lever."""
+        return self.mgl * math.sin(q)
+
+    def __call__(self, q, qd, xi, q_d, qd_d=0.0, qdd_d=0.0, dt=None):
+        """Torque command for one sample; components are kept in ``self.last``.
+
+        ``dt`` is the time since the previous sample when it differs from the
+        control period (a real-time loop that skipped stale samples); it
+        advances the dynamic friction model's state.
+        """
+        tau_g = self.gravity(q)
+        v = qd if self.ff_velocity == 'measured' else qd_d
+        tau_f = self.friction.step(v, xi, abs(tau_g), self.dt if dt is None else dt, q)
+        tau_pd = self.kp * (q_d - q) + self.kd * (qd_d - qd)
+        tau = self.J * qdd_d + tau_pd + tau_g + tau_f
+        self.last = {'pd': tau_pd, 'gravity': tau_g, 'friction': tau_f, 'inertia': self.J * qdd_d}
+        return tau

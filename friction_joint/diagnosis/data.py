@@ -1,0 +1,233 @@
+"""Diagnosis input: recordings -> friction-torque data averaged over short time bins.
+
+For every recording the joint states are split into contiguous pieces (at
+gaps in the stamps), the encoder position is differentiated without phase
+lag (:func:`friction_joint.identification.presliding.zero_phase_derivatives`), and
+
+    y = tau - tau_ext - J q̈          (the measured friction torque tau_r, eq. 2)
+
+is formed with ``tau_ext`` from ``/link_torque`` (or the base gear's lever
+``m g l sin q`` when the recording has none) and J the base inertia.
+
+Bins
+----
+Models are compared on averages over :data:`BIN` (10 ms) bins of the 1 kHz
+samples.  Averaging is linear, so a model linear in its coefficients fits
+the averaged data with the averaged regressors *exactly* as it fits the raw
+samples, at a tenth of the cost and with a tenth of the noise per point.
+A bin is used only when the joint slides throughout it: every sample has
+``|qd| >= V_STICK`` (2 mrad/s), with a margin of :data:`STICK_MARGIN` around
+stick phases, and :data:`EDGE` (0.1 s) away from the ends of a piece (where
+the zero-phase filter's edge effects spoil the acceleration).  While a joint sticks its friction torque is whatever balances
+the applied torque (Karnopp), which no friction *curve* predicts; leaving
+those samples out keeps every candidate model on the same footing.
+
+Cross-validation blocks
+-----------------------
+The used bins are split into :data:`N_BLOCKS` contiguous time blocks of
+equal size (over all recordings, in the order given).
+"""
+import dataclasses
+
+import numpy as np
+
+from ..bag.reader import read_recording
+from ..exceptions import ExcitationError, RecordingError
+from ..identification.presliding import PreslidingDataError, zero_phase_derivatives
+
+__all__ = ['BIN', 'V_STICK', 'STICK_MARGIN', 'N_BLOCKS', 'DiagnosisData', 'load_data']
+
+#: bin length (s) over which samples are averaged
+BIN = 0.01
+#: |qd| below this (rad/s) counts as sticking
+V_STICK = 2e-3
+#: margin (s) around sticking samples also left out
+STICK_MARGIN = 0.005
+#: number of contiguous cross-validation blocks
+N_BLOCKS = 10
+#: shortest contiguous piece of a recording used (s)
+MIN_PIECE = 1.0
+#: samples this close (s) to the start or end of a piece are not used (filter edge effects)
+EDGE = 0.1
+
+
+@dataclasses.dataclass
+class DiagnosisData:
+    """Full-rate samples and bin averages of one or more recordings.
+
+    Full-rate arrays (all pieces concatenated): ``t``, ``q`` (encoder), ``qf``
+    (zero-phase filtered position), ``qd``, ``qdd``, ``effort``, ``tau_ext``,
+    ``xi``, ``tl`` (= |tau_ext|), ``piece`` (piece index), ``dt`` (per sample),
+    ``bin_of`` (bin index of each sample, -1 if unused), ``block_of`` (CV block
+    of each sample, by time).
+
+    Bin arrays (used bins only): ``y`` (mean friction torque with the base
+    inertia), ``count``, ``t_bin``, ``block``.
+    """
+
+    t: np.ndarray
+    q: np.ndarray
+    qf: np.ndarray
+    qd: np.ndarray
+    qdd: np.ndarray
+    effort: np.ndarray
+    tau_ext: np.ndarray
+    xi: np.ndarray
+    tl: np.ndarray
+    piece: np.ndarray
+    dt: np.ndarray
+    bin_of: np.ndarray
+    block_of: np.ndarray
+    y: np.ndarray
+    count: np.ndarray
+    t_bin: np.ndarray
+    block: np.ndarray
+    n_blocks: int
+    inertia: float
+    mgl_sim: float
+    link_torque: bool
+    recordings: list
+
+    @property
+    def n_bins(self):
+        return len(self.y)
+
+    def average(self, f):
+        """Bin averages (used bins) of a full-rate array."""
+        sel = self.bin_of >= 0
+        return np.bincount(self.bin_of[sel], weights=f[sel], minlength=self.n_bins) / self.count
+
+
+def _pieces(t):
+    d = np.diff(t)
+    if len(d) == 0:
+        return []
+    med = float(np.median(d))
+    if not med > 0:
+        raise RecordingError('/joint_states: stamps do not increase')
+    cuts = np.flatnonzero((d > 1.5 * med) | (d <= 0)) + 1
+    bounds = np.concatenate(([0], cuts, [len(t)]))
+    return [(int(a), int(b)) for a, b in zip(bounds[:-1], bounds[1:])
+            if b - a >= 2 and t[b - 1] - t[a] >= MIN_PIECE]
+
+
+def load_data(paths, gear, joint_name=None, n_blocks=N_BLOCKS, progress=None):
+    """Read recordings into :class:`DiagnosisData`.
+
+    Parameters
+    ----------
+    paths : sequence of str
+        rosbag2 directories or ``.mcap`` files.
+    gear : GearParams
+        The base gear (inertia, lever when there is no ``/link_torque``).
+    joint_name : str, optional
+        Joint to read (default: the gear's joint name if present, else the first).
+
+    Raises
+    ------
+    RecordingError
+        Unreadable recording, missing topic, NaN (from :func:`read_recording`).
+    ExcitationError
+        Too little sliding motion to fit and cross-validate a model.
+    """
+    if not paths:
+        raise RecordingError('no recordings given')
+    recs = []
+    for path in paths:
+        try:
+            rec = read_recording(path, joint_name=joint_name or gear.joint_name)
+        except RecordingError as exc:
+            if joint_name is None and 'names joint' in str(exc):
+                rec = read_recording(path)
+            else:
+                raise
+        recs.append(rec)
+    cols = {k: [] for k in ('t', 'q', 'qf', 'qd', 'qdd', 'effort', 'tau_ext', 'xi', 'dt',
+                            'piece')}
+    have_link = all(r.link_torque is not None and len(r.link_torque) > 1 for r in recs)
+    n_piece = 0
+    for rec in recs:
+        js = rec.joint_states
+        pieces = _pieces(js.t)
+        if not pieces:
+            raise ExcitationError(f'{rec.path}: no contiguous stretch of /joint_states of at '
+                                  f'least {MIN_PIECE:g} s (recording {rec.duration:.2f} s long)')
+        for a, b in pieces:
+            t = js.t[a:b]
+            dt = float(np.median(np.diff(t)))
+            cutoff = min(100.0, 0.2 / dt)
+            try:
+                qd, qdd = zero_phase_derivatives(js.q[a:b], dt, cutoff=cutoff)
+            except PreslidingDataError as exc:
+                raise ExcitationError(f'{rec.path}: {exc}') from None
+            from scipy import signal
+            bb, aa = signal.butter(2, cutoff, fs=1.0 / dt)
+            qf = signal.filtfilt(bb, aa, js.q[a:b])
+            if have_link:
+                te = np.interp(t, rec.link_torque.t, rec.link_torque.tau)
+            else:
+                te = gear.mgl * np.sin(js.q[a:b])
+            for k, v in (('t', t), ('q', js.q[a:b]), ('qf', qf), ('qd', qd), ('qdd', qdd),
+                         ('effort', js.effort[a:b]), ('tau_ext', te),
+                         ('xi', rec.temperature_at(t)), ('dt', np.full(b - a, dt)),
+                         ('piece', np.full(b - a, n_piece))):
+                cols[k].append(v)
+            n_piece += 1
+    c = {k: np.concatenate(v) for k, v in cols.items()}
+    n = len(c['t'])
+    # bins: per piece, consecutive samples, BIN long
+    bin_raw = np.full(n, -1, dtype=np.int64)
+    nb_total = 0
+    stick = np.abs(c['qd']) < V_STICK
+    for p in range(n_piece):
+        idx = np.flatnonzero(c['piece'] == p)
+        dt = c['dt'][idx[0]]
+        m = max(1, int(round(BIN / dt)))
+        nb = len(idx) // m
+        if nb == 0:
+            continue
+        st = stick[idx].copy()
+        edge = int(round(EDGE / dt))
+        st[:edge] = True
+        st[len(st) - edge:] = True
+        margin = int(round(STICK_MARGIN / dt))
+        if margin > 0 and st.any():
+            st = np.convolve(st.astype(float), np.ones(2 * margin + 1), mode='same') > 0
+        ok = ~st[:nb * m].reshape(nb, m).any(axis=1)
+        ids = np.full(nb, -1, dtype=np.int64)
+        ids[ok] = nb_total + np.arange(int(ok.sum()))
+        nb_total += int(ok.sum())
+        bin_raw[idx[:nb * m]] = np.repeat(ids, m)
+    if nb_total < 20 * n_blocks:
+        raise ExcitationError(
+            f'too little sliding motion to diagnose: {nb_total * BIN:.1f} s of the recordings '
+            f'have the joint sliding (|qd| >= {V_STICK:g} rad/s), at least '
+            f'{20 * n_blocks * BIN:.0f} s are needed ({n_blocks} cross-validation blocks)')
+    sel = bin_raw >= 0
+    count = np.bincount(bin_raw[sel], minlength=nb_total).astype(float)
+
+    def avg(f):
+        return np.bincount(bin_raw[sel], weights=f[sel], minlength=nb_total) / count
+
+    inertia = gear.inertia
+    y = avg(c['effort'] - c['tau_ext'] - inertia * c['qdd'])
+    t_bin = avg(c['t'])
+    order = np.arange(nb_total)
+    block = (order * n_blocks) // nb_total
+    # block of every sample: by global sample index, boundaries at the bin blocks
+    first_sample = np.zeros(nb_total, dtype=np.int64)
+    first_sample[bin_raw[sel][::-1]] = np.flatnonzero(sel)[::-1]
+    edges = [first_sample[np.argmax(block == k)] for k in range(1, n_blocks)]
+    block_of = np.searchsorted(np.asarray(edges), np.arange(n), side='right')
+    qdv = avg(c['qd'])
+    for sgn, word in ((1, 'positive'), (-1, 'negative')):
+        if np.count_nonzero(np.sign(qdv) == sgn) < 0.05 * nb_total:
+            raise ExcitationError(f'too little excitation: the joint hardly moves in the {word} '
+                                  'direction (less than 5 % of the sliding time); direction-'
+                                  'dependent friction cannot be told apart from an offset')
+    return DiagnosisData(
+        t=c['t'], q=c['q'], qf=c['qf'], qd=c['qd'], qdd=c['qdd'], effort=c['effort'],
+        tau_ext=c['tau_ext'], xi=c['xi'], tl=np.abs(c['tau_ext']), piece=c['piece'],
+        dt=c['dt'], bin_of=bin_raw, block_of=block_of, y=y, count=count, t_bin=t_bin,
+        block=block, n_blocks=n_blocks, inertia=inertia,
+        mgl_sim=0.0 if have_link else gear.mgl, link_torque=have_link, recordings=recs)

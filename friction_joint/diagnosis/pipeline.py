@@ -1,0 +1,559 @@
+"""Diagnosis: what a base friction model gets wrong, and which missing effects explain it.
+
+    friction_joint diagnose RECORDING [RECORDING ...] --model BASE.yaml --out DIR
+
+Method
+------
+1. **Data** (:mod:`friction_joint.diagnosis.data`): the measured friction
+   torque ``y = tau - tau_ext - J q̈`` averaged over 10 ms bins while the joint
+   slides; K = 10 contiguous time blocks for cross-validation.
+2. **Base fit**: BASE's structure (polynomial lengths, Stribeck term, delta_v,
+   ripple, pre-sliding model) is refitted to the data by linear least squares
+   with grids over its few nonlinear parameters (:mod:`friction_joint.diagnosis.structures`).
+3. **Candidates**: every effect of :data:`EFFECTS` extends the current
+   structure (``thermal``: temperature orders of F_c and F_v (and F_s) + 1;
+   ``load``: load orders + 1; ``position_ripple``: 3 harmonics of 2 N, else N,
+   cycles per output turn; ``nonlinear_viscous``: free delta_v;
+   ``stribeck``: F_s and v_s; ``presliding``: LuGre or GMS friction state
+   instead of sign(qd); ``inertia``: J refitted; ``asymmetry``: constant
+   ``friction.offset``).  Each extended structure is fitted on K - 1 blocks
+   and predicts the held-out block (its nonlinear parameter chosen on the
+   training blocks only).
+4. **Significance** -- the criterion: for candidate c against the current
+   model m the per-block statistic ``d_k = log(MSE_m,k / MSE_c,k)`` of the
+   held-out mean squared torque errors is tested with a one-sided paired
+   t-test (H0: mean d <= 0) over the K blocks; the p-values of all
+   candidates of a round are Holm-Bonferroni adjusted; a candidate is
+   significant when its adjusted p-value is below :data:`ALPHA` (0.05) AND
+   its gain -- the relative reduction of the pooled held-out torque RMSE,
+   ``1 - RMSE_c / RMSE_m`` -- is at least :data:`MIN_GAIN` (3 %).  The log
+   ratio makes blocks of different noise level comparable; the paired test
+   on contiguous blocks respects the time correlation of residuals; Holm
+   controls the family-wise error over the candidates tried; the minimum
+   gain keeps statistically detectable but practically irrelevant terms out.
+5. **Greedy**: the significant candidate with the largest gain is added, the
+   extended structure becomes the current one and the remaining candidates
+   are tested again, until none is significant.  So two missing effects are
+   both found, and a candidate that only looked good by confounding with the
+   added effect drops out.
+6. **Velocity**: the base and the final model are simulated open loop
+   (:class:`~friction_joint.models.joint.Joint`) from the measured state over
+   0.5 s windows of held-out blocks, driven by the measured drive torque,
+   temperature and external torque; velocity RMSE against the zero-phase
+   differentiated encoder.
+
+Outputs: ``report.json`` (named causes, candidate table, baseline/extended
+held-out RMSE, per-round tables, timing), ``extended.yaml`` (a gear file of
+the final model fitted on all data, loadable by every node), ``report.md``
+and figures; all written atomically (:mod:`friction_joint.output`).
+"""
+import dataclasses
+import math
+import time
+import warnings
+
+import numpy as np
+from scipy import stats
+
+from ..exceptions import ExcitationError, GearConfigError, GearConfigWarning
+from ..gear import GMSParams, LuGreParams, RippleParams, gear_from_dict, passivity_bound
+from . import structures as dm
+from .data import load_data
+
+__all__ = ['EFFECTS', 'ALPHA', 'MIN_GAIN', 'WINDOW', 'Diagnosis', 'diagnose',
+           'base_structure', 'extend']
+
+#: candidate effects (CONTRACT section 5), in the order they are reported
+EFFECTS = ('thermal', 'load', 'position_ripple', 'nonlinear_viscous', 'stribeck',
+           'presliding', 'inertia', 'asymmetry')
+#: family-wise significance level (Holm over the candidates of a round)
+ALPHA = 0.05
+#: minimum relative reduction of the held-out torque RMSE to name a cause
+MIN_GAIN = 0.03
+#: open-loop simulation window (s)
+WINDOW = 0.5
+#: greedy rounds at most
+MAX_ROUNDS = 8
+
+
+def base_structure(gear):
+    """The :class:`~friction_joint.diagnosis.structures.Structure` of a gear file."""
+    f = gear.friction
+    s = dm.Structure(nfc=len(f.fc), nfv=len(f.fv), nfc_load=len(f.fc_load),
+                     nfv_load=len(f.fv_load))
+    if f.fs is not None:
+        vs0 = float(np.polynomial.polynomial.polyval(np.mean(f.temperature_range), f.vs))
+        s = s.with_(nfs=len(f.fs), nfs_load=len(f.fs_load), vs=max(vs0, 1e-6) / f.velocity_scale)
+    if len(f.delta_v) > 1 or f.delta_v[0] != 1.0:
+        s = s.with_(dv_free=True, dv=float(np.polynomial.polynomial.polyval(
+            np.mean(f.temperature_range), f.delta_v)))
+    if f.position_ripple is not None:
+        s = s.with_(ripple=len(f.position_ripple.amplitude),
+                    cyc=f.position_ripple.cycles_per_rev)
+    if getattr(f, 'offset', None):
+        s = s.with_(offset=True)
+    if f.model == 'lugre':
+        s = s.with_(presliding=True, ps=('lugre', f.lugre.sigma0))
+    elif f.model == 'gms':
+        s = s.with_(presliding=True, ps=('gms', float(sum(f.gms.k))))
+    return s
+
+
+def extend(s, effect):
+    """``(structure, nonlinear parameter to grid)`` of ``s`` extended by ``effect``; None if
+    the structure has it already."""
+    if effect == 'thermal':
+        return s.with_(nfc=s.nfc + 1, nfv=s.nfv + 1, nfs=s.nfs + 1 if s.nfs else 0), None
+    if effect == 'load':
+        return s.with_(nfc_load=s.nfc_load + 1, nfv_load=s.nfv_load + 1,
+                       nfs_load=s.nfs_load + 1 if s.nfs else 0), None
+    if effect == 'position_ripple':
+        return (None if s.ripple else (s.with_(ripple=dm.RIPPLE_HARMONICS), 'cyc'))
+    if effect == 'nonlinear_viscous':
+        return None if s.dv_free else (s.with_(dv_free=True), 'dv')
+    if effect == 'stribeck':
+        return None if s.nfs else (s.with_(nfs=s.nfc, nfs_load=s.nfc_load), 'vs')
+    if effect == 'presliding':
+        return None if s.presliding else (s.with_(presliding=True), 'ps')
+    if effect == 'inertia':
+        return None if s.inertia else (s.with_(inertia=True), None)
+    if effect == 'asymmetry':
+        return None if s.offset else (s.with_(offset=True), None)
+    raise ValueError(f'unknown effect {effect!r}')
+
+
+def _nl_params(s):
+    out = []
+    if s.nfs:
+        out.append('vs')
+    if s.dv_free:
+        out.append('dv')
+    if s.ripple:
+        out.append('cyc')
+    if s.presliding:
+        out.append('ps')
+    return out
+
+
+def _holm(p):
+    p = np.asarray(p, float)
+    m = len(p)
+    order = np.argsort(p)
+    adj = np.empty(m)
+    run = 0.0
+    for rank, i in enumerate(order):
+        run = max(run, min(1.0, (m - rank) * p[i]))
+        adj[i] = run
+    return adj
+
+
+def _compare(cur, cand):
+    """Paired one-sided test of per-block held-out MSE; returns dict of statistics."""
+    d = np.log(cur.mse / np.maximum(cand.mse, 1e-300))
+    if np.all(d == d[0]):
+        p = 0.0 if d[0] > 0 else 1.0
+    else:
+        p = float(stats.ttest_1samp(d, 0.0, alternative='greater').pvalue)
+    gain = 1.0 - cand.rmse / cur.rmse
+    return {'gain': float(max(gain, 0.0)), 'gain_raw': float(gain), 'p_value': p,
+            'blocks_improved': int(np.count_nonzero(d > 0)), 'blocks': int(len(d)),
+            'heldout_torque_rmse': cand.rmse, 'mean_log_mse_ratio': float(np.mean(d))}
+
+
+def _testability(data, ctx, effects):
+    """Reasons why the data cannot tell an effect, per effect."""
+    why = {}
+    xi = data.average(data.xi)
+    qd = data.average(data.qd)
+    if 'thermal' in effects:
+        span = float(np.percentile(xi, 97.5) - np.percentile(xi, 2.5))
+        if span < 0.5:
+            why['thermal'] = (f'the housing temperature spans only {span:.2f} degC while the '
+                              'joint slides (at least 0.5 degC needed)')
+    if 'load' in effects:
+        tl = data.average(data.tl)
+        span = float(np.percentile(tl, 97.5) - np.percentile(tl, 2.5))
+        if span < 0.5:
+            why['load'] = (f'the load |tau_ext| spans only {span:.2f} Nm while the joint slides '
+                           '(at least 0.5 Nm needed)')
+    if 'position_ripple' in effects:
+        period = 2 * math.pi / (2 * ctx.gear_ratio)
+        phase = np.mod(data.average(data.q), period) / period
+        hist = np.bincount(np.minimum((phase * 8).astype(int), 7), minlength=8)
+        travel = float(np.ptp(data.q))
+        if travel < 2 * period or np.any(hist < 5):
+            why['position_ripple'] = (f'the joint travels {travel:.4f} rad, too little to cover '
+                                      f'the ripple period 2 pi / (2 N) = {period:.4f} rad')
+    aq = np.abs(qd)
+    lo, hi = np.percentile(aq, 5), np.percentile(aq, 95)
+    for eff in ('nonlinear_viscous', 'stribeck'):
+        if eff in effects and (hi < 5 * lo or lo > 0.2):
+            why[eff] = (f'sliding speeds span only {lo:.3g}..{hi:.3g} rad/s (5-95 %); need '
+                        'low speeds (< 0.2 rad/s) and a ratio of at least 5')
+    if 'presliding' in effects:
+        s = np.sign(data.qd[np.abs(data.qd) > 1e-4])
+        rev = int(np.count_nonzero(s[1:] != s[:-1]))
+        if rev < 4:
+            why['presliding'] = f'only {rev} velocity reversals (at least 4 needed)'
+    if 'inertia' in effects:
+        qdd = data.average(data.qdd)
+        if float(np.std(qdd)) * data.inertia < 0.02:
+            why['inertia'] = (f'accelerations too small: std(J qdd) = '
+                              f'{float(np.std(qdd)) * data.inertia:.3g} Nm (need >= 0.02 Nm)')
+    return why
+
+
+def _g_nom(ctx, s, beta, names):
+    g = 0.0
+    for (kind, i), b in zip(names, beta):
+        if kind == 'fc':
+            g += b * float(np.mean(ctx.u ** i))
+        elif kind == 'fc_load':
+            g += b * float(np.mean(ctx.vl ** i))
+    return max(g, 0.05)
+
+
+def _refine(s, ctx, y):
+    """Nonlinear parameters of ``s`` by grid on all data (one coordinate sweep)."""
+    for p in _nl_params(s):
+        s, beta, names, _ = dm.fit_all(dm.grid_of(s, p, ctx), ctx, y)
+    s, beta, names, pred = dm.fit_all([s], ctx, y)
+    return s, beta, names, pred
+
+
+# ---------------------------------------------------------------- gears ----
+
+def _sim_gear(base, s, coef):
+    """An unvalidated GearParams for simulation (coefficients as fitted)."""
+    f = base.friction
+    kw = dict(fc=tuple(coef['fc']), fv=tuple(coef['fv']), fc_load=tuple(coef['fc_load']),
+              fv_load=tuple(coef['fv_load']), fs=None, vs=None, fs_load=())
+    if s.nfs:
+        kw.update(fs=tuple(coef['fs']), vs=tuple(coef['vs']), fs_load=tuple(coef['fs_load']))
+    kw['delta_v'] = tuple(coef['delta_v']) if 'delta_v' in coef else (1.0,)
+    if s.ripple:
+        r = coef['position_ripple']
+        kw['position_ripple'] = RippleParams(r['cycles_per_rev'], tuple(r['amplitude']),
+                                             tuple(r['phase']))
+    else:
+        kw['position_ripple'] = None
+    if s.presliding:
+        model, stiff = s.ps
+        kw['model'] = model
+        if model == 'lugre':
+            kw['lugre'] = LuGreParams(stiff, f.lugre.sigma1 if f.lugre else 0.0)
+        else:
+            kw['gms'] = GMSParams(tuple(float(v) for v in stiff * _ctx_ratios(base)),
+                                  tuple(_ctx_alpha(base)), f.gms.c if f.gms else 400.0)
+    else:
+        kw['model'] = 'static'
+    if hasattr(f, 'offset'):
+        kw['offset'] = 0.0            # applied through the drive torque in simulation
+    fr = dataclasses.replace(f, **kw)
+    return dataclasses.replace(base, friction=fr, inertia=base.inertia + coef.get('d_inertia', 0.0))
+
+
+def _ctx_ratios(base):
+    g = base.friction.gms
+    r = np.asarray(g.k, float) if g is not None else dm.GMS_RATIOS
+    return r / r.sum()
+
+
+def _ctx_alpha(base):
+    g = base.friction.gms
+    if g is not None:
+        return list(g.alpha)
+    return [1.0 / len(dm.GMS_RATIOS)] * len(dm.GMS_RATIOS)
+
+
+def extended_gear(base, s, coef, data):
+    """The validated gear file of the extended model (base sections kept)."""
+    fr = {'fc': coef['fc'], 'fv': coef['fv'], 'fc_load': coef['fc_load'],
+          'fv_load': coef['fv_load']}
+    if s.nfs:
+        fr.update(fs=coef['fs'], vs=coef['vs'], fs_load=coef['fs_load'])
+    if 'delta_v' in coef:
+        fr['delta_v'] = coef['delta_v']
+    if s.ripple:
+        fr['position_ripple'] = coef['position_ripple']
+    if s.offset:
+        fr['offset'] = coef['offset']
+    changes = {'friction': fr}
+    if s.inertia:
+        changes['inertia'] = base.inertia + coef['d_inertia']
+    if s.presliding:
+        model, stiff = s.ps
+        fr['model'] = model
+        if model == 'lugre':
+            fr['lugre'] = {'sigma0': float(stiff),
+                           'sigma1': base.friction.lugre.sigma1 if base.friction.lugre else 0.0}
+        else:
+            g = base.friction.gms
+            fr['gms'] = {'k': [float(v) for v in stiff * _ctx_ratios(base)],
+                         'alpha': [float(a) for a in _ctx_alpha(base)],
+                         'c': g.c if g is not None else 400.0}
+    lo, hi = base.friction.temperature_range
+    if max(s.nfc, s.nfv, s.nfs) > 1:
+        xlo, xhi = float(np.min(data.xi)), float(np.max(data.xi))
+        nlo, nhi = max(lo, math.floor(xlo * 10) / 10), min(hi, math.ceil(xhi * 10) / 10)
+        if nhi > nlo:
+            fr['temperature_range'] = [nlo, nhi]
+    gear = _validated(base, changes, quiet=True)
+    f = gear.friction
+    if f.lugre is not None and f.fs is not None:
+        # a Stribeck dip added to a LuGre base can make the base's sigma1 non-passive
+        # (Astrom & Canudas de Wit 2008): keep sigma1 below the bound with a margin
+        bound = float(np.min(passivity_bound(f, np.linspace(*f.temperature_range, 21))))
+        if f.lugre.sigma1 >= bound:
+            sigma1 = float(f'{PASSIVITY_MARGIN * bound:.4g}')
+            fr['lugre'] = {'sigma0': f.lugre.sigma0, 'sigma1': sigma1}
+            coef['sigma1_passivity'] = {'from': f.lugre.sigma1, 'to': sigma1, 'bound': bound}
+            gear = _validated(base, changes)
+    return gear
+
+
+#: sigma1 of an extended LuGre model is set to this fraction of the passivity bound
+#: when the base's value exceeds it
+PASSIVITY_MARGIN = 0.9
+
+
+def _validated(base, changes, quiet=False):
+    new = base.replace(changes)
+    data_d = new.to_dict()['/**']['ros__parameters']
+    try:
+        with warnings.catch_warnings():
+            if quiet:
+                warnings.simplefilter('ignore', GearConfigWarning)
+            return gear_from_dict(data_d, source='extended model', given=new.given)
+    except GearConfigError as exc:
+        raise ExcitationError(f'the extended model fitted to the recordings is not physical '
+                              f'({exc}); the recordings do not determine it well') from None
+
+
+# --------------------------------------------------------------- velocity --
+
+def _windows(data):
+    """Start indices and length (samples) of open-loop simulation windows."""
+    starts, n_len = [], None
+    for p in np.unique(data.piece):
+        idx = np.flatnonzero(data.piece == p)
+        dt = data.dt[idx[0]]
+        n = int(round(WINDOW / dt))
+        if n_len is None:
+            n_len = n
+        if n != n_len:
+            continue
+        for a in range(idx[0], idx[-1] - n, n):
+            if data.block_of[a] == data.block_of[a + n]:
+                starts.append(a)
+    return np.asarray(starts, dtype=np.int64), n_len or 1
+
+
+def simulate_windows(data, gears_by_fold, offsets_by_fold):
+    """Open-loop velocity of every window with its held-out fold's gear.
+
+    Returns
+    -------
+    (sim, meas, fold) : arrays (W, n-1), (W, n-1), (W,)
+    """
+    from ..models.joint import Joint
+    starts, n = _windows(data)
+    if len(starts) == 0:
+        return np.zeros((0, 1)), np.zeros((0, 1)), np.zeros(0, int)
+    idx = starts[:, None] + np.arange(n - 1)[None, :]
+    folds = data.block_of[starts]
+    sim = np.empty((len(starts), n - 1))
+    meas = data.qd[idx + 1]
+    by_model = {}
+    for w, f in enumerate(folds):
+        by_model.setdefault(gears_by_fold[f].friction.model, []).append(w)
+    for model, ws in by_model.items():
+        ws = np.asarray(ws)
+        glist = [gears_by_fold[folds[w]] for w in ws]
+        j = Joint(glist, model=model, mgl=data.mgl_sim)
+        j.reset(q=data.q[starts[ws]], qd=data.qd[starts[ws]])
+        off = np.array([offsets_by_fold[folds[w]] for w in ws])[:, None]
+        tau = data.effort[idx[ws]] - off
+        te = data.tau_ext[idx[ws]] if data.mgl_sim == 0.0 else 0.0
+        dt = float(data.dt[starts[0]])
+        tr = j.simulate(tau, dt, xi=data.xi[idx[ws]], tau_ext=te)
+        sim[ws] = tr.qd
+    return sim, meas, folds
+
+
+@dataclasses.dataclass
+class Diagnosis:
+    """Everything a diagnosis found (see :func:`diagnose`)."""
+
+    report: dict
+    gear: object
+    data: object
+    base: object
+    ctx: object
+    rounds: list
+    base_cv: object
+    final_cv: object
+    velocity: dict
+
+
+def _fold_gears(base, cv, ctx, data):
+    """Per fold: simulation gear and offset from the fold's training fit."""
+    gears, offsets = [], []
+    for f, s in enumerate(cv.structures):
+        beta, names = cv.betas[f], cv.names[f]
+        coef = dm.coefficients(s, beta, names, ctx)
+        gears.append(_sim_gear(base, s, coef))
+        offsets.append(coef.get('offset', 0.0))
+    return gears, offsets
+
+
+def diagnose(paths, base, effects=EFFECTS, joint_name=None, progress=None):
+    """Diagnose ``base`` against recordings.
+
+    Parameters
+    ----------
+    paths : sequence of str
+    base : GearParams
+    effects : sequence of str
+        Candidate effects to test (default all of :data:`EFFECTS`).
+
+    Returns
+    -------
+    Diagnosis
+
+    Raises
+    ------
+    RecordingError, ExcitationError, GearConfigError
+    """
+    say = progress or (lambda m: None)
+    timing = {}
+    t0 = time.perf_counter()
+    unknown = [e for e in effects if e not in EFFECTS]
+    if unknown:
+        raise GearConfigError(f'unknown effect(s) {", ".join(unknown)}; known: {", ".join(EFFECTS)}')
+    data = load_data(paths, base, joint_name=joint_name)
+    ctx = dm.Context(base, data)
+    if base.friction.model != 'static':
+        ctx.ps_models = (base.friction.model,)
+    timing['read_s'] = time.perf_counter() - t0
+    say(f'read {len(paths)} recording(s): {data.n_bins} sliding bins of {1e3 * 0.01:.0f} ms, '
+        f'xi {data.xi.min():.2f}..{data.xi.max():.2f} degC ({timing["read_s"]:.2f} s)')
+    why = _testability(data, ctx, effects)
+    if why:
+        raise ExcitationError('too little excitation to tell ' + '; '.join(
+            f'{k}: {v}' for k, v in why.items()) + ' (restrict the candidates with --effects)')
+
+    t0 = time.perf_counter()
+    y, block, k = data.y, data.block, data.n_blocks
+    cur = base_structure(base)
+    cur, beta, names, _ = _refine(cur, ctx, y)
+    ctx.g_nom = _g_nom(ctx, cur, beta, names)
+    base_cv = _cv(cur, None, ctx, y, block, k)
+    base_struct = cur
+    timing['base_fit_s'] = time.perf_counter() - t0
+    say(f'base: held-out torque RMSE {base_cv.rmse:.4f} Nm ({timing["base_fit_s"]:.2f} s)')
+
+    t0 = time.perf_counter()
+    rounds, named, added_entries = [], [], {}
+    cur_cv = base_cv
+    last_table = {}
+    for rnd in range(1, MAX_ROUNDS + 1):
+        table, cvs = {}, {}
+        for eff in effects:
+            if eff in named:
+                continue
+            ext = extend(cur, eff)
+            if ext is None:
+                table[eff] = {'effect': eff, 'applicable': False, 'gain': 0.0,
+                              'significant': False, 'p_value': 1.0,
+                              'note': 'already in the model structure'}
+                continue
+            s_new, param = ext
+            cv = _cv(s_new, param, ctx, y, block, k)
+            cvs[eff] = cv
+            table[eff] = dict({'effect': eff, 'applicable': True}, **_compare(cur_cv, cv))
+        tested = [e for e in table if table[e]['applicable']]
+        adj = _holm([table[e]['p_value'] for e in tested]) if tested else []
+        for e, pa in zip(tested, adj):
+            table[e]['p_holm'] = float(pa)
+            table[e]['significant'] = bool(pa < ALPHA and table[e]['gain_raw'] >= MIN_GAIN)
+            table[e]['round'] = rnd
+        sig = [e for e in tested if table[e]['significant']]
+        rounds.append({'round': rnd, 'model_rmse': cur_cv.rmse, 'candidates': table,
+                       'cv': cvs, 'cur_cv': cur_cv, 'structure': cur})
+        say(f'round {rnd}: ' + ', '.join(
+            f'{e} {100 * table[e]["gain_raw"]:+.1f} % (p_holm {table[e].get("p_holm", 1):.2g})'
+            for e in tested))
+        last_table = table
+        if not sig:
+            break
+        best = max(sig, key=lambda e: table[e]['gain_raw'])
+        named.append(best)
+        added_entries[best] = table[best]
+        s_new, param = extend(cur, best)
+        cur, beta, names, _ = _refine(s_new, ctx, y)
+        cur_cv = _cv(cur, None, ctx, y, block, k)
+        say(f'  added {best}: held-out torque RMSE {cur_cv.rmse:.4f} Nm')
+    timing['candidates_s'] = time.perf_counter() - t0
+
+    t0 = time.perf_counter()
+    final, beta, names, pred_all = dm.fit_all([cur], ctx, y)
+    coef = dm.coefficients(final, beta, names, ctx)
+    gear = extended_gear(base, final, coef, data)
+    timing['extended_fit_s'] = time.perf_counter() - t0
+
+    t0 = time.perf_counter()
+    gb, ob = _fold_gears(base, base_cv, ctx, data)
+    vb_sim, meas, folds = simulate_windows(data, gb, ob)
+    if named:
+        ge, oe = _fold_gears(base, cur_cv, ctx, data)
+        ve_sim, _, _ = simulate_windows(data, ge, oe)
+    else:
+        ve_sim = vb_sim
+    timing['velocity_sim_s'] = time.perf_counter() - t0
+
+    def vrmse(sim):
+        return float(np.sqrt(np.mean((sim - meas) ** 2))) if sim.size else None
+
+    candidates = []
+    for eff in effects:
+        entry = dict(added_entries.get(eff) or last_table.get(eff) or
+                     {'effect': eff, 'gain': 0.0, 'significant': False})
+        entry['significant'] = eff in named
+        candidates.append(entry)
+    report = {
+        'named_causes': named,
+        'candidates': candidates,
+        'baseline': {'torque_rmse': base_cv.rmse, 'velocity_rmse': vrmse(vb_sim)},
+        'extended': {'torque_rmse': cur_cv.rmse, 'velocity_rmse': vrmse(ve_sim)},
+        'criterion': {
+            'statistic': 'd_k = log(MSE_current,k / MSE_candidate,k) of held-out torque MSE per '
+                         'contiguous time block k',
+            'test': 'one-sided paired t-test over the blocks (H0: mean d <= 0)',
+            'multiplicity': 'Holm-Bonferroni over the candidates of each greedy round',
+            'alpha': ALPHA, 'min_gain': MIN_GAIN, 'blocks': k,
+            'gain': '1 - RMSE_candidate / RMSE_current, pooled held-out torque RMSE',
+            'selection': 'greedy: add the significant candidate with the largest gain, refit, '
+                         'test the rest again until none is significant'},
+        'rounds': [{'round': r['round'], 'model_torque_rmse': r['model_rmse'],
+                    'candidates': list(r['candidates'].values())} for r in rounds],
+        'data': {'recordings': [r.path for r in data.recordings], 'bins': data.n_bins,
+                 'bin_s': 0.01, 'sliding_s': data.n_bins * 0.01,
+                 'xi_range': [float(data.xi.min()), float(data.xi.max())],
+                 'torque_source': 'link_torque' if data.link_torque else 'lever model',
+                 'velocity_windows': int(meas.shape[0]), 'window_s': WINDOW},
+        'base_fit': dm.coefficients(base_struct, *_refit(base_struct, ctx, y)),
+        'extended_fit': coef,
+        'timing': timing,
+    }
+    vel = {'base': vb_sim, 'extended': ve_sim, 'measured': meas, 'folds': folds}
+    return Diagnosis(report, gear, data, base, ctx, rounds, base_cv, cur_cv, vel)
+
+
+def _refit(s, ctx, y):
+    _, beta, names, _ = dm.fit_all([s], ctx, y)
+    return beta, names, ctx
+
+
+def _cv(s, param, ctx, y, block, k):
+    return dm.cross_validate(dm.grid_of(s, param, ctx), ctx, y, block, k)

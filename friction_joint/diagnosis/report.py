@@ -1,0 +1,222 @@
+"""Figures and Markdown report of a diagnosis (:func:`friction_joint.diagnosis.pipeline.diagnose`).
+
+Figures (PNG bytes, rendered with :func:`friction_joint.output.render_png`):
+
+* ``torque.png``: measured friction torque vs the held-out predictions of the
+  base and the extended model over time, and both residuals;
+* ``velocity.png``: measured velocity vs the open-loop simulations of both
+  models over a few held-out windows;
+* ``cause_<effect>.png``: the base model's held-out residual (before the
+  effect was added) and the residual after, against the effect's variable;
+* ``gains.png``: held-out gain of every candidate in every greedy round.
+"""
+import math
+
+import numpy as np
+
+from ..output import render_png
+
+__all__ = ['figures', 'markdown', 'CAUSE_VARIABLES']
+
+#: effect -> axis label of the variable its residual is plotted against
+CAUSE_VARIABLES = {
+    'thermal': 'housing temperature xi (degC)',
+    'load': 'load |tau_ext| (Nm); residual x sign(qd)',
+    'position_ripple': 'q modulo the ripple period (fraction of a period)',
+    'nonlinear_viscous': '|qd| (rad/s); residual x sign(qd)',
+    'stribeck': '|qd| (rad/s); residual x sign(qd)',
+    'presliding': 'travel since the last velocity reversal (mrad); residual x sign(qd)',
+    'inertia': 'acceleration qdd (rad/s^2)',
+    'asymmetry': 'velocity qd (rad/s)',
+}
+
+
+def _travel_since_reversal(data):
+    qf = data.qf
+    s = np.sign(np.diff(qf, prepend=qf[0]))
+    nz = np.flatnonzero(s)
+    rev = np.zeros(len(qf), dtype=np.int64)
+    if len(nz) > 1:
+        change = nz[1:][s[nz[1:]] != s[nz[:-1]]]
+        rev[change] = change
+    rev = np.maximum.accumulate(rev)
+    return data.average(np.abs(qf - qf[np.maximum(rev - 1, 0)]))
+
+
+def _variable(effect, data, diag):
+    sgn = np.sign(data.average(data.qd))
+    if effect == 'thermal':
+        return data.average(data.xi), 1.0, False
+    if effect == 'load':
+        return data.average(data.tl), sgn, False
+    if effect == 'position_ripple':
+        cyc = diag.report['extended_fit'].get('position_ripple', {}).get(
+            'cycles_per_rev', 2 * diag.base.gear_ratio)
+        per = 2 * math.pi / cyc
+        return np.mod(data.average(data.q), per) / per, 1.0, False
+    if effect in ('nonlinear_viscous', 'stribeck'):
+        return np.abs(data.average(data.qd)), sgn, True
+    if effect == 'presliding':
+        return 1e3 * _travel_since_reversal(data), sgn, True
+    if effect == 'inertia':
+        return data.average(data.qdd), 1.0, False
+    return data.average(data.qd), 1.0, False
+
+
+def _binned(x, r, n=30, log=False):
+    lo, hi = np.percentile(x, 1), np.percentile(x, 99)
+    if log:
+        lo = max(lo, 1e-4)
+        edges = np.geomspace(lo, max(hi, lo * 1.01), n + 1)
+    else:
+        edges = np.linspace(lo, hi if hi > lo else lo + 1, n + 1)
+    idx = np.digitize(x, edges) - 1
+    ok = (idx >= 0) & (idx < n)
+    cnt = np.bincount(idx[ok], minlength=n)
+    mean = np.bincount(idx[ok], weights=r[ok], minlength=n) / np.maximum(cnt, 1)
+    mid = np.sqrt(edges[1:] * edges[:-1]) if log else 0.5 * (edges[1:] + edges[:-1])
+    return mid[cnt > 0], mean[cnt > 0]
+
+
+def figures(diag):
+    """``[(file name, png bytes), ...]`` of a diagnosis."""
+    data, rep = diag.data, diag.report
+    y = data.y
+    out = []
+    tb = data.t_bin
+    pb, pe = diag.base_cv.pred, diag.final_cv.pred
+
+    def torque(fig):
+        ax = fig.subplots(2, 1, sharex=True)
+        ax[0].plot(tb, y, '.', ms=1.5, color='k', label='measured tau - tau_ext - J qdd')
+        ax[0].plot(tb, pb, '.', ms=1.0, color='C3', label='base model (held out)')
+        ax[0].plot(tb, pe, '.', ms=1.0, color='C0', label='extended model (held out)')
+        ax[0].set_ylabel('friction torque (Nm)')
+        ax[0].legend(loc='upper right', fontsize=8, markerscale=6)
+        ax[1].plot(tb, y - pb, '.', ms=1.5, color='C3',
+                   label=f'base: RMSE {rep["baseline"]["torque_rmse"]:.4f} Nm')
+        ax[1].plot(tb, y - pe, '.', ms=1.5, color='C0',
+                   label=f'extended: RMSE {rep["extended"]["torque_rmse"]:.4f} Nm')
+        ax[1].set_ylabel('residual (Nm)')
+        ax[1].set_xlabel('time (s), 10 ms bin averages while sliding')
+        ax[1].legend(loc='upper right', fontsize=8, markerscale=6)
+    out.append(('torque.png', render_png(torque, (10, 6.5))))
+
+    vel = diag.velocity
+    if vel['measured'].size:
+        def velocity(fig):
+            ax = fig.subplots(1, 1)
+            nw = vel['measured'].shape[0]
+            pick = np.unique(np.linspace(0, nw - 1, min(nw, 6)).astype(int))
+            n = vel['measured'].shape[1]
+            for j, w in enumerate(pick):
+                x = j * (n + 50) + np.arange(n)
+                ax.plot(x, vel['measured'][w], color='k', lw=1, label='measured' if j == 0 else None)
+                ax.plot(x, vel['base'][w], color='C3', lw=1, label='base, open loop' if j == 0 else None)
+                ax.plot(x, vel['extended'][w], color='C0', lw=1, ls='--',
+                        label='extended, open loop' if j == 0 else None)
+            ax.set_xlabel('samples (held-out windows side by side)')
+            ax.set_ylabel('velocity (rad/s)')
+            ax.set_title(f'open-loop simulation from measured states: velocity RMSE base '
+                         f'{rep["baseline"]["velocity_rmse"]:.4g}, extended '
+                         f'{rep["extended"]["velocity_rmse"]:.4g} rad/s', fontsize=9)
+            ax.legend(fontsize=8)
+        out.append(('velocity.png', render_png(velocity, (10, 4))))
+
+    rounds = {r['round']: r for r in diag.rounds}
+    for eff in rep['named_causes']:
+        entry = next(c for c in rep['candidates'] if c['effect'] == eff)
+        rnd = rounds[entry['round']]
+        before = y - rnd['cur_cv'].pred
+        after = y - rnd['cv'][eff].pred
+        x, sgn, log = _variable(eff, data, diag)
+
+        def cause(fig, x=x, sgn=sgn, log=log, before=before, after=after, eff=eff):
+            ax = fig.subplots(1, 1)
+            ax.plot(x, before * sgn, '.', ms=1.5, color='C3', alpha=0.4,
+                    label='residual before (held out)')
+            ax.plot(x, after * sgn, '.', ms=1.5, color='C0', alpha=0.4,
+                    label=f'after adding {eff}')
+            for r, c in ((before, 'C3'), (after, 'C0')):
+                bx, bm = _binned(x, r * sgn, log=log)
+                ax.plot(bx, bm, '-', color=c, lw=2)
+            if log:
+                ax.set_xscale('log')
+            ax.set_xlabel(CAUSE_VARIABLES[eff])
+            ax.set_ylabel('torque residual (Nm)')
+            ax.set_title(f'{eff}: held-out gain {100 * entry["gain"]:.1f} %, '
+                         f'p (Holm) {entry.get("p_holm", float("nan")):.2g}', fontsize=9)
+            ax.legend(fontsize=8, markerscale=6)
+        out.append((f'cause_{eff}.png', render_png(cause, (7, 4.5))))
+
+    def gains(fig):
+        ax = fig.subplots(1, 1)
+        effs = [c['effect'] for c in rep['candidates']]
+        nr = len(rep['rounds'])
+        w = 0.8 / max(nr, 1)
+        for i, r in enumerate(rep['rounds']):
+            g = {c['effect']: c.get('gain_raw', 0.0) for c in r['candidates']}
+            vals = [100 * g.get(e, np.nan) for e in effs]
+            ax.bar(np.arange(len(effs)) + i * w, vals, w, label=f'round {r["round"]}')
+        ax.axhline(100 * rep['criterion']['min_gain'], color='k', ls=':', lw=1,
+                   label='minimum gain')
+        ax.set_xticks(np.arange(len(effs)) + 0.4 - w / 2)
+        ax.set_xticklabels(effs, rotation=30, ha='right')
+        ax.set_ylabel('held-out torque RMSE reduction (%)')
+        ax.set_ylim(max(-20, ax.get_ylim()[0]), 100)
+        ax.legend(fontsize=8)
+    out.append(('gains.png', render_png(gains, (8, 4.5))))
+    return out
+
+
+def _fmt(v, spec='.3g'):
+    return '-' if v is None or (isinstance(v, float) and not math.isfinite(v)) else format(v, spec)
+
+
+def markdown(diag, figure_names, model_path):
+    """``report.md`` text."""
+    rep = diag.report
+    crit = rep['criterion']
+    named = rep['named_causes']
+    lines = ['# Friction model diagnosis', '',
+             f'Base model: `{model_path}`  ',
+             'Recordings: ' + ', '.join(f'`{p}`' for p in rep['data']['recordings']), '',
+             f'{rep["data"]["sliding_s"]:.1f} s of sliding data (10 ms bins), '
+             f'temperature {rep["data"]["xi_range"][0]:.2f}..{rep["data"]["xi_range"][1]:.2f} degC, '
+             f'external torque from the {rep["data"]["torque_source"]}.', '',
+             '## Result', '',
+             ('**Missing effects: ' + ', '.join(named) + '**') if named else
+             '**Nothing significant is missing from the base model.**', '',
+             '| held-out | base | extended |', '|---|---|---|',
+             f'| torque RMSE (Nm) | {_fmt(rep["baseline"]["torque_rmse"], ".4f")} | '
+             f'{_fmt(rep["extended"]["torque_rmse"], ".4f")} |',
+             f'| velocity RMSE, {rep["data"]["window_s"]:g} s open-loop windows (rad/s) | '
+             f'{_fmt(rep["baseline"]["velocity_rmse"], ".4g")} | '
+             f'{_fmt(rep["extended"]["velocity_rmse"], ".4g")} |', '',
+             '## Criterion', '',
+             f'{crit["blocks"]} contiguous time blocks; every model is fitted on the other blocks '
+             'and predicts the held-out one.  Per block the statistic is '
+             f'{crit["statistic"]}; {crit["test"]}; {crit["multiplicity"]}.  '
+             f'A candidate is significant when its adjusted p-value is below {crit["alpha"]} and '
+             f'its gain ({crit["gain"]}) is at least {100 * crit["min_gain"]:.0f} %.  '
+             f'Selection: {crit["selection"]}.', '',
+             '## Candidates', '',
+             '| effect | round | gain | p | p (Holm) | blocks improved | significant |',
+             '|---|---|---|---|---|---|---|']
+    for c in rep['candidates']:
+        lines.append(f'| {c["effect"]} | {c.get("round", "-")} | {100 * c.get("gain", 0):.1f} % | '
+                     f'{_fmt(c.get("p_value"), ".2g")} | {_fmt(c.get("p_holm"), ".2g")} | '
+                     f'{c.get("blocks_improved", "-")}/{c.get("blocks", "-")} | '
+                     f'{"**yes**" if c["significant"] else "no"} |')
+    lines += ['', 'Named effects: gain when added (against the model at that round); the others: '
+              'gain against the final model.', '']
+    adj = rep['extended_fit'].get('sigma1_passivity')
+    if adj:
+        lines += [f'`extended.yaml`: friction.lugre.sigma1 lowered from {adj["from"]:g} to '
+                  f'{adj["to"]:g}, below the passivity bound sigma2 Fc / (Fs - Fc) = '
+                  f'{adj["bound"]:.4g} of the extended curve (Astrom & Canudas de Wit 2008).', '']
+    for name in figure_names:
+        lines += [f'![{name}]({name})', '']
+    lines += ['## Timing', '', '| stage | s |', '|---|---|']
+    lines += [f'| {k} | {v:.2f} |' for k, v in rep['timing'].items()]
+    return '\n'.join(lines) + '\n'

@@ -1,0 +1,345 @@
+"""Friction model structures for diagnosis, as linear regressions over the bin averages.
+
+Every structure the diagnosis tries is *linear in its coefficients* once a
+few nonlinear parameters are fixed, so it is fitted by linear least squares
+and its nonlinear parameters by a grid (variable projection):
+
+    tau_r = sum_k fc_k u^k h (1 - E) + sum_k fs_k u^k h E          (Coulomb/Stribeck, eq. 1, 7)
+          + sum_j fc_load_j tl^j h (1 - E) + ...                   (load, eq. 7)
+          + sum_k fv_k u^k sign(qd) |kappa qd|^delta_v + ...        (viscous, eq. 5)
+          + sum_n a_n sin(n c q) + b_n cos(n c q)                  (position ripple)
+          + offset + dJ q̈                                          (asymmetry, inertia)
+
+with E = exp(-|kappa qd / v_s|^delta_s), u the (clipped, centred, scaled)
+temperature, tl = |tau_ext| and h = sign(qd) for a static model.  For a
+pre-sliding model h is the normalised friction state driven by the measured
+(filtered) position: LuGre h' = (sigma0 / g) (dq - |dq| h) solved exactly per
+sample, GMS h = sum alpha_i h_i with Maxwell-slip elements h_i clipped to
+[-1, 1] (increments k_i dq / (alpha_i g)), g the mean Coulomb level.
+
+Nonlinear parameters and their grids: ``vs`` (Stribeck velocity), ``dv``
+(delta_v level), ``cyc`` (ripple fundamental, cycles per output revolution:
+2 N first, then N), ``ps`` (pre-sliding model and stiffness).  A structure's
+temperature-dependent ``vs``/``delta_v`` polynomials keep their shape; the grid
+sets their level.
+"""
+import dataclasses
+import math
+
+import numpy as np
+
+from .._jit import njit
+
+__all__ = ['Structure', 'design', 'solve', 'CVResult', 'cross_validate', 'fit_all',
+           'grid_of', 'coefficients', 'presliding_state']
+
+VS_GRID = np.geomspace(0.003, 1.0, 15)           # rad/s, output side
+DV_GRID = np.array([0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9, 0.95, 1.0, 1.05, 1.1, 1.2, 1.35, 1.5, 1.7])
+PS_GRID = np.geomspace(1e3, 3e6, 12)            # Nm/rad (sigma0, or sum of GMS k_i)
+RIPPLE_HARMONICS = 3
+GMS_RATIOS = np.array([0.6, 0.25, 0.1, 0.05])
+
+
+@dataclasses.dataclass(frozen=True)
+class Structure:
+    """A model structure: polynomial lengths, flags and nonlinear parameter values."""
+
+    nfc: int = 1
+    nfv: int = 1
+    nfs: int = 0
+    nfc_load: int = 0
+    nfv_load: int = 0
+    nfs_load: int = 0
+    dv_free: bool = False
+    ripple: int = 0
+    offset: bool = False
+    inertia: bool = False
+    presliding: bool = False
+    # nonlinear parameter values
+    vs: float = 0.05
+    dv: float = 1.0
+    cyc: float = 160.0
+    ps: tuple = ('lugre', 2e4)
+
+    def with_(self, **kw):
+        return dataclasses.replace(self, **kw)
+
+
+class Context:
+    """What the design matrix needs besides the data: base polynomial shapes and scales."""
+
+    def __init__(self, gear, data):
+        f = gear.friction
+        self.kappa = f.velocity_scale
+        self.ds = f.delta_s
+        self.lo, self.hi = f.temperature_range
+        x = np.clip(data.xi, self.lo, self.hi)
+        self.xc = float(np.mean(x))
+        self.xs = max(float(np.std(x)), 0.5)
+        self.u = (x - self.xc) / self.xs
+        self.ts = max(float(np.mean(data.tl)), 0.1)
+        self.vl = data.tl / self.ts
+        self.gear_ratio = gear.gear_ratio
+        poly = np.polynomial.polynomial.polyval
+        self.vs_shape = (poly(x, f.vs) / poly(self.xc, f.vs)) if f.vs is not None and len(f.vs) > 1 \
+            else np.ones_like(x)
+        self.vs_shape = np.maximum(self.vs_shape, 1e-3)
+        self.vs_coef = f.vs
+        dvp = f.delta_v
+        self.dv_shift = (poly(x, dvp) - poly(self.xc, dvp)) if len(dvp) > 1 else np.zeros_like(x)
+        self.dv_coef = dvp
+        ratios = np.asarray(f.gms.k, float) if f.gms is not None else GMS_RATIOS
+        self.gms_ratios = ratios / ratios.sum()
+        self.gms_alpha = np.asarray(f.gms.alpha, float) if f.gms is not None else \
+            np.full(len(ratios), 1.0 / len(ratios))
+        self.g_nom = 2.0
+        self.ps_models = ('lugre', 'gms')
+        self.data = data
+
+
+@njit
+def _lugre_state(dq, piece, a, out):
+    h = 0.0
+    for k in range(dq.shape[0]):
+        if k == 0 or piece[k] != piece[k - 1]:
+            h = 0.0
+        d = dq[k]
+        if d > 0.0:
+            h = 1.0 + (h - 1.0) * math.exp(-a * d)
+        elif d < 0.0:
+            h = -1.0 + (h + 1.0) * math.exp(a * d)
+        out[k] = h
+
+
+@njit
+def _gms_state(dq, piece, inc, alpha, out):
+    n = inc.shape[0]
+    h = np.zeros(n)
+    for k in range(dq.shape[0]):
+        if k == 0 or piece[k] != piece[k - 1]:
+            for i in range(n):
+                h[i] = 0.0
+        acc = 0.0
+        for i in range(n):
+            v = h[i] + inc[i] * dq[k]
+            if v > 1.0:
+                v = 1.0
+            elif v < -1.0:
+                v = -1.0
+            h[i] = v
+            acc += alpha[i] * v
+        out[k] = acc
+
+
+def presliding_state(ctx, ps):
+    """Normalised pre-sliding friction state h (full rate) for ``ps = (model, stiffness)``."""
+    d = ctx.data
+    dq = np.diff(d.qf, prepend=d.qf[0])
+    dq[np.r_[True, d.piece[1:] != d.piece[:-1]]] = 0.0
+    out = np.empty_like(dq)
+    model, stiff = ps
+    if model == 'lugre':
+        _lugre_state(dq, d.piece, stiff / ctx.g_nom, out)
+    else:
+        k = stiff * ctx.gms_ratios
+        _gms_state(dq, d.piece, k / (ctx.gms_alpha * ctx.g_nom), ctx.gms_alpha, out)
+    return out
+
+
+def design(s, ctx):
+    """Bin-averaged design matrix (n_bins, p) and column names of structure ``s``."""
+    d = ctx.data
+    v = ctx.kappa * d.qd
+    sgn = np.sign(d.qd)
+    h = presliding_state(ctx, s.ps) if s.presliding else sgn
+    cols, names = [], []
+    if s.nfs:
+        vs = s.vs * ctx.kappa * ctx.vs_shape
+        e = np.exp(-np.abs(v / vs) ** ctx.ds)
+    else:
+        e = 0.0
+    def terms(base, name, n_temp, n_load):
+        # polynomial in the temperature variable u (powers 0..) and the load vl (powers 1..)
+        for k in range(n_temp):
+            cols.append(base * ctx.u ** k)
+            names.append((name, k))
+        for m in range(1, n_load + 1):
+            cols.append(base * ctx.vl ** m)
+            names.append((name + '_load', m))
+
+    terms(h * (1.0 - e), 'fc', s.nfc, s.nfc_load)
+    if s.nfs:
+        terms(h * e, 'fs', s.nfs, s.nfs_load)
+    dv = s.dv + ctx.dv_shift
+    terms(sgn * np.abs(v) ** np.maximum(dv, 0.05), 'fv', s.nfv, s.nfv_load)
+    for n in range(1, s.ripple + 1):
+        arg = n * s.cyc * d.q
+        cols.append(np.sin(arg))
+        names.append(('ripple_sin', n))
+        cols.append(np.cos(arg))
+        names.append(('ripple_cos', n))
+    if s.offset:
+        cols.append(np.ones_like(v))
+        names.append(('offset', 0))
+    if s.inertia:
+        cols.append(d.qdd)
+        names.append(('inertia', 0))
+    x = np.column_stack([d.average(c) for c in cols])
+    return x, names
+
+
+def grid_of(s, new, ctx):
+    """Grid of structures over the nonlinear parameter named in ``new`` (None: no grid)."""
+    if new is None:
+        return [s]
+    if new == 'vs':
+        return [s.with_(vs=float(v)) for v in VS_GRID]
+    if new == 'dv':
+        return [s.with_(dv=float(v)) for v in DV_GRID]
+    if new == 'cyc':
+        return [s.with_(cyc=float(c) * ctx.gear_ratio) for c in (2.0, 1.0)]
+    if new == 'ps':
+        return [s.with_(ps=(m, float(k))) for m in ctx.ps_models for k in PS_GRID]
+    raise ValueError(new)
+
+
+def _normal(x, y, block, k):
+    g = np.empty((k, x.shape[1], x.shape[1]))
+    b = np.empty((k, x.shape[1]))
+    yy = np.empty(k)
+    for i in range(k):
+        m = block == i
+        xi = x[m]
+        g[i] = xi.T @ xi
+        b[i] = xi.T @ y[m]
+        yy[i] = y[m] @ y[m]
+    return g, b, yy
+
+
+def solve(g, b):
+    """Least squares from normal equations, columns scaled, tiny ridge for conditioning."""
+    sc = np.sqrt(np.maximum(np.diag(g), 1e-300))
+    gs = g / np.outer(sc, sc)
+    bs = b / sc
+    p = len(bs)
+    beta = np.linalg.solve(gs + 1e-10 * np.eye(p), bs)
+    return beta / sc
+
+
+@dataclasses.dataclass
+class CVResult:
+    """Held-out errors of one structure over K blocks."""
+
+    sse: np.ndarray          # held-out SSE per block
+    n: np.ndarray            # bins per block
+    structures: list         # structure chosen per fold
+    pred: np.ndarray         # held-out prediction per bin
+    betas: list              # coefficients per fold
+    names: list              # column names per fold
+
+    @property
+    def mse(self):
+        return self.sse / self.n
+
+    @property
+    def rmse(self):
+        return float(np.sqrt(self.sse.sum() / self.n.sum()))
+
+
+def _penalty(s, ctx):
+    """Training-error factor that makes the grid prefer simpler explanations: a ripple at
+    N cycles per turn (whose 2nd harmonic is the 2 N tooth-engagement ripple) must fit 2 %
+    better than one at 2 N."""
+    return 1.02 if s.ripple and abs(s.cyc - 2.0 * ctx.gear_ratio) > 1e-9 else 1.0
+
+
+def cross_validate(structures, ctx, y, block, k):
+    """K-fold contiguous-block CV; per fold the grid point with the least training error wins."""
+    mats, colnames = [], []
+    for s in structures:
+        x, nm = design(s, ctx)
+        mats.append((x, _normal(x, y, block, k)))
+        colnames.append(nm)
+    sse = np.zeros(k)
+    n = np.bincount(block, minlength=k).astype(float)
+    chosen, betas, names = [], [], []
+    pred = np.empty_like(y)
+    for f in range(k):
+        best = None
+        for (x, (g, b, yy)), s, nm in zip(mats, structures, colnames):
+            gt, bt = g.sum(0) - g[f], b.sum(0) - b[f]
+            beta = solve(gt, bt)
+            train = ((yy.sum() - yy[f]) - 2 * beta @ bt + beta @ gt @ beta) * _penalty(s, ctx)
+            if best is None or train < best[0]:
+                best = (train, beta, x, s, nm)
+        _, beta, x, s, nm = best
+        m = block == f
+        pred[m] = x[m] @ beta
+        sse[f] = float(np.sum((y[m] - pred[m]) ** 2))
+        chosen.append(s)
+        betas.append(beta)
+        names.append(nm)
+    return CVResult(sse, n, chosen, pred, betas, names)
+
+
+def fit_all(structures, ctx, y):
+    """Fit on all bins; returns (structure, beta, names, prediction) of the best grid point."""
+    best = None
+    for s in structures:
+        x, names = design(s, ctx)
+        beta = solve(x.T @ x, x.T @ y)
+        r = y - x @ beta
+        sse = float(r @ r) * _penalty(s, ctx)
+        if best is None or sse < best[0]:
+            best = (sse, s, beta, names, x @ beta)
+    return best[1:]
+
+
+def _raw_poly(c, xc, xs):
+    """Coefficients in u = (x - xc)/xs -> coefficients in x."""
+    p = np.polynomial.Polynomial(c)(np.polynomial.Polynomial([-xc / xs, 1.0 / xs]))
+    out = np.zeros(len(c))
+    out[:len(p.coef)] = p.coef
+    return [float(v) for v in out]
+
+
+def coefficients(s, beta, names, ctx):
+    """Gear-file coefficient lists and extras from a fitted structure."""
+    by = {}
+    for (kind, i), val in zip(names, beta):
+        by.setdefault(kind, {})[i] = float(val)
+
+    def temp(kind, n):
+        return _raw_poly([by[kind][i] for i in range(n)], ctx.xc, ctx.xs) if n else None
+
+    def load(kind, n):
+        return [by[kind][j] / ctx.ts ** j for j in range(1, n + 1)]
+
+    out = {'fc': temp('fc', s.nfc), 'fv': temp('fv', s.nfv),
+           'fc_load': load('fc_load', s.nfc_load), 'fv_load': load('fv_load', s.nfv_load)}
+    if s.nfs:
+        out['fs'] = temp('fs', s.nfs)
+        out['fs_load'] = load('fs_load', s.nfs_load)
+        if ctx.vs_coef is not None and len(ctx.vs_coef) > 1:
+            scale = s.vs * ctx.kappa / np.polynomial.polynomial.polyval(ctx.xc, ctx.vs_coef)
+            out['vs'] = [float(c * scale) for c in ctx.vs_coef]
+        else:
+            out['vs'] = [s.vs * ctx.kappa]
+    if s.dv_free or s.dv != 1.0:
+        dvc = list(ctx.dv_coef)
+        dvc[0] += s.dv - np.polynomial.polynomial.polyval(ctx.xc, ctx.dv_coef)
+        out['delta_v'] = [float(v) for v in dvc]
+    if s.ripple:
+        amp, ph = [], []
+        for n in range(1, s.ripple + 1):
+            a, b = by['ripple_sin'][n], by['ripple_cos'][n]
+            amp.append(math.hypot(a, b))
+            ph.append(math.atan2(b, a))
+        out['position_ripple'] = {'cycles_per_rev': s.cyc, 'amplitude': amp, 'phase': ph}
+    if s.offset:
+        out['offset'] = by['offset'][0]
+    if s.inertia:
+        out['d_inertia'] = by['inertia'][0]
+    if s.presliding:
+        out['presliding'] = {'model': s.ps[0], 'stiffness': s.ps[1]}
+    return out

@@ -1,0 +1,482 @@
+"""Measured-style recordings with hidden effects, for testing ``friction_joint diagnose``.
+
+A *truth* gear is a base gear file (e.g. ``config/csd25_base.yaml``) plus one
+or more effects the base model lacks (CONTRACT section 5 names them).
+:func:`apply_effect` builds such a truth, :func:`draw_effect` draws a
+realistic size of an effect at random, and :func:`simulate_recording` runs the
+truth on the simulated test bed (:class:`~friction_joint.testbed.plant.Plant`, with
+its realistic sensors) under a rich closed-loop excitation and writes what a
+measurement would give: a rosbag2 MCAP recording with the contract topics.
+Nothing in the recording (topics, names, metadata) tells which effect the
+truth has.
+
+The excitation (per temperature segment, see :func:`plan_segment`)
+-------------------------------------------------------------------
+The recording consists of ``n_segments`` (default 3) *temperature segments*,
+like runs in a temperature chamber: each segment runs on a fresh plant whose
+thermal ambient and initial housing temperature are set to the segment
+temperature (spread over the base's ``friction.temperature_range``, 2 degC
+inside each end: 22, 30, 38 degC for [20, 40]; a random +-0.5 degC per
+segment).  The frictional losses warm the housing a little within a segment
+(the housing time constant is ~9 min, so a 90 s run cannot span several degC
+by self-heating alone).  Segments follow each other in one recording with
+``gap`` seconds (default 1 s) without messages between them (the soak); the
+lever angle carries over from one segment to the next.
+
+Each segment, under a PD controller with inertia and gravity feed-forward of
+the BASE model (:class:`~friction_joint.control.controller.Controller`, no friction
+compensation, gains from :func:`~friction_joint.control.controller.pd_gains`), runs
+
+1. a short hold;
+2. constant-velocity plateau pairs (+v then -v) at four speeds, one from
+   each band 0.02-0.04, 0.08-0.2, 0.4-1.0 and 1.5-3.0 rad/s, each pair
+   centred at a random lever angle in [-1.2, 1.2] rad (load m g l |sin q|
+   from 0 to ~10 Nm, independent of the speed);
+3. a slow slide and small position sinusoids (0.1-3 mrad at 2 Hz), every
+   reversal of which passes through pre-sliding;
+4. a smooth multi-sine sweep over the rest of the segment:
+   ``q = env(t) (1.1 sin(w1 t) + 0.15 sin(w2 t) + 0.02 sin(w3 t))`` with
+   random frequencies near 0.15-0.3, 0.5-0.9 and 2-3 Hz and phases: the
+   lever sweeps about +-1.3 rad, velocities up to ~3 rad/s with reversals
+   and slow stretches, accelerations up to ~10 rad/s^2.
+
+Topics: ``/joint_states`` (the plant's 3 kHz samples decimated to 1 kHz),
+``/joint_temperature`` (the plant's 4 Hz housing sensor), ``/link_torque``
+(output torque sensor), ``/joint_command`` (commanded effort, q_d, qd_d).
+``simulate_recording(..., link_torque=False, command=False)`` leaves the
+optional topics out, as measured data may.
+
+Effect sizes (:data:`EFFECT_RANGES`)
+------------------------------------
+``thermal``
+    Fc rises and Fv falls linearly with the housing temperature: fc, fv
+    become ``[c0, c1]`` with the base value at the middle of the recorded
+    temperature span and a change of 15-40 % (Fc) and 15-40 % (Fv) across it.
+``load``
+    ``fc_load = [0.01 .. 0.04]`` N m per N m of tau_L (up to 11 N m here).
+``position_ripple``
+    ``friction.position_ripple``: 2 x gear_ratio cycles per output
+    revolution, amplitude 0.05-0.2 N m, random phase.
+``nonlinear_viscous``
+    ``delta_v = [0.4 .. 0.75]``; fv unchanged, so the viscous torque at
+    1 rad/s is the base's.
+``stribeck``
+    ``fs = fc x (1.3 .. 1.8)``, ``vs = 0.02 .. 0.1`` rad/s.
+``presliding``
+    the truth runs the LuGre or the GMS model with the base's
+    ``friction.lugre`` / ``friction.gms`` sections, stiffnesses scaled by
+    0.7-1.4.
+``inertia``
+    the truth inertia is the base's times 1 +- (0.15 .. 0.35).
+``asymmetry``
+    ``friction.offset``: a constant torque of 0.1-0.4 N m, either sign.
+"""
+import math
+import time
+import warnings
+
+import numpy as np
+
+from ..bag.reader import write_recording
+from ..control.controller import Controller, pd_gains
+from .excitation import record_segment
+from ..exceptions import FrictionJointError, GearConfigWarning
+from ..testbed.plant import Plant
+
+__all__ = ['EFFECTS', 'EFFECT_RANGES', 'apply_effect', 'apply_effects', 'draw_effect',
+           'segment_temperatures', 'plan_segment', 'simulate_recording']
+
+#: effect names of CONTRACT section 5
+EFFECTS = ('thermal', 'load', 'position_ripple', 'nonlinear_viscous', 'stribeck',
+           'presliding', 'inertia', 'asymmetry')
+
+#: realistic size ranges drawn by :func:`draw_effect` (uniform; see the module docstring)
+EFFECT_RANGES = {
+    'thermal': {'fc_change': (0.15, 0.40), 'fv_change': (0.15, 0.40)},
+    'load': {'fc_load': (0.01, 0.04)},
+    'position_ripple': {'amplitude': (0.05, 0.2), 'phase': (0.0, 2.0 * math.pi)},
+    'nonlinear_viscous': {'delta_v': (0.4, 0.75)},
+    'stribeck': {'fs_ratio': (1.3, 1.8), 'vs': (0.02, 0.1)},
+    'presliding': {'model': ('lugre', 'gms'), 'stiffness_scale': (0.7, 1.4)},
+    'inertia': {'change': (0.15, 0.35), 'sign': (-1.0, 1.0)},
+    'asymmetry': {'offset': (0.1, 0.4), 'sign': (-1.0, 1.0)},
+}
+
+#: excitation defaults of :func:`simulate_recording` / :func:`plan_segment`
+SEGMENT = {
+    'n_segments': 3,
+    'temperature_margin': 2.0,      # degC inside the base's temperature_range
+    'temperature_jitter': 0.5,      # degC, random offset per segment
+    'gap': 1.0,                     # s without messages between segments
+    'hold': 0.2,                    # s at rest at the start of a segment
+    'speed_bands': ((0.02, 0.04), (0.08, 0.2), (0.4, 1.0), (1.5, 3.0)),   # rad/s
+    'center_range': 1.2,            # rad, plateau centres drawn in +-this
+    'window': 0.6,                  # s per plateau at nominal (30 s) segment length
+    'min_window': 0.25,             # s
+    'settle': 0.1,                  # s, plus settle_travel / v
+    'settle_travel': 2e-3,          # rad
+    'accel': 30.0,                  # rad/s^2, plateau ramps
+    'move_accel': 40.0,             # rad/s^2
+    'move_speed': 3.0,              # rad/s
+    'presliding_slide': 3e-3,       # rad at presliding_speed before the sinusoids
+    'presliding_speed': 5e-3,       # rad/s
+    'presliding_amplitudes': (1e-4, 3e-4, 1e-3, 3e-3),   # rad
+    'presliding_frequency': 2.0,    # Hz, one period each
+    'sweep': ((1.1, 0.15, 0.3), (0.15, 0.5, 0.9), (0.02, 2.0, 3.0)),   # (rad, f_lo, f_hi Hz)
+    'sweep_ramp': 1.0,              # s, envelope rise and fall of the sweep
+    'rise_time': 0.04,              # s, PD design (pd_gains)
+    'overshoot': 0.06,
+    'publish_rate': 1000.0,         # Hz, /joint_states, /link_torque, /joint_command
+}
+
+
+# --------------------------------------------------------------------------- effects
+
+def _span(base, temperatures=None):
+    temps = segment_temperatures(base) if temperatures is None else np.asarray(temperatures)
+    lo, hi = float(np.min(temps)), float(np.max(temps))
+    return lo, hi
+
+
+def draw_effect(rng, effect):
+    """A random realistic size of ``effect`` (a dict of the parameters of :data:`EFFECT_RANGES`)."""
+    if effect not in EFFECT_RANGES:
+        raise FrictionJointError(f'unknown effect {effect!r}; effects: {", ".join(EFFECTS)}')
+    out = {}
+    for key, rng_ in EFFECT_RANGES[effect].items():
+        if key == 'sign':
+            out[key] = float(rng.choice([-1.0, 1.0]))
+        elif key == 'model':
+            out[key] = str(rng.choice(list(rng_)))
+        else:
+            out[key] = float(rng.uniform(*rng_))
+    return out
+
+
+def _size(effect, size):
+    """Full size dict: a scalar is the first parameter, the others at mid range."""
+    ranges = EFFECT_RANGES[effect]
+    full = {}
+    for key, r in ranges.items():
+        if key == 'sign':
+            full[key] = 1.0
+        elif key == 'model':
+            full[key] = r[0]
+        else:
+            full[key] = 0.5 * (r[0] + r[1])
+    if size is None:
+        return full
+    if not isinstance(size, dict):
+        size = {next(iter(ranges)): size}
+    unknown = set(size) - set(ranges)
+    if unknown:
+        raise FrictionJointError(f'{effect}: unknown size parameter(s) '
+                                 f'{", ".join(sorted(unknown))} (known: {", ".join(ranges)})')
+    full.update(size)
+    return full
+
+
+def apply_effect(base_gear, effect, size=None, temperatures=None):
+    """The truth gear: ``base_gear`` plus ``effect`` of ``size``.
+
+    Parameters
+    ----------
+    base_gear : GearParams
+    effect : str
+        One of :data:`EFFECTS`.
+    size : dict or float, optional
+        Parameters as drawn by :func:`draw_effect`; a number sets the first parameter
+        of :data:`EFFECT_RANGES` (the others at mid range); default mid range.
+    temperatures : sequence of float, optional
+        Segment temperatures of the recording (for ``thermal``: the change is over
+        their span); default :func:`segment_temperatures` of the base.
+
+    Returns
+    -------
+    GearParams
+    """
+    if effect not in EFFECTS:
+        raise FrictionJointError(f'unknown effect {effect!r}; effects: {", ".join(EFFECTS)}')
+    with warnings.catch_warnings():
+        # a truth with a Stribeck hump may break the LuGre passivity bound of the base's
+        # friction.lugre section; the simulated hardware does not care
+        warnings.simplefilter('ignore', GearConfigWarning)
+        return _apply(base_gear, effect, _size(effect, size), temperatures)
+
+
+def _apply(base_gear, effect, s, temperatures):
+    fr = base_gear.friction
+    fc0, fv0 = fr.fc[0], fr.fv[0]
+    if effect == 'thermal':
+        lo, hi = _span(base_gear, temperatures)
+        mid, width = 0.5 * (lo + hi), max(hi - lo, 1e-6)
+        c1 = s['fc_change'] * fc0 / width           # Fc rises with temperature
+        v1 = -s['fv_change'] * fv0 / width          # Fv falls with temperature
+        return base_gear.replace({'friction': {'fc': [fc0 - c1 * mid, c1],
+                                               'fv': [fv0 - v1 * mid, v1]}})
+    if effect == 'load':
+        return base_gear.replace({'friction': {'fc_load': [s['fc_load']]}})
+    if effect == 'position_ripple':
+        return base_gear.replace({'friction': {'position_ripple': {
+            'cycles_per_rev': 2.0 * base_gear.gear_ratio, 'amplitude': [s['amplitude']],
+            'phase': [s['phase']]}}})
+    if effect == 'nonlinear_viscous':
+        # fv * |v|^delta_v equals the base's fv |v| at |v| = 1 rad/s: fv unchanged
+        return base_gear.replace({'friction': {'delta_v': [s['delta_v']]}})
+    if effect == 'stribeck':
+        return base_gear.replace({'friction': {'fs': [fc0 * s['fs_ratio']], 'vs': [s['vs']]}})
+    if effect == 'presliding':
+        model, k = s['model'], s['stiffness_scale']
+        if model == 'lugre':
+            lg = fr.lugre
+            if lg is None:
+                raise FrictionJointError('presliding: the base has no friction.lugre section')
+            return base_gear.replace({'friction': {'model': 'lugre', 'lugre': {
+                'sigma0': lg.sigma0 * k, 'sigma1': lg.sigma1}}})
+        gm = fr.gms
+        if gm is None:
+            raise FrictionJointError('presliding: the base has no friction.gms section')
+        return base_gear.replace({'friction': {'model': 'gms', 'gms': {
+            'k': [x * k for x in gm.k], 'alpha': list(gm.alpha), 'c': gm.c}}})
+    if effect == 'inertia':
+        return base_gear.replace({'inertia': base_gear.inertia * (1.0 + s['sign'] * s['change'])})
+    # asymmetry
+    return base_gear.replace({'friction': {'offset': s['sign'] * s['offset']}})
+
+
+def apply_effects(base_gear, effects, temperatures=None):
+    """Apply several ``{effect: size}`` one after the other."""
+    gear = base_gear
+    for effect, size in effects.items():
+        gear = apply_effect(gear, effect, size, temperatures)
+    return gear
+
+
+# --------------------------------------------------------------------------- excitation
+
+def segment_temperatures(base, n_segments=None, cfg=SEGMENT):
+    """Nominal segment temperatures: spread over ``friction.temperature_range`` within margins."""
+    n = int(cfg['n_segments'] if n_segments is None else n_segments)
+    lo, hi = base.friction.temperature_range
+    m = cfg['temperature_margin']
+    a, b = lo + m, hi - m
+    if not a < b:
+        a = b = 0.5 * (lo + hi)
+    return np.linspace(a, b, n) if n > 1 else np.array([0.5 * (a + b)])
+
+
+def plan_segment(rng, gear_ratio, dt, duration, q0=0.0, cfg=SEGMENT):
+    """Reference ``(q, qd, qdd)`` of one temperature segment of about ``duration`` s.
+
+    Plateau pairs, pre-sliding sinusoids and a multi-sine sweep (module docstring);
+    the sweep fills whatever time the other parts leave.
+    """
+    from .excitation import BlockPlan
+    scale = duration / 30.0
+    plan = BlockPlan(dt)
+    plan._add(np.array([q0]), np.zeros(1), np.zeros(1))
+    plan.hold(cfg['hold'])
+    bands = list(cfg['speed_bands'])
+    order = rng.permutation(len(bands))
+    for i in order:
+        v = float(np.exp(rng.uniform(*np.log(bands[i]))))
+        c = float(rng.uniform(-cfg['center_range'], cfg['center_range']))
+        window = max(cfg['min_window'], cfg['window'] * scale)
+        settle = cfg['settle'] + cfg['settle_travel'] / v
+        t_ramp = max(0.05, math.pi * v / (2.0 * cfg['accel']))
+        travel = v * (settle + window + t_ramp)
+        plan.move(c - 0.5 * travel, cfg['move_accel'], cfg['move_speed'])
+        for direction in (1.0, -1.0):
+            plan.ramp(0.0, direction * v, cfg['accel'])
+            plan.constant(direction * v, settle + window)
+            plan.ramp(direction * v, 0.0, cfg['accel'])
+            plan.hold(0.05)
+    # pre-sliding: slow slide, then small sinusoids (one period each)
+    slide, vp = cfg['presliding_slide'], cfg['presliding_speed']
+    plan.ramp(0.0, vp, cfg['accel'])
+    plan.constant(vp, slide / vp * min(1.0, max(0.3, scale)))
+    plan.ramp(vp, 0.0, cfg['accel'])
+    plan.hold(0.1)
+    for amp in cfg['presliding_amplitudes']:
+        plan.sine(amp, cfg['presliding_frequency'], 1)
+    plan.hold(0.1)
+    plan.move(0.0, cfg['move_accel'], cfg['move_speed'])
+    # multi-sine sweep over the remaining time
+    rest = duration - plan.t_end
+    ramp = cfg['sweep_ramp']
+    if rest > 2.0 * ramp + 0.5:
+        m = int(round(rest / dt))
+        t = dt * np.arange(1, m + 1)
+        T = m * dt
+        q = np.zeros(m)
+        qd = np.zeros(m)
+        qdd = np.zeros(m)
+        for a, f_lo, f_hi in cfg['sweep']:
+            w = 2.0 * math.pi * rng.uniform(f_lo, f_hi)
+            p = rng.uniform(0.0, 2.0 * math.pi)
+            q += a * np.sin(w * t + p)
+            qd += a * w * np.cos(w * t + p)
+            qdd -= a * w * w * np.sin(w * t + p)
+        # smooth envelope (C2): raised-cosine rise and fall
+        e = np.ones(m)
+        ed = np.zeros(m)
+        edd = np.zeros(m)
+        for sl, sign, t0 in ((t < ramp, 1.0, 0.0), (t > T - ramp, -1.0, T)):
+            x = (t[sl] - t0) * sign / ramp          # 0 at the edge .. 1 inside
+            wr = math.pi / ramp
+            e[sl] = 0.5 - 0.5 * np.cos(math.pi * x)
+            ed[sl] = sign * 0.5 * wr * np.sin(math.pi * x)
+            edd[sl] = 0.5 * wr * wr * np.cos(math.pi * x)
+        # raised cosine has a jump in the 2nd derivative at the edge; square it (C2 at 0)
+        e2, ed2, edd2 = e * e, 2 * e * ed, 2 * (ed * ed + e * edd)
+        qe = q * e2
+        qde = qd * e2 + q * ed2
+        qdde = qdd * e2 + 2 * qd * ed2 + q * edd2
+        base = plan.q_end
+        plan._add(base + qe, qde, qdde)
+        plan.hold(0.1)
+    q, qd, qdd = plan.arrays()
+    return q[1:], qd[1:], qdd[1:]
+
+
+# --------------------------------------------------------------------------- simulation
+
+def simulate_recording(truth_gear, path=None, duration=90.0, seed=0, base_gear=None,
+                       n_segments=None, link_torque=True, command=True, compress=False,
+                       cfg=None):
+    """Run ``truth_gear`` on the simulated test bed under the rich excitation; write a recording.
+
+    Parameters
+    ----------
+    truth_gear : GearParams
+        The simulated hardware (base + hidden effects).
+    path : str or os.PathLike, optional
+        Recording to write (rosbag2 directory, or ``.mcap`` file); must not exist.
+        ``None`` writes nothing (the topics are returned).
+    duration : float
+        Total seconds of motion (split over the temperature segments).
+    seed : int
+        Excitation and sensor-noise seed.
+    base_gear : GearParams, optional
+        The model the controller uses for its inertia and gravity feed-forward and
+        whose temperature range sets the segment temperatures; default ``truth_gear``.
+    n_segments : int, optional
+        Temperature segments (default 3).
+    link_torque, command : bool
+        Include ``/link_torque`` and ``/joint_command``.
+    compress : bool
+        Write a zstd file-compressed rosbag2 directory (as ``ros2 bag record
+        --compression-mode file --compression-format zstd``; about a quarter of the
+        size).  Only for a directory ``path``.
+    cfg : dict, optional
+        Overrides of :data:`SEGMENT`.
+
+    Returns
+    -------
+    topics : dict
+        Topic -> dict of arrays, as written.
+    summary : dict
+        ``temperatures`` (segment set-points), ``segments`` (t0, t1, xi_start, xi_end),
+        ``duration_s``, ``samples``, ``gains``, ``seed``, ``wall_time_s``.
+    """
+    wall = time.perf_counter()
+    conf = dict(SEGMENT)
+    if cfg:
+        unknown = sorted(set(cfg) - set(SEGMENT))
+        if unknown:
+            raise FrictionJointError(f'unknown excitation option(s) {", ".join(unknown)}')
+        conf.update(cfg)
+    if not (math.isfinite(duration) and duration > 0):
+        raise FrictionJointError(f'duration must be > 0 s, got {duration}')
+    base = truth_gear if base_gear is None else base_gear
+    rng = np.random.default_rng(seed)
+    nseg = int(conf['n_segments'] if n_segments is None else n_segments)
+    temps = segment_temperatures(base, nseg, conf)
+    temps = temps + rng.uniform(-1, 1, len(temps)) * conf['temperature_jitter']
+    sim = truth_gear.section('simulation')
+    rate = sim['rate']
+    dt = 1.0 / rate
+    every = max(1, int(round(rate / conf['publish_rate'])))
+    kp, kd = pd_gains(base.inertia, conf['rise_time'], conf['overshoot'])
+    seg_len = duration / nseg
+
+    keys = ('t', 'q', 'qd', 'effort', 'tau', 'cmd', 'q_d', 'qd_d')
+    out = {k: [] for k in keys}
+    temp_t, temp_xi, segments = [], [], []
+    t_off, q_start = 0.0, 0.0
+    for b, xi0 in enumerate(temps):
+        q_ref, qd_ref, qdd_ref = plan_segment(rng, truth_gear.gear_ratio, dt, seg_len,
+                                              q_start, conf)
+        with warnings.catch_warnings():
+            warnings.simplefilter('ignore', GearConfigWarning)
+            gear = truth_gear.replace({'thermal': {'ambient': float(xi0), 'initial': float(xi0)}})
+        plant = Plant(gear, xi0=float(xi0), seed=int(seed) * 101 + b, q0=q_start)
+        ctrl = Controller(base, kp, kd, 'none', dt)
+        n = len(q_ref)
+        record_segment(plant, lambda s, k: ctrl(s.q, s.qd, s.xi, q_ref[k], qd_ref[k], qdd_ref[k]),
+                       q_ref, qd_ref, every, t_off, out, temp_t, temp_xi)
+        segments.append({'temperature': float(xi0), 't0': t_off, 't1': t_off + n * dt,
+                         'xi_end': float(plant.thermal.xi)})
+        q_start = float(plant.last.q_true)
+        t_off += n * dt + conf['gap']
+
+    cat = {k: np.concatenate(v) for k, v in out.items()}
+    name = truth_gear.joint_name
+    topics = {
+        '/joint_states': {'t': cat['t'], 'q': cat['q'], 'qd': cat['qd'],
+                          'effort': cat['effort'], 'name': name},
+        '/joint_temperature': {'t': np.concatenate(temp_t), 'xi': np.concatenate(temp_xi),
+                               'variance': truth_gear.section('sensors')[
+                                   'temperature_resolution'] ** 2 / 12.0},
+    }
+    if link_torque:
+        topics['/link_torque'] = {'t': cat['t'], 'tau': cat['tau']}
+    if command:
+        topics['/joint_command'] = {'t': cat['t'], 'effort': cat['cmd'], 'q_d': cat['q_d'],
+                                    'qd_d': cat['qd_d'], 'name': name}
+    if path is not None:
+        if compress:
+            _write_compressed(path, topics, name)
+        else:
+            write_recording(path, topics, joint_name=name)
+    summary = {'temperatures': [float(x) for x in temps], 'segments': segments,
+               'duration_s': float(cat['t'][-1] - cat['t'][0]), 'samples': int(len(cat['t'])),
+               'gains': {'kp': kp, 'kd': kd}, 'seed': int(seed),
+               'wall_time_s': time.perf_counter() - wall}
+    return topics, summary
+
+
+def _write_compressed(path, topics, joint_name):
+    """Write ``topics`` as a zstd file-compressed rosbag2 directory at ``path``."""
+    import os
+    import shutil
+    import tempfile
+
+    from rosbags.rosbag2 import Reader, StoragePlugin, Writer
+    from rosbags.rosbag2.enums import CompressionFormat, CompressionMode
+    from rosbags.typesys import Stores, get_typestore
+
+    path = os.fspath(path)
+    if path.endswith('.mcap'):
+        raise FrictionJointError('compress=True needs a rosbag2 directory path, not .mcap')
+    if os.path.lexists(path):
+        raise FrictionJointError(f'{path} exists already, not overwriting')
+    parent = os.path.dirname(os.path.abspath(path))
+    os.makedirs(parent, exist_ok=True)
+    tmp = tempfile.mkdtemp(prefix='.compress.', dir=parent)
+    try:
+        plain = os.path.join(tmp, 'plain')
+        write_recording(plain, topics, joint_name=joint_name)
+        final = os.path.join(tmp, os.path.basename(os.path.normpath(path)))
+        typestore = get_typestore(Stores.ROS2_JAZZY)
+        writer = Writer(final, version=9, storage_plugin=StoragePlugin.MCAP)
+        writer.set_compression(CompressionMode.FILE, CompressionFormat.ZSTD)
+        with Reader(plain) as reader, writer:
+            conns = {c.id: writer.add_connection(c.topic, c.msgtype, typestore=typestore)
+                     for c in reader.connections}
+            for con, stamp, raw in reader.messages():
+                writer.write(conns[con.id], stamp, raw)
+        os.rename(final, path)
+    finally:
+        shutil.rmtree(tmp, ignore_errors=True)
+    return path

@@ -1,0 +1,463 @@
+"""The ``identify`` command: recordings -> identified gear file + report (seed Section V-A).
+
+    friction_joint identify RECORDING [RECORDING ...] --model STRUCTURE.yaml --out GEAR.yaml
+                            [--orders auto] [--report DIR] [--presliding auto|skip|require]
+
+1. Reads the recordings (rosbag2 directories or ``.mcap`` files) and finds
+   their constant-velocity plateaus (:mod:`friction_joint.identification.plateaus`).
+2. Steps 1 and 2: the static curve's temperature and load coefficients
+   (:class:`~friction_joint.identification.static_fit.StaticIdentifier`), in the structure of
+   STRUCTURE.yaml (or with orders chosen by held-out error, ``--orders auto``).
+3. Step 3: the pre-sliding parameters of every dynamic model the structure
+   has a section for (``friction.lugre``, ``friction.gms``), by pattern search
+   on the recordings' slow reversals (:mod:`friction_joint.identification.presliding`).
+   ``--presliding auto`` (default) runs it when the module is there and notes
+   in the output why it was skipped otherwise (module missing, no slow
+   reversals in the data); ``skip`` never runs it; ``require`` makes a
+   failure an error.  Skipped: the structure's pre-sliding values are kept.
+   A parameter the fit reports as undetermined (flat objective or on a search
+   bound, e.g. the LuGre micro-damping sigma1 from slow data) also keeps the
+   structure's value, and so does a whole model whose fit misses the measured
+   friction torque by more than :data:`MAX_PRESLIDING_ERROR` (10 %) RMS (no
+   pre-sliding experiment in the data, or a model that cannot describe the
+   gear); the header and report say so.
+4. Writes the report directory (default ``GEAR_report/`` next to GEAR.yaml:
+   figures after Fig. 3 and 4, ``identification.json``) and then GEAR.yaml
+   (:func:`~friction_joint.gear.save_gear`): the structure file with the
+   identified coefficients, ``friction.temperature_range`` set to the
+   recorded temperature range, every other section kept, and the parameters
+   with their standard errors in the header comments.  Every file is written
+   atomically; GEAR.yaml last.
+
+STRUCTURE.yaml's coefficient *values* are not used, only its list lengths
+(the model structure), ``delta_s``, ``velocity_scale``, inertia (J qdd) and
+lever (tau_ext when a recording has no ``/link_torque``).  A structure file
+without a ``delta_v`` key means linear viscous friction: delta_v stays 1.
+"""
+import datetime
+import importlib.util
+import os
+import sys
+import time
+import warnings
+
+import numpy as np
+import yaml
+
+from ..bag.reader import read_recording
+from ..exceptions import (ExcitationError, FrictionJointError, GearConfigError, GearConfigWarning,
+                         RecordingError)
+from ..experiments.paper import ExperimentResult, write_results
+from ..gear import load_gear, save_gear
+from .static_fit import StaticIdentifier
+from .plateaus import Plateaus, find_plateaus
+
+__all__ = ['IdentificationRun', 'identify_recordings', 'run_identify', 'register',
+           'MAX_PRESLIDING_ERROR']
+
+#: step 3: a pre-sliding fit whose RMS torque error exceeds this fraction of the RMS
+#: measured friction torque is rejected (the structure's values are kept)
+MAX_PRESLIDING_ERROR = 0.10
+
+
+class IdentificationRun:
+    """Everything one identification produced.
+
+    Attributes
+    ----------
+    identifier : StaticIdentifier
+        Steps 1 and 2 (fitted).
+    gear : GearParams
+        The identified gear (steps 1-2, plus step 3 when it ran).
+    recordings : list of Recording
+    plateaus : Plateaus
+    presliding : dict
+        Step 3: ``status`` (``'done'``, ``'skipped'``, ``'failed'``), ``reason``,
+        per model ``params``, ``stderr``, ``rel_stderr``, ``report``.
+    timings : dict
+        Seconds per stage.
+    """
+
+    def __init__(self, identifier, gear, recordings, plateaus, presliding, timings):
+        self.identifier = identifier
+        self.gear = gear
+        self.recordings = recordings
+        self.plateaus = plateaus
+        self.presliding = presliding
+        self.timings = timings
+
+    def report(self):
+        """``identification.json`` content."""
+        rep = self.identifier.report()
+        rep['recordings'] = [{'path': r.path, 'duration_s': r.duration,
+                              'samples': len(r.joint_states),
+                              'link_torque': r.link_torque is not None}
+                             for r in self.recordings]
+        rep['plateaus'] = self.plateaus.to_dict()
+        rep['presliding'] = self.presliding
+        rep['timings'].update(self.timings)
+        return rep
+
+
+def _declared_friction_keys(path):
+    """Keys under ``friction`` as written in a gear file (defaults not filled in)."""
+    try:
+        with open(path, encoding='utf-8') as fh:
+            doc = yaml.safe_load(fh)
+        params = doc['/**']['ros__parameters']
+    except (OSError, yaml.YAMLError, KeyError, TypeError):
+        return None
+    keys = set()
+    fr = params.get('friction')
+    if isinstance(fr, dict):
+        keys |= {str(k) for k in fr}
+    keys |= {str(k)[len('friction.'):] for k in params if str(k).startswith('friction.')}
+    return keys
+
+
+def _read(path, joint_name):
+    try:
+        return read_recording(path, joint_name=joint_name)
+    except RecordingError as exc:
+        msg = str(exc)
+        if '/joint_temperature' in msg:
+            raise RecordingError(
+                f'{msg}: the identification needs the gear housing temperature during the '
+                'plateaus (sensor_msgs/Temperature on /joint_temperature); record it with the '
+                'joint states') from None
+        raise
+
+
+def _read_joint(path, joint_name, structure):
+    """The recording's joint ``joint_name``, else the structure's joint, else its first joint."""
+    if joint_name is not None:
+        return _read(path, joint_name)
+    try:
+        return _read(path, structure.joint_name)
+    except RecordingError as exc:
+        if 'names joint' not in str(exc):
+            raise
+    return _read(path, None)
+
+
+def _presliding_pieces(recording, gear, ps):
+    """Contiguous, equally spaced pieces of a recording as pre-sliding input arrays."""
+    js = recording.joint_states
+    t = js.t
+    if len(t) < 10:
+        return []
+    d = np.diff(t)
+    med = float(np.median(d))
+    cuts = np.flatnonzero(np.abs(d - med) > 0.01 * med) + 1
+    bounds = np.concatenate(([0], cuts, [len(t)]))
+    out = []
+    for a, b in zip(bounds[:-1], bounds[1:]):
+        if b - a < 200:
+            continue
+        tt = t[a:b]
+        dt = float(np.median(np.diff(tt)))
+        qd, qdd = ps.zero_phase_derivatives(js.q[a:b], dt)
+        if recording.link_torque is not None and len(recording.link_torque) > 1:
+            tau_ext = np.interp(tt, recording.link_torque.t, recording.link_torque.tau)
+        else:
+            tau_ext = gear.mgl * np.sin(js.q[a:b])
+        tau_r = js.effort[a:b] - tau_ext - gear.inertia * qdd
+        out.append({'t': tt, 'q': js.q[a:b], 'qd': qd, 'tau_r': tau_r,
+                    'xi': recording.temperature_at(tt), 'tau_l': np.abs(tau_ext)})
+    return out
+
+
+def _step3(gear, recordings, mode, progress):
+    """Pre-sliding parameters (step 3); returns (gear, result dict)."""
+    if mode == 'skip':
+        return gear, {'status': 'skipped', 'reason': '--presliding skip'}
+    models = [m for m in ('lugre', 'gms') if getattr(gear.friction, m) is not None]
+    if not models:
+        return gear, {'status': 'skipped', 'reason': 'the structure has no friction.lugre or '
+                                                     'friction.gms section'}
+    if importlib.util.find_spec('friction_joint.identification.presliding') is None:
+        reason = ('friction_joint.identification.presliding is not available: the pre-sliding parameters are '
+                  'kept from the structure file')
+        if mode == 'require':
+            raise FrictionJointError(f'step 3: {reason}')
+        return gear, {'status': 'skipped', 'reason': reason}
+    from . import presliding as ps
+    result = {'status': 'done', 'models': {}}
+    try:
+        pieces = [p for r in recordings for p in _presliding_pieces(r, gear, ps)]
+        for model in models:
+            cols = {k: [] for k in ('t', 'q', 'qd', 'tau_r', 'xi', 'tau_l')}
+            errors = []
+            for piece in pieces:
+                try:
+                    segs = ps.presliding_segments(piece['t'], piece['qd'], gear, model,
+                                                  xi=piece['xi'])
+                except ExcitationError as exc:
+                    errors.append(str(exc))
+                    continue
+                for seg in segs:
+                    if seg.init != 'sliding':
+                        continue
+                    for k in cols:
+                        cols[k].append(piece[k][seg.slice])
+            if not cols['t']:
+                raise ExcitationError(errors[0] if errors else
+                                      'no slow velocity reversals in the recordings: '
+                                      + ps.EXPERIMENT_ADVICE)
+            if progress:
+                progress(f'step 3 ({model}): pattern search on {len(cols["t"])} pre-sliding '
+                         f'segments ({sum(len(x) for x in cols["t"])} samples)')
+            t0 = time.perf_counter()
+            with warnings.catch_warnings():          # kept in fit.report['warnings']
+                warnings.simplefilter('ignore', GearConfigWarning)
+                fit = ps.fit_presliding(cols['t'], cols['qd'], cols['tau_r'], cols['xi'],
+                                        cols['tau_l'], gear, model=model, q=cols['q'])
+            scale = float(np.sqrt(np.mean(np.concatenate(cols['tau_r']) ** 2)))
+            rel = fit.report['objective_final'] / max(scale, 1e-12)
+            if rel > MAX_PRESLIDING_ERROR:
+                result['models'][model] = {
+                    'status': 'rejected', 'params': fit.params, 'report': fit.report,
+                    'reason': f'the fitted {model} model misses the measured friction torque by '
+                              f'{fit.report["objective_final"]:.3g} Nm RMS, {100 * rel:.0f} % of '
+                              f'its RMS ({scale:.3g} Nm; accepted up to '
+                              f'{100 * MAX_PRESLIDING_ERROR:.0f} %): kept from the structure',
+                    'time_s': time.perf_counter() - t0}
+                if mode == 'require':
+                    raise ExcitationError(f'step 3: {result["models"][model]["reason"]}; '
+                                          + ps.EXPERIMENT_ADVICE)
+                if progress:
+                    progress(f'step 3 ({model}): {result["models"][model]["reason"]}')
+                continue
+            kept = list(fit.report.get('undetermined', []))
+            old = getattr(gear.friction, model)
+            sec = getattr(fit.gear.friction, model)
+            if model == 'lugre':
+                gear = gear.replace({'friction': {'lugre': {
+                    'sigma0': old.sigma0 if 'sigma0' in kept else sec.sigma0,
+                    'sigma1': old.sigma1 if 'sigma1' in kept else sec.sigma1}}})
+            else:
+                gear = gear.replace({'friction': {'gms': {
+                    'k': list(old.k if 'k_total' in kept else sec.k),
+                    'c': old.c if 'c' in kept else sec.c}}})
+            result['models'][model] = {
+                'status': 'done', 'params': fit.params, 'initial': fit.initial, 'stderr': fit.stderr,
+                'rel_stderr': fit.rel_stderr, 'segments': len(cols['t']),
+                'kept_from_structure': kept, 'report': fit.report,
+                'time_s': time.perf_counter() - t0}
+            if progress and fit.report.get('warnings'):
+                for w in fit.report['warnings']:
+                    progress(f'step 3 ({model}): warning: {w}')
+            if progress:
+                progress(f'step 3 ({model}): ' + ', '.join(
+                    f'{k} = {v:.4g} (+-{100 * fit.rel_stderr[k]:.1f} %)'
+                    + (' undetermined, kept from the structure' if k in kept else '')
+                    for k, v in fit.params.items() if k in fit.rel_stderr)
+                    + f'; RMS {fit.report["objective_final"]:.4f} Nm')
+    except FrictionJointError as exc:
+        if mode == 'require':
+            raise
+        return gear, {'status': 'failed', 'reason': str(exc),
+                      'note': 'the pre-sliding parameters are kept from the structure file',
+                      'models': result['models']}
+    return gear, result
+
+
+def identify_recordings(paths, structure, orders=None, joint_name=None, detection=None,
+                        presliding='auto', progress=None):
+    """Identify a gear from recordings (steps 1-3); the engine of the command.
+
+    Parameters
+    ----------
+    paths : sequence of str
+        Recordings.
+    structure : str or GearParams
+        The structure gear file (path or loaded).
+    orders : None, 'auto' or dict
+        See :class:`~friction_joint.identification.static_fit.StaticIdentifier`.
+    joint_name : str, optional
+        Joint to pick from the recordings (default: the structure's joint name if the
+        recording has it, else the recording's first joint).
+    detection : dict, optional
+        Plateau detection options (:data:`friction_joint.identification.plateaus.DETECTION`).
+    presliding : {'auto', 'skip', 'require'}
+        Step 3 policy (see the module docstring).
+    progress : callable, optional
+
+    Returns
+    -------
+    IdentificationRun
+    """
+    if presliding not in ('auto', 'skip', 'require'):
+        raise FrictionJointError(f"presliding must be auto, skip or require, got {presliding!r}")
+    timings = {}
+    fixed = ()
+    if isinstance(structure, str):
+        keys = _declared_friction_keys(structure)
+        structure = load_gear(structure)
+        if keys is not None and 'delta_v' not in keys:
+            fixed = ('delta_v',)
+    if not paths:
+        raise RecordingError('no recordings given')
+    t0 = time.perf_counter()
+    recordings, parts = [], []
+    for path in paths:
+        rec = _read_joint(path, joint_name, structure)
+        recordings.append(rec)
+        part = find_plateaus(rec, structure, detection)
+        parts.append(part)
+        if progress:
+            src = 'link torque sensor' if part.torque_source[0] == 'link_torque' else \
+                'structure lever model (no /link_torque)'
+            progress(f'{path}: {rec.duration:.1f} s, {len(part)} plateaus (tau_ext from {src})')
+    plateaus = Plateaus.concatenate(parts)
+    timings['time_read_and_plateaus_s'] = time.perf_counter() - t0
+    t0 = time.perf_counter()
+    ident = StaticIdentifier(structure, orders=orders, fixed=fixed, progress=progress).fit(plateaus)
+    timings['time_steps_1_2_s'] = time.perf_counter() - t0
+    if progress:
+        progress(f'steps 1-2: RMS residual {ident.rms:.4f} Nm over {len(plateaus)} plateaus '
+                 f'({timings["time_steps_1_2_s"]:.2f} s)')
+    t0 = time.perf_counter()
+    gear, step3 = _step3(ident.gear, recordings, presliding, progress)
+    timings['time_step_3_s'] = time.perf_counter() - t0
+    if progress and step3['status'] != 'done':
+        progress(f'step 3 {step3["status"]}: {step3["reason"]}')
+    return IdentificationRun(ident, gear, recordings, plateaus, step3, timings)
+
+
+def _fmt_list(vals, ses):
+    return '[' + ', '.join(f'{v:.6g} +- {e:.2g}' for v, e in zip(vals, ses)) + ']'
+
+
+def _header(run, paths, structure_path):
+    ident = run.identifier
+    p = run.plateaus
+    lines = [
+        f'Identified by "friction_joint identify" (seed paper Section V-A) on '
+        f'{datetime.date.today().isoformat()}',
+        'from: ' + ', '.join(os.path.abspath(x) for x in paths),
+        f'  {len(p)} constant-velocity plateaus, |qd| {np.abs(p.qd).min():.3g}..'
+        f'{np.abs(p.qd).max():.3g} rad/s, xi {p.xi.min():.2f}..{p.xi.max():.2f} degC, '
+        f'tau_L {p.load.min():.2f}..{p.load.max():.2f} Nm',
+        f'structure: {os.path.abspath(structure_path)} ({ident.structure.describe()}); '
+        'other sections kept from it',
+        f'steps 1-2 (static curve, eq. 6-7, least squares eq. 16): RMS residual {ident.rms:.4f} Nm',
+        'friction.temperature_range = the recorded temperature range (polynomials are not '
+        'extrapolated)',
+        'coefficients +- standard error (powers of xi; load: powers 1.. of tau_L):',
+    ]
+    for name, vals in ident.coefficients.items():
+        lines.append(f'  {name}: {_fmt_list(vals, ident.standard_errors[name])}')
+    for name, vals in ident.structure.fixed.items():
+        lines.append(f'  {name}: {list(vals)} (fixed)')
+    s3 = run.presliding
+    if s3['status'] == 'done':
+        for model, r in s3['models'].items():
+            if r.get('status') == 'rejected':
+                lines.append(f'step 3 ({model}) rejected: {r["reason"]}')
+                continue
+            lines.append(f'step 3 ({model}, pattern search): ' + ', '.join(
+                f'{k} = {v:.6g} +- {r["stderr"][k]:.2g}'
+                + (' (undetermined by the data: structure value kept)'
+                   if k in r['kept_from_structure'] else '')
+                for k, v in r['params'].items() if k in r['stderr'])
+                + f'; RMS {r["report"]["objective_final"]:.4f} Nm')
+    else:
+        lines.append(f'step 3 (pre-sliding) {s3["status"]}: {s3["reason"]}; pre-sliding '
+                     'parameters kept from the structure')
+    return '\n'.join(lines)
+
+
+def run_identify(paths, model_path, out, orders=None, report_dir=None, presliding='auto',
+                 joint_name=None, progress=None):
+    """Run the identification and write the report directory and GEAR.yaml.
+
+    Returns
+    -------
+    list of str
+        The paths written (report files, then the gear file).
+    """
+    start = time.perf_counter()
+    out = os.fspath(out)
+    if os.path.isdir(out):
+        raise FrictionJointError(f'--out {out} is a directory; give the gear file to write')
+    run = identify_recordings(paths, model_path, orders=orders, joint_name=joint_name,
+                              presliding=presliding, progress=progress)
+    if report_dir is None:
+        stem = os.path.splitext(os.path.basename(out))[0]
+        report_dir = os.path.join(os.path.dirname(os.path.abspath(out)), f'{stem}_report')
+    from .report import identification_figures
+    t0 = time.perf_counter()
+    rep = run.report()
+    rep['structure_file'] = os.path.abspath(model_path)
+    rep['gear_file'] = os.path.abspath(out)
+    figures = identification_figures(run.identifier, run.recordings, run.presliding)
+    rep['timings']['time_total_s'] = time.perf_counter() - start
+    written = write_results(ExperimentResult(rep, figures), report_dir,
+                            json_name='identification.json')
+    if progress:
+        progress(f'report: {report_dir} ({time.perf_counter() - t0:.1f} s)')
+    os.makedirs(os.path.dirname(os.path.abspath(out)), exist_ok=True)
+    try:
+        save_gear(run.gear, out, header=_header(run, paths, model_path))
+    except OSError as exc:
+        raise FrictionJointError(f'cannot write {out}: {exc.strerror}') from None
+    load_gear(out)                      # the file must load in every node
+    return written + [out]
+
+
+def _parse_orders(text):
+    if text is None or text == 'structure':
+        return None
+    if text == 'auto':
+        return 'auto'
+    out = {}
+    for item in text.split(','):
+        key, _, val = item.partition('=')
+        try:
+            out[key.strip()] = int(val)
+        except ValueError:
+            raise GearConfigError(f'--orders: expected auto, structure or NAME=ORDER,... '
+                                  f'(e.g. fc=2,fv=2,fc_load=1), got {text!r}') from None
+    return out
+
+
+def _run(args):
+    def progress(msg):
+        print(msg, file=sys.stderr, flush=True)
+    paths = run_identify(args.recordings, args.model, args.out, orders=_parse_orders(args.orders),
+                         report_dir=args.report, presliding=args.presliding,
+                         joint_name=args.joint, progress=None if args.quiet else progress)
+    print('wrote ' + ', '.join(paths))
+    return 0
+
+
+def register(subparsers):
+    """Add the ``identify`` subcommand to an argparse subparsers object."""
+    parser = subparsers.add_parser(
+        'identify', help='identify the friction model from recordings (seed Section V-A)',
+        description='Identify the temperature- and load-dependent static friction model '
+                    '(steps 1-2: least squares over constant-velocity plateaus) and the '
+                    'LuGre/GMS pre-sliding parameters (step 3) from recordings, in the '
+                    'structure of STRUCTURE.yaml; write GEAR.yaml and a report with figures.')
+    parser.add_argument('recordings', nargs='+', metavar='RECORDING',
+                        help='rosbag2 directories or .mcap files')
+    parser.add_argument('--model', required=True, metavar='STRUCTURE.yaml',
+                        help='gear file giving the model structure (list length = polynomial '
+                             'order + 1), inertia and lever; its coefficient values are not used')
+    parser.add_argument('--out', required=True, metavar='GEAR.yaml',
+                        help='identified gear file to write')
+    parser.add_argument('--orders', default=None, metavar='auto|NAME=N,...',
+                        help='polynomial orders: the structure\'s (default), "auto" (chosen by '
+                             'held-out error) or e.g. "fc=2,fv=1,fc_load=1" (orders, not list '
+                             'lengths: fc=2 gives fc: [c0, c1, c2])')
+    parser.add_argument('--report', default=None, metavar='DIR',
+                        help='report directory (default: GEAR_report next to GEAR.yaml)')
+    parser.add_argument('--presliding', choices=('auto', 'skip', 'require'), default='auto',
+                        help='step 3: run when possible and note why not (auto), never (skip), '
+                             'or fail without it (require)')
+    parser.add_argument('--joint', default=None, metavar='NAME',
+                        help='joint to identify (default: the structure\'s joint_name)')
+    parser.add_argument('--quiet', action='store_true', help='no progress messages')
+    parser.set_defaults(func=_run)
+    return parser

@@ -1,0 +1,382 @@
+"""Constant-velocity plateaus of a recording: the data points of the static friction fit.
+
+The seed paper identifies the static friction curve from "constant velocity
+points" at constant temperatures (Section V-A).  :func:`find_plateaus` finds
+such segments automatically in a recording, from the measured velocity only,
+and reduces each to one data point: mean velocity, friction torque, housing
+temperature and load, each with a standard error.
+
+Detection (:data:`DETECTION` holds the thresholds)
+--------------------------------------------------
+1. The joint states are cut into contiguous pieces at time gaps (more than
+   ``gap_factor`` median sample periods) and averaged over blocks of
+   ``block`` seconds (25 ms).
+2. A block is *steady* if its mean speed is at least ``v_floor`` and the
+   velocity changes across it by less than ``rel_slope`` of its speed per
+   second plus ``abs_slope`` (ramps, reversals and oscillations fail this).
+3. Consecutive steady blocks of one sign form a candidate; it is cut where a
+   block mean leaves the candidate's running median by more than
+   ``rel_tol`` of the speed plus ``abs_tol`` (a slow drift of the velocity
+   is not a plateau).
+4. Transients are excluded: ``trim`` seconds are dropped at both ends, and
+   leading blocks whose friction torque still differs from the plateau's
+   settled level (median of its second half) by more than ``settle_tol`` of
+   that level (plus three noise standard deviations) are dropped too (at low
+   speed the friction torque keeps building up after the velocity has
+   settled).  What remains must last ``min_duration`` seconds.
+
+Per plateau
+-----------
+* ``qd``: outlier-robust mean velocity (samples further than
+  ``clip_mad`` median absolute deviations from the median are left out).
+* ``tau_r``: friction torque tau_r = effort - tau_ext - J qdd (CONTRACT
+  section 1), same robust mean.  tau_ext is the ``/link_torque`` sensor when
+  the recording has it, else the lever gravity m g l sin q of the STRUCTURE
+  gear file (no contact torque); J is the structure's inertia and qdd the
+  derivative of the measured velocity.
+* ``xi``: mean housing temperature (zero-order hold of ``/joint_temperature``).
+* ``load``: mean tau_L = |tau_ext| (link torque smoothed over 10 ms first, so
+  sensor noise does not bias the magnitude), and the means of tau_L^2,
+  tau_L^3 (``load_moments``).
+* standard errors ``*_se`` by batch means: the window is cut into up to ten
+  batches and the spread of the batch means gives the standard error, which
+  keeps correlated noise (filtering, ripple) from looking like independent
+  samples.
+"""
+import dataclasses
+import math
+
+import numpy as np
+
+from ..exceptions import ExcitationError, RecordingError
+
+__all__ = ['DETECTION', 'Plateaus', 'find_plateaus', 'plateaus_from_arrays']
+
+#: detection thresholds (see the module docstring)
+DETECTION = {
+    'block': 0.025,        # s, averaging block
+    'gap_factor': 5.0,     # a time step larger than this many median steps is a gap
+    'v_floor': 2e-3,       # rad/s, slowest plateau speed
+    'rel_slope': 1.0,      # 1/s: |dv/dt| <= rel_slope |v| + abs_slope within a steady block
+    'abs_slope': 0.02,     # rad/s^2
+    'rel_tol': 0.04,       # block means within rel_tol |v| + abs_tol of the running median
+    'abs_tol': 5e-4,       # rad/s
+    'trim': 0.05,          # s dropped at both ends
+    'settle_tol': 0.01,    # leading blocks with friction off the settled level by more are dropped
+    'min_duration': 0.2,   # s, shortest plateau kept
+    'min_samples': 50,     # fewest samples in a plateau
+    'clip_mad': 5.0,       # outlier clipping of the robust means, in MADs
+    'batches': 10,         # batch means for the standard errors
+    'load_smooth': 0.01,   # s, smoothing of the link torque before |.|
+}
+
+_FIELDS = ('qd', 'qd_se', 'tau_r', 'tau_r_se', 'xi', 'xi_se', 'xi_spread', 'load', 'load_se',
+           'load2', 'load3', 'tau_ext', 'q', 't0', 't1', 'n', 'source')
+
+
+@dataclasses.dataclass(frozen=True)
+class Plateaus:
+    """Constant-velocity plateaus, one entry per plateau in each array.
+
+    Attributes
+    ----------
+    qd, qd_se : ndarray
+        Mean velocity and its standard error (rad/s).
+    tau_r, tau_r_se : ndarray
+        Mean friction torque effort - tau_ext - J qdd and its standard error (Nm).
+    xi, xi_se, xi_spread : ndarray
+        Mean housing temperature, its standard error and max - min over the plateau (degC).
+    load, load_se : ndarray
+        Mean load tau_L = |tau_ext| and its standard error (Nm).
+    load2, load3 : ndarray
+        Means of tau_L^2 and tau_L^3 over the plateau.
+    tau_ext : ndarray
+        Mean signed tau_ext (Nm).
+    q : ndarray
+        Mean position (rad).
+    t0, t1 : ndarray
+        Start and end of the window used (s, recording time).
+    n : ndarray of int
+        Samples used.
+    source : ndarray of int
+        Index into ``sources``.
+    sources : tuple of str
+        The recordings the plateaus come from.
+    torque_source : tuple of str
+        Per source: ``'link_torque'`` or ``'lever_model'`` (where tau_ext came from).
+    """
+
+    qd: np.ndarray
+    qd_se: np.ndarray
+    tau_r: np.ndarray
+    tau_r_se: np.ndarray
+    xi: np.ndarray
+    xi_se: np.ndarray
+    xi_spread: np.ndarray
+    load: np.ndarray
+    load_se: np.ndarray
+    load2: np.ndarray
+    load3: np.ndarray
+    tau_ext: np.ndarray
+    q: np.ndarray
+    t0: np.ndarray
+    t1: np.ndarray
+    n: np.ndarray
+    source: np.ndarray
+    sources: tuple = ()
+    torque_source: tuple = ()
+
+    def __len__(self):
+        return len(self.qd)
+
+    @classmethod
+    def empty(cls, sources=(), torque_source=()):
+        return cls(**{f: np.zeros(0, dtype=int if f in ('n', 'source') else float)
+                      for f in _FIELDS}, sources=tuple(sources), torque_source=tuple(torque_source))
+
+    @classmethod
+    def from_arrays(cls, qd, tau_r, xi, load=0.0, **extra):
+        """Plateaus from plain arrays (e.g. hand-made or from another tool).
+
+        ``qd``, ``tau_r``, ``xi`` and ``load`` (tau_L, default 0) broadcast to one
+        length; other fields default to 0 (``load2``/``load3`` to load^2, load^3).
+        """
+        qd = np.atleast_1d(np.asarray(qd, dtype=float))
+        n = len(qd)
+
+        def col(x, default=0.0):
+            return np.broadcast_to(np.asarray(default if x is None else x, dtype=float),
+                                   (n,)).copy()
+        load = col(load)
+        data = {f: col(extra.pop(f, None)) for f in _FIELDS
+                if f not in ('qd', 'tau_r', 'xi', 'load', 'load2', 'load3', 'n', 'source')}
+        data['load2'] = col(extra.pop('load2', None), load ** 2)
+        data['load3'] = col(extra.pop('load3', None), load ** 3)
+        sources = extra.pop('sources', ('arrays',))
+        torque_source = extra.pop('torque_source', ('given',) * len(sources))
+        src = np.broadcast_to(np.asarray(extra.pop('source', 0), dtype=int), (n,)).copy()
+        nn = np.broadcast_to(np.asarray(extra.pop('n', 1), dtype=int), (n,)).copy()
+        if extra:
+            raise TypeError(f'unknown plateau field(s): {", ".join(sorted(extra))}')
+        return cls(qd=qd, tau_r=col(tau_r), xi=col(xi), load=load, n=nn, source=src,
+                   sources=tuple(sources), torque_source=tuple(torque_source), **data)
+
+    def select(self, mask):
+        """The plateaus where ``mask`` (bool array or indices) is set."""
+        return dataclasses.replace(self, **{f: getattr(self, f)[mask] for f in _FIELDS})
+
+    @staticmethod
+    def concatenate(parts):
+        """Join plateau sets (``source`` indices are renumbered)."""
+        parts = list(parts)
+        if not parts:
+            return Plateaus.empty()
+        cols = {f: [] for f in _FIELDS}
+        sources, tsrc = [], []
+        for p in parts:
+            for f in _FIELDS:
+                cols[f].append(getattr(p, f) + (len(sources) if f == 'source' else 0))
+            sources += list(p.sources)
+            tsrc += list(p.torque_source)
+        return Plateaus(**{f: np.concatenate(v) for f, v in cols.items()},
+                        sources=tuple(sources), torque_source=tuple(tsrc))
+
+    def to_dict(self):
+        """Plain lists (JSON)."""
+        out = {f: getattr(self, f).tolist() for f in _FIELDS}
+        out['sources'] = list(self.sources)
+        out['torque_source'] = list(self.torque_source)
+        return out
+
+
+def _moving_average(x, m):
+    """Centred moving average over m samples (shorter at the ends)."""
+    if m <= 1:
+        return x.copy()
+    c = np.concatenate(([0.0], np.cumsum(x)))
+    n = len(x)
+    i = np.arange(n)
+    lo = np.clip(i - m // 2, 0, n)
+    hi = np.clip(i - m // 2 + m, 0, n)
+    return (c[hi] - c[lo]) / (hi - lo)
+
+
+def _robust_mean(x, clip):
+    """Mean of the samples within ``clip`` MADs of the median."""
+    med = np.median(x)
+    mad = np.median(np.abs(x - med))
+    if mad > 0:
+        x = x[np.abs(x - med) <= clip * 1.4826 * mad]
+    return float(np.mean(x))
+
+
+def _batch_se(x, batches):
+    """Standard error of the mean of x by batch means."""
+    k = int(min(batches, len(x) // 10))
+    if k < 2:
+        return float(np.std(x) / math.sqrt(max(len(x), 1)))
+    means = np.array([b.mean() for b in np.array_split(x, k)])
+    return float(np.std(means, ddof=1) / math.sqrt(k))
+
+
+def _segments(t, qd, tau_r, opt):
+    """Index ranges [i0, i1) of plateaus in one contiguous piece."""
+    dt = float(np.median(np.diff(t))) if len(t) > 1 else 1.0
+    m = max(2, int(round(opt['block'] / dt)))
+    nb = len(t) // m
+    if nb < 2:
+        return []
+    vb = qd[:nb * m].reshape(nb, m)
+    mean = vb.mean(axis=1)
+    half = m // 2
+    slope = (vb[:, half:].mean(axis=1) - vb[:, :half].mean(axis=1)) / (0.5 * m * dt)
+    speed = np.abs(mean)
+    steady = ((speed >= opt['v_floor'])
+              & (np.abs(slope) <= opt['rel_slope'] * speed + opt['abs_slope']))
+    sign = np.sign(mean)
+    out = []
+    j = 0
+    while j < nb:
+        if not steady[j]:
+            j += 1
+            continue
+        k = j
+        vals = [mean[j]]
+        while k + 1 < nb and steady[k + 1] and sign[k + 1] == sign[j]:
+            ref = float(np.median(vals))
+            if abs(mean[k + 1] - ref) > opt['rel_tol'] * abs(ref) + opt['abs_tol']:
+                break
+            k += 1
+            vals.append(mean[k])
+        out.append((j, k + 1))
+        j = k + 1
+    segs = []
+    trim = int(math.ceil(opt['trim'] / (m * dt)))
+    for b0, b1 in out:
+        b0, b1 = b0 + trim, b1 - trim
+        if b1 - b0 < 2:
+            continue
+        # friction settling: drop leading blocks off the settled level
+        tb = tau_r[b0 * m:b1 * m].reshape(b1 - b0, m).mean(axis=1)
+        second = tb[(b1 - b0) // 2:]
+        level = float(np.median(second))
+        noise = float(1.4826 * np.median(np.abs(second - level))) if len(second) > 2 else 0.0
+        tol = opt['settle_tol'] * abs(level) + 3.0 * noise
+        off = np.abs(tb - level) > tol
+        first_ok = int(np.argmin(off)) if not off.all() else len(tb)
+        b0 += first_ok
+        i0, i1 = b0 * m, b1 * m
+        if i1 - i0 >= opt['min_samples'] and (i1 - i0) * dt >= opt['min_duration']:
+            segs.append((i0, i1))
+    return segs
+
+
+def plateaus_from_arrays(t, q, qd, effort, xi, tau_ext, inertia, options=None, source='arrays',
+                         torque_source='given'):
+    """Find plateaus in sampled arrays (the engine of :func:`find_plateaus`).
+
+    Parameters
+    ----------
+    t, q, qd, effort : array_like
+        Joint-state samples: time (s), position (rad), velocity (rad/s), drive torque (Nm).
+    xi : array_like
+        Housing temperature at the sample times (degC).
+    tau_ext : array_like
+        External torque at the sample times (Nm), signed as in CONTRACT section 1.
+    inertia : float
+        J (kg m^2) for the J qdd term.
+    options : dict, optional
+        Overrides of :data:`DETECTION`.
+
+    Returns
+    -------
+    Plateaus
+    """
+    opt = dict(DETECTION)
+    if options:
+        unknown = sorted(set(options) - set(DETECTION))
+        if unknown:
+            raise ExcitationError(f'unknown plateau detection option(s) {", ".join(unknown)}; '
+                                  f'known: {", ".join(DETECTION)}')
+        opt.update(options)
+    t, q, qd, effort, xi, tau_ext = (np.asarray(a, dtype=float) for a in
+                                     (t, q, qd, effort, xi, tau_ext))
+    n = len(t)
+    for name, a in (('q', q), ('qd', qd), ('effort', effort), ('xi', xi), ('tau_ext', tau_ext)):
+        if len(a) != n:
+            raise ExcitationError(f'{name} has {len(a)} samples, t has {n}')
+        if not np.all(np.isfinite(a)):
+            raise ExcitationError(f'{source}: {name} contains NaN or inf')
+    if n < 3:
+        return Plateaus.empty((source,), (torque_source,))
+    dts = np.diff(t)
+    med = float(np.median(dts))
+    cuts = np.flatnonzero((dts > opt['gap_factor'] * med) | (dts <= 0)) + 1
+    bounds = np.concatenate(([0], cuts, [n]))
+    rows = []
+    for a, b in zip(bounds[:-1], bounds[1:]):
+        if b - a < 10:
+            continue
+        tt, vv = t[a:b], qd[a:b]
+        qdd = np.gradient(_moving_average(vv, 5), tt)
+        tau_r = effort[a:b] - tau_ext[a:b] - inertia * qdd
+        dt = float(np.median(np.diff(tt)))
+        tl = np.abs(_moving_average(tau_ext[a:b], max(1, int(round(opt['load_smooth'] / dt)))))
+        for i0, i1 in _segments(tt, vv, tau_r, opt):
+            sl = slice(i0, i1)
+            x = xi[a:b][sl]
+            lo = tl[sl]
+            rows.append((
+                _robust_mean(vv[sl], opt['clip_mad']), _batch_se(vv[sl], opt['batches']),
+                _robust_mean(tau_r[sl], opt['clip_mad']), _batch_se(tau_r[sl], opt['batches']),
+                float(x.mean()), _batch_se(x, opt['batches']), float(x.max() - x.min()),
+                float(lo.mean()), _batch_se(lo, opt['batches']),
+                float(np.mean(lo ** 2)), float(np.mean(lo ** 3)),
+                float(tau_ext[a:b][sl].mean()), float(q[a:b][sl].mean()),
+                float(tt[i0]), float(tt[i1 - 1]), i1 - i0, 0))
+    if not rows:
+        return Plateaus.empty((source,), (torque_source,))
+    cols = list(zip(*rows))
+    data = {f: np.array(c, dtype=int if f in ('n', 'source') else float)
+            for f, c in zip(_FIELDS, cols)}
+    return Plateaus(**data, sources=(source,), torque_source=(torque_source,))
+
+
+def find_plateaus(recording, structure, options=None):
+    """Constant-velocity plateaus of one recording.
+
+    Parameters
+    ----------
+    recording : Recording
+        From :func:`friction_joint.bag.reader.read_recording`.
+    structure : GearParams
+        The structure gear file: its inertia (J qdd) and, when the recording has
+        no ``/link_torque``, its lever (tau_ext = m g l sin q).
+    options : dict, optional
+        Overrides of :data:`DETECTION`.
+
+    Returns
+    -------
+    Plateaus
+        Possibly empty; :class:`~friction_joint.identification.static_fit.StaticIdentifier` says what is
+        missing.
+
+    Raises
+    ------
+    RecordingError
+        The recording has no temperature samples.
+    """
+    js = recording.joint_states
+    if recording.temperature is None or len(recording.temperature) == 0:
+        raise RecordingError(f'{recording.path}: no /joint_temperature samples: the '
+                             'identification needs the gear housing temperature')
+    xi = recording.temperature_at(js.t)
+    if recording.link_torque is not None and len(recording.link_torque) > 1:
+        lt = recording.link_torque
+        tau_ext = np.interp(js.t, lt.t, lt.tau)
+        tsrc = 'link_torque'
+    else:
+        tau_ext = structure.mgl * np.sin(js.q)
+        tsrc = 'lever_model'
+    return plateaus_from_arrays(js.t, js.q, js.qd, js.effort, xi, tau_ext, structure.inertia,
+                                options, source=recording.path, torque_source=tsrc)

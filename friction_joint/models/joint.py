@@ -1,0 +1,514 @@
+"""Rigid single joint with friction: J qdd = tau - tau_r - tau_ext (CONTRACT section 1).
+
+tau is the drive torque, tau_r the friction torque (static, LuGre or GMS),
+tau_ext everything from the link side: an input profile plus a linear spring
+k_ext q plus the lever's gravity mgl sin(q).  The load seen by the friction
+model is tau_L = |tau_ext|.
+
+Integration scheme
+------------------
+The joint and the friction state are integrated *together*: with bristle or
+element stiffnesses up to 1e7 Nm/rad the mass-bristle oscillation is far
+above any control rate (sqrt(1e7/0.12) = 9 krad/s against 3 kHz sampling), so
+updating friction and velocity one after the other (explicit coupling)
+diverges.  Over each step the drive torque, external torque, temperature and
+load are held constant and the coupled equations are linearised around the
+step's own velocity; the resulting 2x2 affine system
+
+    d/dt [z, qd] = A [z, qd] + b
+
+is solved *exactly* (matrix exponential in closed form via phi-functions).
+Its eigenvalues always have negative real part, so the step is A-stable: no
+divergence for any stiffness or step.  Two passes per step: a cheap
+implicit-Euler predictor of the end velocity (viscous term s held at its
+start value, or solved implicitly where its slope is stiff, which is always
+the case near qd = 0 when delta_v < 1: this keeps a sticking joint from
+chattering across zero velocity), then the exact solve with the LuGre rate and Stribeck curve
+evaluated at the mid-step velocity and s replaced by its chord between the
+start and predicted end velocity (s has an infinite slope at qd = 0 when
+delta_v < 1, so a tangent would be wrong).  Against a Radau solution the
+LuGre stick-slip benchmark of Canudas de Wit et al. (1995) converges at
+second order (slip onsets within 0.3 ms at h = 5e-5 s, 1.2 ms at 1e-4 s).
+
+GMS elements: sticking elements act as springs in A, slipping ones as
+constant torques; the element laws are then advanced exactly with the
+step's mean velocity (:func:`friction_joint.models.gms.gms_update`).
+
+The static model uses a Karnopp stick zone: the joint sticks when its
+velocity would cross zero inside a step and the net torque is below F_s.
+"""
+import math
+
+import numpy as np
+
+from .._jit import njit
+from ..exceptions import GearConfigError
+from .gms import gms_update, pack_gms
+from .lugre import G_MIN, lugre_torque
+from .static import broadcast_batch, curve_params, g_abs, pack_static, s_visc, sign
+
+__all__ = ['Joint', 'JointTrajectory', 'affine2_step']
+
+
+@njit
+def _phi_real(z):
+    """phi1(z) = (e^z - 1)/z and phi2(z) = (e^z - 1 - z)/z^2 for real z."""
+    if abs(z) < 1e-2:
+        return (1.0 + z * (0.5 + z * (1.0 / 6.0 + z * (1.0 / 24.0 + z / 120.0))),
+                0.5 + z * (1.0 / 6.0 + z * (1.0 / 24.0 + z * (1.0 / 120.0 + z / 720.0))))
+    e = math.expm1(z)
+    return e / z, (e - z) / (z * z)
+
+
+@njit
+def _phi_cplx(x, y):
+    """Real and imaginary parts of phi1, phi2 at z = x + iy (|z| >= 1e-2)."""
+    ex = math.exp(x)
+    er = ex * math.cos(y) - 1.0
+    ei = ex * math.sin(y)
+    d2 = x * x + y * y
+    p1r = (er * x + ei * y) / d2
+    p1i = (ei * x - er * y) / d2
+    nr = er - x
+    ni = ei - y
+    zr = x * x - y * y          # z^2 = zr + i zi, |z^2| = d2
+    zi = 2.0 * x * y
+    d4 = d2 * d2
+    p2r = (nr * zr + ni * zi) / d4
+    p2i = (ni * zr - nr * zi) / d4
+    return p1r, p1i, p2r, p2i
+
+
+@njit
+def affine2_step(a11, a12, a21, a22, b1, b2, x1, x2, h):
+    """Exact solution of x' = A x + b (2x2, constant) over h.
+
+    Returns ``(x1(h), x2(h), int_0^h x1, int_0^h x2)``.  Uses
+    x(h) = x0 + h phi1(hA)(A x0 + b) and int x = h x0 + h^2 phi2(hA)(A x0 + b);
+    a matrix function of a 2x2 A is c0 I + c1 A, with c0, c1 interpolating
+    the scalar function at the eigenvalues (Sylvester's formula), all in real
+    arithmetic.
+    """
+    tr = a11 + a22
+    det = a11 * a22 - a12 * a21
+    al = 0.5 * tr
+    disc = al * al - det
+    rad = math.sqrt(abs(disc))
+    if h * (abs(al) + rad) < 1e-2:
+        # small spectrum: Taylor series of phi1, phi2 interpolated at the
+        # eigenvalues, via divided differences of z^n from sp = z1 + z2 and
+        # pp = z1 z2 (no eigenvalues needed): D_n = sp D_{n-1} - pp D_{n-2},
+        # c1 = sum a_n D_n, c0 = a_0 - pp sum_{n>=2} a_n D_{n-1}.
+        sp = tr * h
+        pp = det * h * h
+        c01 = 1.0
+        c02 = 0.5
+        c11 = 0.5
+        c12 = 1.0 / 6.0
+        dm1 = 1.0          # D_1
+        d0 = sp            # D_2
+        f1 = 1.0 / 6.0     # a_2 of phi1 = 1/3!
+        f2 = 1.0 / 24.0    # a_2 of phi2 = 1/4!
+        for n in range(2, 7):
+            c11 += f1 * d0
+            c12 += f2 * d0
+            c01 -= pp * f1 * dm1
+            c02 -= pp * f2 * dm1
+            dm1, d0 = d0, sp * d0 - pp * dm1
+            f1 /= n + 2
+            f2 /= n + 3
+    elif disc < 0.0 and rad * h >= 1e-7:
+        p1r, p1i, p2r, p2i = _phi_cplx(al * h, rad * h)
+        c11 = p1i / (rad * h)          # (phi(z1) - phi(z2)) / (z1 - z2), z = lambda h
+        c01 = p1r - c11 * al * h
+        c12 = p2i / (rad * h)
+        c02 = p2r - c12 * al * h
+    else:
+        if disc > 0.0:
+            big = al + rad if al >= 0.0 else al - rad
+            l1 = big
+            l2 = det / big
+        else:
+            l1 = al
+            l2 = al
+        if abs(l1 - l2) * h < 1e-7:
+            # (nearly) repeated large eigenvalue: split it symmetrically; the
+            # interpolation error is O(split^2), far below round-off here.
+            m = 0.5 * (l1 + l2)
+            l1 = m + 0.5e-7 / h
+            l2 = m - 0.5e-7 / h
+        z1 = l1 * h
+        z2 = l2 * h
+        p1a, p2a = _phi_real(z1)
+        p1b, p2b = _phi_real(z2)
+        c11 = (p1a - p1b) / (z1 - z2)
+        c01 = p1a - c11 * z1
+        c12 = (p2a - p2b) / (z1 - z2)
+        c02 = p2a - c12 * z1
+    # phi(hA) = c0 I + c1 hA
+    r1 = a11 * x1 + a12 * x2 + b1
+    r2 = a21 * x1 + a22 * x2 + b2
+    ar1 = h * (a11 * r1 + a12 * r2)
+    ar2 = h * (a21 * r1 + a22 * r2)
+    x1n = x1 + h * (c01 * r1 + c11 * ar1)
+    x2n = x2 + h * (c01 * r2 + c11 * ar2)
+    i1 = h * x1 + h * h * (c02 * r1 + c12 * ar1)
+    i2 = h * x2 + h * h * (c02 * r2 + c12 * ar2)
+    return x1n, x2n, i1, i2
+
+
+@njit
+def _implicit_euler_v(a11, a12, a21, a22, b1, b2, x1, x2, h):
+    """x2 after one implicit Euler step of x' = A x + b (cheap, L-stable predictor)."""
+    m11 = 1.0 - h * a11
+    m12 = -h * a12
+    m21 = -h * a21
+    m22 = 1.0 - h * a22
+    r1 = x1 + h * b1
+    r2 = x2 + h * b2
+    return (m11 * r2 - m21 * r1) / (m11 * m22 - m12 * m21)
+
+
+@njit
+def _chord(fv, dv, kap, v0, v1, s0):
+    """Slope and offset of the viscous term's chord between v0 and v1."""
+    if v1 == v0:
+        return 0.0, s0
+    c = (s_visc(fv, dv, kap, v1) - s0) / (v1 - v0)
+    return max(c, 0.0), s0 - max(c, 0.0) * v0
+
+
+@njit
+def _implicit_visc(m, r, c, dv, vguess):
+    """Root of m v + c sign(v)|v|^dv = r (m > 0, c >= 0); unique, sign(v) = sign(r).
+
+    Newton on the convex increasing function of w = |v|^dv (dv < 1) or
+    u = |v| (dv >= 1): after its first step it approaches the root from
+    above, so it converges from any start.  Warm start at |vguess|.
+    """
+    if r == 0.0:
+        return 0.0
+    ar = abs(r)
+    if c == 0.0:
+        return r / m
+    same = vguess != 0.0 and (vguess > 0.0) == (r > 0.0)
+    if dv < 1.0:
+        p = 1.0 / dv
+        w = abs(vguess) ** dv if same else min(ar / c, (ar / m) ** dv)
+        for _ in range(50):
+            wp1 = w ** (p - 1.0)
+            dw = (m * wp1 * w + c * w - ar) / (m * p * wp1 + c)
+            w -= dw
+            if abs(dw) <= 1e-13 * w:
+                break
+        u = w ** p
+    else:
+        u = abs(vguess) if same else ar / m
+        for _ in range(50):
+            up1 = u ** (dv - 1.0)
+            du = (m * u + c * up1 * u - ar) / (m + c * dv * up1)
+            u -= du
+            if abs(du) <= 1e-13 * u:
+                break
+    return u if r > 0.0 else -u
+
+
+@njit
+def lugre_joint_step(q, v, z, f, jj, sg0, sg1, fc, fs, fv, vs, dv, ds, kap, h):
+    """One coupled step of joint + LuGre; returns (q, v, z, tau_r) at the step's end."""
+    s0 = s_visc(fv, dv, kap, v)
+    # predictor: implicit Euler, LuGre rate at v; s(vn) implicit where its slope
+    # is stiff (h s'(v) > J/2, always near qd = 0), else held at s(v)
+    a = sg0 * abs(v) / max(g_abs(fc, fs, vs, ds, kap, v), G_MIN)
+    if v == 0.0 or h * dv * s0 / v > 0.5 * jj:
+        dd = 1.0 + h * a
+        vn = _implicit_visc(jj + h * (sg1 + h * sg0) / dd,
+                            jj * v + h * (f - (sg0 - sg1 * a) * z / dd),
+                            h * fv * kap ** dv, dv, v)
+    else:
+        vn = _implicit_euler_v(-a, 1.0, -(sg0 - sg1 * a) / jj, -sg1 / jj, 0.0, (f - s0) / jj,
+                               z, v, h)
+    # corrector: rate at mid-step velocity, viscous chord (unchanged)
+    vm = 0.5 * (v + vn)
+    a = sg0 * abs(vm) / max(g_abs(fc, fs, vs, ds, kap, vm), G_MIN)
+    c, sc = _chord(fv, dv, kap, v, vn, s0)
+    zn, vn, _, dq = affine2_step(-a, 1.0, -(sg0 - sg1 * a) / jj, -(sg1 + c) / jj,
+                                 0.0, (f - sc) / jj, z, v, h)
+    tau_r = lugre_torque(zn, vn, sg0, sg1, g_abs(fc, fs, vs, ds, kap, vn),
+                         s_visc(fv, dv, kap, vn))
+    return q + dq, vn, zn, tau_r
+
+
+@njit
+def gms_joint_step(q, v, z, stick, slipdir, k, alpha, cc, f, jj,
+                   fc, fs, fv, vs, dv, ds, kap, h):
+    """One coupled step of joint + GMS (element arrays updated in place)."""
+    sv = sign(v)
+    kst = 0.0
+    ftot = 0.0
+    for i in range(z.shape[0]):
+        ftot += k[i] * z[i]
+        if stick[i] == 1 or sv != slipdir[i]:
+            kst += k[i]
+    s0 = s_visc(fv, dv, kap, v)
+    vn = _implicit_euler_v(0.0, 1.0, -kst / jj, 0.0, 0.0, (f - ftot - s0) / jj, 0.0, v, h)
+    c, sc = _chord(fv, dv, kap, v, vn, s0)
+    dn, vn, _, _ = affine2_step(0.0, 1.0, -kst / jj, -c / jj, 0.0, (f - ftot - sc) / jj,
+                                0.0, v, h)
+    vbar = dn / h
+    ga = g_abs(fc, fs, vs, ds, kap, vbar)
+    tot = gms_update(z, stick, slipdir, k, alpha, cc, vbar, h, ga)
+    return q + dn, vn, tot + s_visc(fv, dv, kap, vn)
+
+
+@njit
+def static_joint_step(q, v, f, jj, fc, fs, fv, vs, dv, ds, kap, h):
+    """One step of joint + static friction with a Karnopp stick zone.
+
+    When the velocity would reach zero inside the step the joint sticks if the
+    net torque is within the break-away torque F_s, and otherwise moves on in
+    the direction of the net torque for the rest of the step.
+    """
+    if v == 0.0:
+        if abs(f) <= fs:
+            return q, 0.0, f
+        vn = h * (f - sign(f) * fs) / jj
+        return q + 0.5 * h * vn, vn, sign(f) * fs
+    fr = sign(v) * g_abs(fc, fs, vs, ds, kap, v) + s_visc(fv, dv, kap, v)
+    vn = v + h * (f - fr) / jj
+    if sign(vn) != sign(v):
+        t0 = h * v / (v - vn)
+        if abs(f) <= fs:
+            return q + 0.5 * t0 * v, 0.0, f - jj * (0.0 - v) / h
+        vn = (h - t0) * (f - sign(f) * fs) / jj
+        return q + 0.5 * t0 * v + 0.5 * (h - t0) * vn, vn, f - jj * (vn - v) / h
+    return q + 0.5 * h * (v + vn), vn, fr
+
+
+@njit(inline='always')
+def _inputs(temp, load, t_lo, t_hi, kext, mgl, rip_a, rip_p, rip_c, rip_o, b, q, te_in, xi):
+    """External torque, ripple torque and curve parameters for set b at position q.
+
+    Called with the half-step position q + h qd / 2: together with the
+    trapezoidal position update this makes the position-dependent torques
+    a position-Verlet (symplectic, second-order) scheme.
+    """
+    te = te_in + kext[b] * q + mgl[b] * math.sin(q)
+    rip = rip_o[b]
+    for n in range(rip_a.shape[1]):
+        rip += rip_a[b, n] * math.sin((n + 1) * rip_c[b] * q + rip_p[b, n])
+    fc, fs, fv, vs, dv = curve_params(temp, load, t_lo, t_hi, b, xi, abs(te))
+    return te, rip, fc, fs, fv, vs, dv
+
+
+@njit
+def _run_lugre(temp, load, delta_s, kappa, t_lo, t_hi, rip_a, rip_p, rip_c, rip_o, sg0, sg1, jj,
+               mgl, kext, tau, tau_ext_in, xi, h, q, v, z, out_q, out_v, out_tr, out_te):
+    nb, nt = tau.shape
+    for b in range(nb):
+        for k in range(nt):
+            te, rip, fc, fs, fv, vs, dv = _inputs(temp, load, t_lo, t_hi, kext, mgl, rip_a, rip_p,
+                                                  rip_c, rip_o, b, q[b] + 0.5 * h * v[b],
+                                                  tau_ext_in[b, k], xi[b, k])
+            q[b], v[b], z[b], tr = lugre_joint_step(
+                q[b], v[b], z[b], tau[b, k] - te - rip, jj[b], sg0[b], sg1[b],
+                fc, fs, fv, vs, dv, delta_s[b], kappa[b], h)
+            out_q[b, k] = q[b]
+            out_v[b, k] = v[b]
+            out_tr[b, k] = tr + rip
+            out_te[b, k] = te
+
+
+@njit
+def _run_gms(temp, load, delta_s, kappa, t_lo, t_hi, rip_a, rip_p, rip_c, rip_o, k_el, alpha, cc, jj,
+             mgl, kext, tau, tau_ext_in, xi, h, q, v, z, stick, slipdir,
+             out_q, out_v, out_tr, out_te):
+    nb, nt = tau.shape
+    for b in range(nb):
+        for k in range(nt):
+            te, rip, fc, fs, fv, vs, dv = _inputs(temp, load, t_lo, t_hi, kext, mgl, rip_a, rip_p,
+                                                  rip_c, rip_o, b, q[b] + 0.5 * h * v[b],
+                                                  tau_ext_in[b, k], xi[b, k])
+            q[b], v[b], tr = gms_joint_step(
+                q[b], v[b], z[b], stick[b], slipdir[b], k_el[b], alpha[b], cc[b],
+                tau[b, k] - te - rip, jj[b], fc, fs, fv, vs, dv, delta_s[b], kappa[b], h)
+            out_q[b, k] = q[b]
+            out_v[b, k] = v[b]
+            out_tr[b, k] = tr + rip
+            out_te[b, k] = te
+
+
+@njit
+def _run_static(temp, load, delta_s, kappa, t_lo, t_hi, rip_a, rip_p, rip_c, rip_o, jj, mgl, kext,
+                tau, tau_ext_in, xi, h, q, v, out_q, out_v, out_tr, out_te):
+    nb, nt = tau.shape
+    for b in range(nb):
+        for k in range(nt):
+            te, rip, fc, fs, fv, vs, dv = _inputs(temp, load, t_lo, t_hi, kext, mgl, rip_a, rip_p,
+                                                  rip_c, rip_o, b, q[b] + 0.5 * h * v[b],
+                                                  tau_ext_in[b, k], xi[b, k])
+            q[b], v[b], tr = static_joint_step(q[b], v[b], tau[b, k] - te - rip, jj[b],
+                                               fc, fs, fv, vs, dv, delta_s[b], kappa[b], h)
+            out_q[b, k] = q[b]
+            out_v[b, k] = v[b]
+            out_tr[b, k] = tr + rip
+            out_te[b, k] = te
+
+
+def pack_ripple(flist):
+    """Ripple amplitudes/phases (B, n), fundamentals (B,) and offsets (B,) (zeros where absent)."""
+    n = max([len(f.position_ripple.amplitude) for f in flist if f.position_ripple] + [1])
+    amp = np.zeros((len(flist), n))
+    phase = np.zeros((len(flist), n))
+    cyc = np.zeros(len(flist))
+    for b, f in enumerate(flist):
+        r = f.position_ripple
+        if r is not None:
+            amp[b, :len(r.amplitude)] = r.amplitude
+            phase[b, :len(r.phase)] = r.phase
+            cyc[b] = r.cycles_per_rev
+    return amp, phase, cyc, np.array([f.offset for f in flist], dtype=float)
+
+
+class JointTrajectory:
+    """Result of :meth:`Joint.simulate`: arrays (T,) or (B, T) at the end of each step.
+
+    Attributes: ``t`` (s), ``q`` (rad), ``qd`` (rad/s), ``tau_r`` friction
+    torque (Nm), ``tau_ext`` external torque used in the step (Nm).
+    """
+
+    def __init__(self, t, q, qd, tau_r, tau_ext):
+        self.t, self.q, self.qd, self.tau_r, self.tau_ext = t, q, qd, tau_r, tau_ext
+
+
+class Joint:
+    """Rigid joint with friction for one gear or a batch of B gears.
+
+    Parameters
+    ----------
+    gears : GearParams or sequence of GearParams
+        Inertia and friction parameters.
+    model : {'static', 'lugre', 'gms'}, optional
+        Friction model; default each gear's ``friction.model`` (must agree
+        across a batch).
+    mgl : float or array_like (B,)
+        Lever gravity amplitude m g l (Nm): tau_ext includes mgl sin(q).
+    k_ext : float or array_like (B,)
+        Link-side spring (Nm/rad): tau_ext includes k_ext q.
+    inertia : float or array_like (B,), optional
+        Overrides the gears' inertia.
+    """
+
+    def __init__(self, gears, model=None, mgl=0.0, k_ext=0.0, inertia=None):
+        self.single = not isinstance(gears, (list, tuple))
+        glist = [gears] if self.single else list(gears)
+        models = {model or g.friction.model for g in glist}
+        if len(models) != 1:
+            raise GearConfigError(f'a batch must use one friction model, got {sorted(models)}')
+        self.model = models.pop()
+        flist = [g.friction for g in glist]
+        self.packed = pack_static(flist)
+        self.ripple = pack_ripple(flist)
+        n = len(glist)
+        self.inertia = np.broadcast_to(
+            np.asarray([g.inertia for g in glist] if inertia is None else inertia, float), (n,)).copy()
+        self.mgl = np.broadcast_to(np.asarray(mgl, float), (n,)).copy()
+        self.k_ext = np.broadcast_to(np.asarray(k_ext, float), (n,)).copy()
+        if self.model == 'lugre':
+            if any(f.lugre is None for f in flist):
+                raise GearConfigError('model lugre needs friction.lugre in every gear')
+            self.sigma0 = np.array([f.lugre.sigma0 for f in flist])
+            self.sigma1 = np.array([f.lugre.sigma1 for f in flist])
+        elif self.model == 'gms':
+            self.k_el, self.alpha, self.c = pack_gms(flist)
+        self.reset()
+
+    @property
+    def batch(self):
+        return self.packed.batch
+
+    def reset(self, q=0.0, qd=0.0):
+        """Joint at (q, qd) with relaxed friction state."""
+        self._step_args = None
+        n = self.batch
+        self.q = np.broadcast_to(np.asarray(q, float), (n,)).copy()
+        self.qd = np.broadcast_to(np.asarray(qd, float), (n,)).copy()
+        if self.model == 'lugre':
+            self.z = np.zeros(n)
+        elif self.model == 'gms':
+            self.z = np.zeros_like(self.k_el)
+            self.stick = np.ones(self.k_el.shape, dtype=np.int8)
+            self.slipdir = np.zeros(self.k_el.shape)
+
+    def simulate(self, tau, dt, xi=25.0, tau_ext=0.0):
+        """Integrate from the current state over sampled inputs.
+
+        Parameters
+        ----------
+        tau : array_like (T,) or (B, T)
+            Drive torque held over each step (Nm).
+        dt : float
+            Step (s).
+        xi : array_like, scalar, (T,) or (B, T)
+            Gear temperature (degC).
+        tau_ext : array_like, scalar, (T,) or (B, T)
+            External torque input (Nm), added to the spring and gravity terms.
+
+        Returns
+        -------
+        JointTrajectory
+        """
+        if not (np.isfinite(dt) and dt > 0):
+            raise ValueError(f'dt must be a positive number, got {dt}')
+        tau, te_in, xi = broadcast_batch(self.batch, tau, tau_ext, xi)
+        for name, arr in (('tau', tau), ('tau_ext', te_in), ('xi', xi)):
+            if not np.all(np.isfinite(arr)):
+                raise ValueError(f'{name} contains NaN or inf')
+        outs = [np.empty_like(tau) for _ in range(4)]
+        p = self.packed.args() + self.ripple
+        h = float(dt)
+        if self.model == 'lugre':
+            _run_lugre(*p, self.sigma0, self.sigma1, self.inertia, self.mgl, self.k_ext,
+                       tau, te_in, xi, h, self.q, self.qd, self.z, *outs)
+        elif self.model == 'gms':
+            _run_gms(*p, self.k_el, self.alpha, self.c, self.inertia, self.mgl, self.k_ext,
+                     tau, te_in, xi, h, self.q, self.qd, self.z, self.stick, self.slipdir, *outs)
+        else:
+            _run_static(*p, self.inertia, self.mgl, self.k_ext,
+                        tau, te_in, xi, h, self.q, self.qd, *outs)
+        t = h * np.arange(1, tau.shape[1] + 1)
+        if self.single:
+            outs = [o[0] for o in outs]
+        return JointTrajectory(t, *outs)
+
+    def step(self, tau, dt, xi, tau_ext=0.0):
+        """Advance a single gear by one step; low-overhead path for real-time loops.
+
+        Returns
+        -------
+        (q, qd, tau_r, tau_ext) : floats at the end of the step
+        """
+        if self.batch != 1:
+            raise ValueError('step() is for a single gear; use simulate() for a batch')
+        if self._step_args is None or self._step_dt != dt:
+            self._inp = np.zeros((3, 1, 1))
+            self._out = np.zeros((4, 1, 1))
+            p = self.packed.args() + self.ripple
+            if self.model == 'lugre':
+                state, pars = (self.q, self.qd, self.z), (self.sigma0, self.sigma1)
+            elif self.model == 'gms':
+                state = (self.q, self.qd, self.z, self.stick, self.slipdir)
+                pars = (self.k_el, self.alpha, self.c)
+            else:
+                state, pars = (self.q, self.qd), ()
+            self._step_args = (p + pars + (self.inertia, self.mgl, self.k_ext,
+                               self._inp[0], self._inp[1], self._inp[2], float(dt)) + state
+                               + tuple(self._out))
+            self._step_fn = {'lugre': _run_lugre, 'gms': _run_gms, 'static': _run_static}[self.model]
+            self._step_dt = dt
+        self._inp[0, 0, 0] = tau
+        self._inp[1, 0, 0] = tau_ext
+        self._inp[2, 0, 0] = xi
+        self._step_fn(*self._step_args)
+        o = self._out
+        return o[0, 0, 0], o[1, 0, 0], o[2, 0, 0], o[3, 0, 0]

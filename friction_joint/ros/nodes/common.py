@@ -1,0 +1,342 @@
+"""Shared pieces of the nodes: gear parameters from ROS parameters, message helpers."""
+import array
+import math
+
+from rcl_interfaces.msg import ParameterDescriptor, SetParametersResult
+from rclpy.parameter import Parameter
+
+from ...exceptions import GearConfigError
+from ...gear import SCHEMA, Section, gear_from_flat
+
+__all__ = ['gear_keys', 'declare_gear', 'declare_node_params', 'stamp_to_ns', 'ns_to_stamp',
+           'joint_index', 'finite', 'stream_qos', 'take_queued', 'StampPairing', 'Rejects',
+           'PairedInput', 'run_node']
+
+
+def gear_keys(schema=SCHEMA, prefix=''):
+    """Dotted names of every leaf key of the gear schema."""
+    out = []
+    for key, spec in schema.items():
+        if isinstance(spec, Section):
+            out += gear_keys(spec.fields, prefix + key + '.')
+        else:
+            out.append(prefix + key)
+    return out
+
+
+def _plain(value):
+    if isinstance(value, (array.array, tuple)):
+        return list(value)
+    return value
+
+
+def declare_gear(node, own=()):
+    """Declare every gear key (dynamically typed) and build the GearParams.
+
+    Parameters come from ``--params-file`` (the gear file) and ``-p``
+    overrides.  Empty lists in a file arrive unset and count as absent (the
+    same meaning).  Any override that is neither a gear key nor one of the
+    node's own parameters ``own`` is an error, as unknown keys are in a gear
+    file.
+
+    Raises
+    ------
+    GearConfigError
+    """
+    desc = ParameterDescriptor(dynamic_typing=True)
+    keys = gear_keys()
+    flat = {}
+    for name in keys:
+        p = node.declare_parameter(name, None, desc)
+        if p.type_ != Parameter.Type.NOT_SET:
+            flat[name] = _plain(p.value)
+    overrides = set(getattr(node, '_parameter_overrides', {}))
+    unknown = sorted(overrides - set(keys) - set(own) - {'use_sim_time'})
+    if unknown:
+        raise GearConfigError(f'unknown parameter {unknown[0]}' +
+                              (f' (and {len(unknown) - 1} more)' if len(unknown) > 1 else '') +
+                              ' for this node; gear keys and the node parameters '
+                              f'{", ".join(sorted(own))} are accepted')
+    return gear_from_flat(flat, source=f'parameters of {node.get_name()}')
+
+
+def declare_node_params(node, defaults, validators=None):
+    """Declare the node's own parameters; returns {name: value}.
+
+    ``defaults`` maps names to default values (their type is the parameter's
+    type; ints are accepted where a float is expected).  ``validators`` maps
+    names to ``f(value) -> error message or None``.
+    """
+    validators = validators or {}
+    values = {}
+    for name, default in defaults.items():
+        desc = ParameterDescriptor(dynamic_typing=True)
+        value = _plain(node.declare_parameter(name, default, desc).value)
+        if isinstance(default, float) and isinstance(value, int) and not isinstance(value, bool):
+            value = float(value)
+        err = _check(name, value, default, validators)
+        if err:
+            raise GearConfigError(f'parameter {name}: {err}')
+        values[name] = value
+    return values
+
+
+def _check(name, value, default, validators):
+    if isinstance(default, bool) != isinstance(value, bool):
+        return f'expected {type(default).__name__}, got {value!r}'
+    if isinstance(default, float):
+        if isinstance(value, bool) or not isinstance(value, (int, float)):
+            return f'expected a number, got {value!r}'
+        if not math.isfinite(value):
+            return f'must be finite, got {value}'
+    elif isinstance(default, str) and not isinstance(value, str):
+        return f'expected a string, got {value!r}'
+    v = validators.get(name)
+    return v(value) if v else None
+
+
+def parameter_guard(node, defaults, validators, apply):
+    """Install a set-parameters callback validating the node's own parameters.
+
+    A bad value is rejected with a reason and the node keeps running; good
+    values are handed to ``apply(name, value)`` after acceptance.
+    """
+    def callback(params):
+        for p in params:
+            if p.name not in defaults:
+                return SetParametersResult(successful=False,
+                                           reason=f'{p.name} cannot be changed at run time')
+            value = _plain(p.value)
+            if isinstance(defaults[p.name], float) and isinstance(value, int) and not isinstance(value, bool):
+                value = float(value)
+            err = _check(p.name, value, defaults[p.name], validators)
+            if err:
+                node.get_logger().warn(f'rejected {p.name}={value!r}: {err}')
+                return SetParametersResult(successful=False, reason=f'{p.name}: {err}')
+        for p in params:
+            value = _plain(p.value)
+            if isinstance(defaults[p.name], float) and isinstance(value, int):
+                value = float(value)
+            apply(p.name, value)
+        return SetParametersResult(successful=True)
+    node.add_on_set_parameters_callback(callback)
+
+
+#: keep-last depth of the topics' QoS
+QOS_DEPTH = 1000
+
+
+def stream_qos(lossless=False):
+    """Reliable, volatile QoS of the contract topics.
+
+    Parameters
+    ----------
+    lossless : bool
+        Keep-all history (for publishers in lockstep / synchronised runs): a sample
+        that a subscriber (the recorder, say) has not acknowledged stays queued until
+        DDS has repaired it.  The default keep-last ``QOS_DEPTH`` lets a publisher run
+        in real time past a stalled subscriber, which then loses the samples pushed
+        out of the queue before they were repaired.
+    """
+    from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
+    if lossless:
+        return QoSProfile(history=HistoryPolicy.KEEP_ALL, reliability=ReliabilityPolicy.RELIABLE,
+                          durability=DurabilityPolicy.VOLATILE)
+    return QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=QOS_DEPTH,
+                      reliability=ReliabilityPolicy.RELIABLE, durability=DurabilityPolicy.VOLATILE)
+
+
+def take_queued(sub, cls):
+    """The messages already queued on subscription ``sub`` (oldest first).
+
+    Taken straight from the subscription, without a turn of the executor (which
+    costs about 0.2 ms in rclpy); ``cls`` is the subscription's message type.
+    """
+    out = []
+    with sub.handle:
+        while (taken := sub.handle.take_message(cls, False)) is not None:
+            out.append(taken[0])
+    return out
+
+
+def stamp_to_ns(stamp):
+    return stamp.sec * 1_000_000_000 + stamp.nanosec
+
+
+def ns_to_stamp(ns, stamp):
+    """Fill a builtin_interfaces/Time from integer nanoseconds."""
+    stamp.sec, stamp.nanosec = divmod(int(ns), 1_000_000_000)
+    return stamp
+
+
+def joint_index(msg, joint):
+    """Index of ``joint`` in a JointState's name list, or None."""
+    try:
+        return list(msg.name).index(joint)
+    except ValueError:
+        return None
+
+
+def finite(*values):
+    return all(math.isfinite(v) for v in values)
+
+
+class StampPairing:
+    """Pair joint states with the temperature sample of the same stamp (lockstep).
+
+    In ``sync`` mode a state is processed only once the temperature with its
+    stamp has arrived (the simulator publishes one with every state), which
+    makes processing independent of the order in which the two topics are
+    delivered.  Otherwise the latest temperature is used.
+    """
+
+    def __init__(self, sync, max_pending=10000):
+        self.sync = sync
+        self.temps = {}
+        self.latest = None
+        self.pending = {}
+        self.max_pending = max_pending
+
+    def temperature(self, ns, xi):
+        """Record a temperature; returns states now ready [(ns, payload)]."""
+        self.latest = xi
+        if not self.sync:
+            return []
+        self.temps[ns] = xi
+        ready = []
+        if ns in self.pending:
+            ready.append((ns, self.pending.pop(ns), xi))
+        self._trim()
+        return ready
+
+    def state(self, ns, payload):
+        """Offer a state; returns [(ns, payload, xi)] ready to process."""
+        if not self.sync:
+            return [] if self.latest is None else [(ns, payload, self.latest)]
+        if ns in self.temps:
+            return [(ns, payload, self.temps.pop(ns))]
+        self.pending[ns] = payload
+        self._trim()
+        return []
+
+    def _trim(self):
+        for d in (self.temps, self.pending):
+            while len(d) > self.max_pending:
+                d.pop(next(iter(d)))
+
+
+class Rejects:
+    """Mixin: log (rate-limited) and count messages a node ignores."""
+
+    rejected = 0
+
+    def _reject(self, what):
+        self.rejected += 1
+        if self.rejected <= 10 or self.rejected % 1000 == 0:
+            self.get_logger().warn(f'ignored {what} (rejected so far: {self.rejected})')
+
+
+class PairedInput(Rejects):
+    """Mixin: validated /joint_states + /joint_temperature input, paired by stamp.
+
+    The node sets ``joint``, ``pair`` (:class:`StampPairing`) and
+    ``state_fields`` (JointState fields it needs) and implements
+    ``process(ns, values, xi)``.
+    """
+
+    state_fields = ('position', 'velocity')
+
+    def on_temperature(self, msg):
+        if not finite(msg.temperature):
+            self._reject('a non-finite temperature')
+            return
+        for item in self.pair.temperature(stamp_to_ns(msg.header.stamp), msg.temperature):
+            self.process(*item)
+
+    def on_state(self, msg):
+        i = joint_index(msg, self.joint)
+        arrays = [getattr(msg, f) for f in self.state_fields]
+        if i is None or i >= min(len(a) for a in arrays):
+            self._reject(f'a joint state without {"/".join(self.state_fields)} for {self.joint}')
+            return
+        values = tuple(a[i] for a in arrays)
+        if not finite(*values):
+            self._reject('a joint state with NaN/inf')
+            return
+        for item in self.pair.state(stamp_to_ns(msg.header.stamp), values):
+            self.process(*item)
+
+
+def run_node(factory, name, args=None, drain=True):
+    """``main()`` body of a node: init, spin, quiet end on Ctrl-C / SIGTERM.
+
+    The first SIGINT/SIGTERM stops the node *after* it has processed what is
+    already queued (``drain``; e.g. an estimator behind a simulator that has
+    finished), so no answer is lost; a second signal exits at once.  Bad
+    parameters (:class:`~friction_joint.exceptions.FrictionJointError`) end
+    with a one-line error naming the problem and exit status 2.  A node may
+    end itself by raising ``SystemExit(0)`` from a callback.  A node with a
+    ``spin_step(executor)`` method runs its own loop: it is called instead of
+    ``executor.spin_once``.
+
+    The single-threaded executor is used: ``rclpy.experimental.EventsExecutor``
+    is faster but was seen to stop delivering messages to one of two
+    subscriptions on these wheels.
+    """
+    import signal
+    import sys
+    import time
+
+    import rclpy
+    from rclpy.executors import ExternalShutdownException, SingleThreadedExecutor
+    from rclpy.signals import SignalHandlerOptions
+
+    from ...exceptions import FrictionJointError
+
+    stop = []
+
+    def on_signal(signum, frame):
+        stop.append(signum)
+        if len(stop) > 1:
+            raise KeyboardInterrupt
+
+    rclpy.init(args=args, signal_handler_options=SignalHandlerOptions.NO)
+    old = {s: signal.signal(s, on_signal) for s in (signal.SIGINT, signal.SIGTERM)}
+    node = executor = None
+    status = 0
+    try:
+        node = factory()
+        executor = SingleThreadedExecutor()
+        executor.add_node(node)
+        spin = getattr(node, 'spin_step', None) or (lambda ex: ex.spin_once(timeout_sec=0.1))
+        while not stop and rclpy.ok():
+            spin(executor)
+        t_end = time.monotonic() + 30.0
+        while drain and rclpy.ok() and time.monotonic() < t_end:
+            t0 = time.monotonic()
+            executor.spin_once(timeout_sec=1.0)
+            if time.monotonic() - t0 >= 1.0:
+                break                                   # idle: everything queued is done
+    except FrictionJointError as exc:
+        print(f'{name}: error: {exc}', file=sys.stderr)
+        status = 2
+    except (KeyboardInterrupt, ExternalShutdownException):
+        pass
+    except SystemExit as exc:
+        status = exc.code or 0
+    finally:
+        for sig, handler in old.items():
+            signal.signal(sig, handler)
+        if node is not None and rclpy.ok():
+            from rclpy.duration import Duration
+            for pub in node.publishers:          # let reliable peers take the last samples
+                try:
+                    pub.wait_for_all_acked(Duration(seconds=2.0))
+                except Exception:                # noqa: BLE001 - best effort on the way out
+                    pass
+        if executor is not None:
+            executor.shutdown()
+        if node is not None:
+            node.destroy_node()
+        rclpy.try_shutdown()
+    return status

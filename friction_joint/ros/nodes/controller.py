@@ -1,0 +1,130 @@
+"""``controller``: the joint controller of eq. 17 as a ROS 2 node.
+
+    ros2 run friction_joint controller --ros-args --params-file config/csd25.yaml \
+        -p friction_ff:=lugre -p amplitude:=0.4
+
+Subscribes ``/joint_states`` and ``/joint_temperature``, publishes
+``/joint_command`` (effort = commanded torque, position/velocity = q_d, qd_d)
+with the stamp of the state it answers.  The reference is
+q_d = offset + amplitude sin(omega t), t from the first state's stamp.
+Gains come from ``rise_time`` and ``overshoot`` (:func:`~friction_joint.control.controller.pd_gains`).
+
+Run-time parameters (validated; a bad value is rejected with a reason and
+the node keeps running): ``friction_ff`` (none | static | lugre | gms),
+``ff_velocity`` (measured | desired), ``amplitude``, ``omega``, ``offset``.
+``sync`` (default true) pairs each state with the temperature sample of the
+same stamp (see :class:`~friction_joint.ros.nodes.common.StampPairing`) and
+answers every state (lockstep); with ``sync:=false`` (a real-time plant) the
+node answers only the newest queued state, skipping (and counting) stale
+ones, so a moment of overload does not turn into a growing delay, and the
+friction feed-forward advances by the stamps' time difference.
+``rate`` is the control rate (default ``simulation.rate``).
+"""
+import sys
+
+from rclpy.node import Node
+from sensor_msgs.msg import JointState, Temperature
+
+from ...control.controller import Controller, SineTrajectory, pd_gains
+from ...models.friction import FRICTION_KINDS
+from .common import (PairedInput, StampPairing, declare_gear, declare_node_params,
+                     parameter_guard, run_node, stream_qos, take_queued)
+
+__all__ = ['ControllerNode', 'main']
+
+DEFAULTS = {'friction_ff': 'lugre', 'ff_velocity': 'measured', 'amplitude': 0.4, 'omega': 1.5,
+            'offset': 0.0, 'rise_time': 0.04, 'overshoot': 0.06, 'rate': 0.0, 'sync': True}
+RUNTIME = ('friction_ff', 'ff_velocity', 'amplitude', 'omega', 'offset')
+VALIDATORS = {
+    'friction_ff': lambda v: None if v in FRICTION_KINDS else f'must be one of {", ".join(FRICTION_KINDS)}',
+    'ff_velocity': lambda v: None if v in ('measured', 'desired') else "must be 'measured' or 'desired'",
+    'amplitude': lambda v: None if abs(v) <= 3.2 else 'must be within +-3.2 rad',
+    'omega': lambda v: None if 0 <= v <= 100 else 'must be in [0, 100] rad/s',
+    'offset': lambda v: None if abs(v) <= 3.2 else 'must be within +-3.2 rad',
+    'rise_time': lambda v: None if v > 0 else 'must be > 0',
+    'overshoot': lambda v: None if 0 < v < 1 else 'must be in (0, 1)',
+    'rate': lambda v: None if v >= 0 else 'must be >= 0 (0: simulation.rate)',
+}
+
+
+class ControllerNode(PairedInput, Node):
+    """Wires :class:`~friction_joint.control.controller.Controller` to topics."""
+
+    def __init__(self):
+        super().__init__('controller')
+        self.p = declare_node_params(self, DEFAULTS, VALIDATORS)
+        self.gear = declare_gear(self, own=list(DEFAULTS))
+        self.joint = self.gear.joint_name
+        rate = self.p['rate'] or self.gear.section('simulation')['rate']
+        self.kp, self.kd = pd_gains(self.gear.inertia, self.p['rise_time'], self.p['overshoot'])
+        self.dt = 1.0 / rate
+        self.ctrl = self._controller()
+        self.ctrl(0.0, 0.0, 25.0, 0.0)              # compile the kernels before data flows
+        self.ctrl = self._controller()
+        self.traj = SineTrajectory(self.p['amplitude'], self.p['omega'], self.p['offset'])
+        self.pair = StampPairing(self.p['sync'])
+        self.t0 = None
+        self.last_ns = None
+        self.last_cmd = None
+        qos = stream_qos()
+        self.pub = self.create_publisher(JointState, '/joint_command',
+                                         stream_qos(lossless=self.p['sync']))
+        self.sub_state = self.create_subscription(JointState, '/joint_states', self.on_state, qos)
+        self.stale = 0
+        self.create_subscription(Temperature, '/joint_temperature', self.on_temperature, qos)
+        parameter_guard(self, {k: DEFAULTS[k] for k in RUNTIME}, VALIDATORS, self.apply)
+        self.get_logger().info(f'eq. 17 controller for {self.joint}: kp {self.kp:.1f} Nm/rad, '
+                               f'kd {self.kd:.2f} Nm s/rad, friction feed-forward {self.p["friction_ff"]}')
+
+    def _controller(self):
+        return Controller(self.gear, self.kp, self.kd, self.p['friction_ff'], self.dt,
+                          self.p['ff_velocity'])
+
+    def apply(self, name, value):
+        self.p[name] = value
+        if name in ('friction_ff', 'ff_velocity'):
+            self.ctrl = self._controller()
+        else:
+            self.traj = SineTrajectory(self.p['amplitude'], self.p['omega'], self.p['offset'])
+        self.get_logger().info(f'{name} set to {value!r}')
+
+    def on_state(self, msg):
+        if not self.p['sync']:
+            # real time: answer the newest state only; the ones queued behind it are stale
+            queued = take_queued(self.sub_state, JointState)
+            if queued:
+                msg = queued[-1]
+                self.stale += len(queued)
+                self.get_logger().warning(
+                    f'skipped {self.stale} stale joint states so far (the loop is behind: '
+                    'answering the newest)', throttle_duration_sec=5.0)
+        super().on_state(msg)
+
+    def process(self, ns, state, xi):
+        if ns == self.last_ns:                   # the same state again: same answer
+            self.pub.publish(self.last_cmd)
+            return
+        if self.last_ns is not None and ns < self.last_ns:
+            return                               # stale
+        if self.t0 is None:
+            self.t0 = ns
+        q, qd = state
+        q_d, qd_d, qdd_d = self.traj((ns - self.t0) * 1e-9)
+        dt = None if self.p['sync'] or self.last_ns is None else (ns - self.last_ns) * 1e-9
+        tau = self.ctrl(q, qd, xi, q_d, qd_d, qdd_d, dt=dt)
+        cmd = JointState()
+        cmd.header.stamp.sec, cmd.header.stamp.nanosec = divmod(ns, 1_000_000_000)
+        cmd.name = [self.joint]
+        cmd.position = [q_d]
+        cmd.velocity = [qd_d]
+        cmd.effort = [tau]
+        self.last_ns, self.last_cmd = ns, cmd
+        self.pub.publish(cmd)
+
+
+def main(args=None):
+    return run_node(ControllerNode, 'controller', args)
+
+
+if __name__ == '__main__':
+    sys.exit(main())

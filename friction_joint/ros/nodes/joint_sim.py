@@ -1,0 +1,245 @@
+"""``joint_sim``: the simulated Harmonic Drive joint (the plant) as a ROS 2 node.
+
+    ros2 run friction_joint joint_sim --ros-args --params-file config/csd25_truth.yaml \
+        -p mode:=lockstep
+
+Publishes ``/joint_states`` (q, qd, effort = applied drive torque),
+``/joint_temperature``, ``/link_torque`` and, in lockstep mode, ``/clock``;
+subscribes ``/joint_command`` (effort = commanded torque) and
+``/contact_torque`` (geometry_msgs/WrenchStamped, torque.z added to tau_ext:
+an injected contact for estimator tests).
+
+Modes (parameter ``mode``):
+
+``realtime``
+    Ticks at ``publish_rate`` (default 1 kHz) on the monotonic clock: each tick
+    takes the newest ``/joint_command`` and ``/contact_torque``, advances the
+    plant by ``simulation.rate / publish_rate`` steps with that command held
+    and publishes the state stamped with ROS time; temperature at
+    ``simulation.temperature_rate``.  The node runs its own loop (sleep to the
+    tick's due time, take the inputs straight from the subscriptions) instead
+    of an rclpy timer: a turn of the rclpy executor costs about 0.2 ms, so a
+    timer-driven loop cannot hold 1 kHz on a busy machine.  The executor is
+    turned every ``SPIN_EVERY`` ticks for parameter services.  A tick that is
+    late is run at once (at most ``MAX_CATCH_UP`` in a row, then the schedule
+    restarts from now and the skipped ticks are counted and logged).
+``lockstep``
+    Simulated time.  The node publishes the state of step k (stamp k dt,
+    plus /clock and the temperature sample with the same stamp) and advances
+    only when the command stamped k arrives, so a closed loop across
+    processes is deterministic and independent of machine load.  Until the
+    first command arrives the current state is re-sent every
+    ``resend_period`` s (peers may still be starting).  The first state is
+    sent once ``wait_subscribers`` subscribers are matched on /joint_states
+    and /joint_temperature and ``start_delay`` s have passed since, so that
+    every peer (a recorder too) has discovered every other before the loop
+    starts.  With
+    ``duration`` > 0 the node stops after that much simulated time and exits.
+
+Own parameters: mode, publish_rate, duration, xi0 (NaN: the gear file's
+thermal.initial), q0, seed (-1: simulation.seed), friction_model ('' : the
+gear file's friction.model), resend_period, wait_subscribers, start_delay.
+"""
+import math
+import sys
+import time
+
+from geometry_msgs.msg import WrenchStamped
+from rclpy.node import Node
+from rosgraph_msgs.msg import Clock
+from sensor_msgs.msg import JointState, Temperature
+
+from ...testbed.plant import Plant
+from .common import (Rejects, declare_gear, declare_node_params, finite, joint_index, ns_to_stamp,
+                     run_node, stamp_to_ns, stream_qos, take_queued)
+
+__all__ = ['JointSimNode', 'main']
+
+#: realtime: ticks run back to back when late before the schedule restarts
+MAX_CATCH_UP = 20
+#: realtime: ticks between turns of the executor (parameter services)
+SPIN_EVERY = 20
+
+DEFAULTS = {'mode': 'realtime', 'publish_rate': 1000.0, 'duration': 0.0, 'xi0': float('nan'),
+            'q0': 0.0, 'seed': -1, 'friction_model': '', 'resend_period': 0.2,
+            'wait_subscribers': 1, 'start_delay': 0.5}
+VALIDATORS = {
+    'mode': lambda v: None if v in ('realtime', 'lockstep') else "must be 'realtime' or 'lockstep'",
+    'publish_rate': lambda v: None if v > 0 else 'must be > 0',
+    'duration': lambda v: None if v >= 0 else 'must be >= 0',
+    'friction_model': lambda v: None if v in ('', 'static', 'lugre', 'gms') else 'must be static, lugre or gms',
+    'resend_period': lambda v: None if v > 0 else 'must be > 0',
+    'wait_subscribers': lambda v: None if v >= 0 else 'must be >= 0',
+    'start_delay': lambda v: None if v >= 0 else 'must be >= 0',
+}
+
+
+class JointSimNode(Rejects, Node):
+    """Wires the :class:`~friction_joint.testbed.plant.Plant` to topics and a timer."""
+
+    def __init__(self):
+        super().__init__('joint_sim')
+        own = {k: v for k, v in DEFAULTS.items() if k != 'xi0'}
+        self.p = declare_node_params(self, own, VALIDATORS)
+        xi0 = self.declare_parameter('xi0', float('nan')).value
+        self.gear = declare_gear(self, own=list(DEFAULTS))
+        def plant():
+            return Plant(self.gear, model=self.p['friction_model'] or None,
+                         xi0=None if math.isnan(xi0) else xi0,
+                         seed=None if self.p['seed'] < 0 else self.p['seed'], q0=self.p['q0'])
+        plant().step(0.0)                           # compile the kernels before data flows
+        self.plant = plant()
+        self.joint = self.gear.joint_name
+        self.lockstep = self.p['mode'] == 'lockstep'
+        self.tau_cmd = 0.0
+        self.contact = 0.0
+        self.done = False
+        self.n_end = int(round(self.p['duration'] * self.plant.rate)) if self.p['duration'] > 0 else 0
+        qos, out = stream_qos(), stream_qos(lossless=self.lockstep)
+        self.pub_state = self.create_publisher(JointState, '/joint_states', out)
+        self.pub_temp = self.create_publisher(Temperature, '/joint_temperature', out)
+        self.pub_link = self.create_publisher(WrenchStamped, '/link_torque', out)
+        self.pub_clock = self.create_publisher(Clock, '/clock', 10) if self.lockstep else None
+        self.sub_command = self.create_subscription(JointState, '/joint_command',
+                                                    self.on_command, qos)
+        self.sub_contact = self.create_subscription(WrenchStamped, '/contact_torque',
+                                                    self.on_contact, qos)
+        if self.lockstep:
+            self.started = False
+            self.ready_since = None
+            self.resend = self.create_timer(min(0.05, self.p['resend_period']), self.on_resend)
+            self.last_sent = None
+        else:
+            self.per_tick = max(1, int(round(self.plant.rate / self.p['publish_rate'])))
+            self.temp_every = max(1, int(round(self.p['publish_rate'] /
+                                               self.gear.section('simulation')['temperature_rate'])))
+            self.ticks = 0
+            self.period = 1.0 / self.p['publish_rate']
+            self.next_tick = None
+            self.skipped = 0
+        self.get_logger().info(
+            f'{self.p["mode"]} simulation of {self.joint} ({self.plant.joint.model} friction, '
+            f'{self.plant.rate:g} Hz, xi0 {self.plant.thermal.xi:.2f} degC)')
+
+    # ---------------------------------------------------------------- input
+    def on_command(self, msg):
+        i = joint_index(msg, self.joint)
+        if i is None or i >= len(msg.effort) or not finite(msg.effort[i]):
+            self._reject('a /joint_command without a finite effort for ' + self.joint)
+            return
+        self.tau_cmd = float(msg.effort[i])
+        if self.lockstep and not self.done:
+            if stamp_to_ns(msg.header.stamp) != self.stamp_ns(self.plant.k):
+                return                          # a stale or duplicate command
+            self.started = True
+            self.advance()
+
+    def on_contact(self, msg):
+        tz = msg.wrench.torque.z
+        if not finite(tz):
+            self._reject('a non-finite /contact_torque')
+            return
+        self.contact = float(tz)
+
+    # ---------------------------------------------------------------- output
+    def stamp_ns(self, k):
+        """Simulated time of step k in ns, rounded per step (no drift)."""
+        return round(k * 1e9 / self.plant.rate)
+
+    def publish(self, s, temperature):
+        ns = self.stamp_ns(self.plant.k) if self.lockstep else self.get_clock().now().nanoseconds
+        if self.pub_clock is not None:
+            c = Clock()
+            ns_to_stamp(ns, c.clock)
+            self.pub_clock.publish(c)
+        if temperature:
+            t = Temperature()
+            ns_to_stamp(ns, t.header.stamp)
+            t.header.frame_id = self.joint
+            t.temperature = s.xi
+            t.variance = self.gear.section('sensors')['temperature_resolution'] ** 2 / 12.0
+            self.pub_temp.publish(t)
+        w = WrenchStamped()
+        ns_to_stamp(ns, w.header.stamp)
+        w.header.frame_id = self.joint
+        w.wrench.torque.z = s.tau_link
+        self.pub_link.publish(w)
+        js = JointState()
+        ns_to_stamp(ns, js.header.stamp)
+        js.name = [self.joint]
+        js.position = [s.q]
+        js.velocity = [s.qd]
+        js.effort = [s.effort]
+        self.pub_state.publish(js)
+
+    # ---------------------------------------------------------------- stepping
+    def advance(self):
+        s = self.plant.step(self.tau_cmd, self.contact)
+        if self.n_end and self.plant.k >= self.n_end:
+            self.done = True
+        self.publish(s, temperature=True)
+        if self.done:
+            self.get_logger().info(f'simulated {self.plant.t:.3f} s; done')
+
+    def on_resend(self):
+        if self.done:
+            raise SystemExit(0)
+        if self.started:
+            return
+        now = self.get_clock().now().nanoseconds * 1e-9
+        if self.ready_since is None:
+            need = self.p['wait_subscribers']
+            if min(self.pub_state.get_subscription_count(),
+                   self.pub_temp.get_subscription_count()) < need:
+                return
+            self.ready_since = now
+        if now - self.ready_since < self.p['start_delay']:
+            return
+        if self.last_sent is None or now - self.last_sent >= self.p['resend_period']:
+            self.last_sent = now
+            self.publish(self.plant.last, temperature=True)
+
+    def spin_step(self, executor):
+        """One turn of the node's main loop (called by ``run_node``)."""
+        if self.lockstep:
+            executor.spin_once(timeout_sec=0.1)
+            return
+        now = time.monotonic()
+        if self.next_tick is None:
+            self.next_tick = now
+        if now < self.next_tick:
+            time.sleep(min(self.next_tick - now, 0.1))
+            return
+        if now - self.next_tick > MAX_CATCH_UP * self.period:
+            late = int((now - self.next_tick) / self.period)
+            self.skipped += late
+            self.next_tick = now
+            self.get_logger().warning(
+                f'{late} ticks late: skipped them ({self.skipped} in all); the machine does '
+                'not keep up with publish_rate', throttle_duration_sec=5.0)
+        self.next_tick += self.period
+        for msg in take_queued(self.sub_command, JointState):
+            self.on_command(msg)
+        for msg in take_queued(self.sub_contact, WrenchStamped):
+            self.on_contact(msg)
+        self.on_tick()
+        if self.ticks % SPIN_EVERY == 0:
+            executor.spin_once(timeout_sec=0.0)
+
+    def on_tick(self):
+        s = None
+        for _ in range(self.per_tick):
+            s = self.plant.step(self.tau_cmd, self.contact)
+        self.ticks += 1
+        self.publish(s, temperature=(self.ticks % self.temp_every == 0))
+        if self.n_end and self.plant.k >= self.n_end:
+            self.done = True
+            raise SystemExit(0)
+
+
+def main(args=None):
+    return run_node(JointSimNode, 'joint_sim', args, drain=False)
+
+
+if __name__ == '__main__':
+    sys.exit(main())

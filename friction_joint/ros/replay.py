@@ -1,0 +1,239 @@
+"""``friction_joint replay BAG``: publish a recording again, with its timing and a ``/clock``.
+
+Messages are published in bag order as the serialized bytes stored in the bag
+(no deserialization), spaced by their bag (receive) times divided by
+``--rate``; ``--rate 0`` publishes as fast as possible, still in order.
+
+``/clock`` (``rosgraph_msgs/msg/Clock``) is published so that nodes with
+``use_sim_time`` run unchanged on recorded data: before each message whose
+header stamp is ahead of the clock, the clock is advanced to that stamp (the
+clock follows the data's own time base, which is simulated time for simulator
+recordings).  The bag's own ``/clock`` is then not replayed; with
+``--no-clock`` nothing is generated and the bag's ``/clock`` (if any) is
+replayed like any topic.  With ``--loop`` the data start over and so does the
+clock (time jumps back, as with ``ros2 bag play --loop``).
+
+Before playing, the publishers wait up to ``--wait`` seconds until every topic
+has a subscriber (DDS drops what is published before a subscriber is matched),
+then ``--settle`` seconds for the subscribers' side of the match; at the end
+they wait until reliable subscribers have acknowledged everything.  The
+publishers are reliable with keep-all history: a sample a subscriber has not
+acknowledged yet (lost in transport on a busy machine, say) stays queued until
+DDS has repaired it, instead of being pushed out by newer ones.  A subscriber
+that stops taking messages altogether ends the replay with an error once its
+queue is full.
+"""
+import struct
+import sys
+import threading
+import time
+
+from ..bag.reader import iter_messages, recording_topics
+from ..exceptions import RecordingError
+from .record import console_main, format_counts, install_signals, message_class
+
+__all__ = ['replay', 'register', 'main']
+
+
+_STAMP = struct.Struct('<iI')
+_CLOCK_TYPE = 'rosgraph_msgs/msg/Clock'
+
+
+def _has_header(cls):
+    items = list(cls.get_fields_and_field_types().items())
+    return bool(items) and items[0] == ('header', 'std_msgs/Header')
+
+
+def _clock_bytes(ns):
+    return b'\x00\x01\x00\x00' + _STAMP.pack(ns // 1_000_000_000, ns % 1_000_000_000)
+
+
+def replay(bag, rate=1.0, topics=None, clock=True, loop=False, wait=2.0, settle=0.5, args=None,
+           log=None, stop=None):
+    """Publish the messages of ``bag`` with their original timing.
+
+    Parameters
+    ----------
+    bag : str
+        rosbag2 directory or ``.mcap`` file.
+    rate : float
+        Time scale: 2 plays twice as fast; 0 publishes without waiting.
+    topics : list of str, optional
+        Topics to replay (default: all).
+    clock : bool
+        Publish ``/clock`` from the header stamps (and skip the bag's own ``/clock``).
+    loop : bool
+        Start over at the end until stopped.
+    wait : float
+        Seconds to wait for a subscriber on every topic before playing.
+    settle : float
+        Seconds to wait after that: the publisher's side of a match comes first,
+        and a volatile subscriber drops (and DDS then marks as lost) what arrives
+        before its own side has matched.
+    args : list of str, optional
+        Command line for ``rclpy`` (``--ros-args ...``).
+    log : callable, optional
+        Progress lines (default: stderr).
+    stop : threading.Event, optional
+        Set it to stop (besides SIGINT/SIGTERM).
+
+    Returns
+    -------
+    dict
+        Topic -> number of messages published (``/clock`` included when generated).
+
+    Raises
+    ------
+    RecordingError
+        The bag is missing, unreadable, lacks a requested topic, or a type is not installed.
+    """
+    import rclpy
+    from rclpy.context import Context
+    from rclpy.duration import Duration
+    from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
+    from rclpy.signals import SignalHandlerOptions
+    from rclpy.impl.implementation_singleton import rclpy_implementation
+    RCLError = rclpy_implementation.RCLError
+
+    log = log or (lambda line: print(line, file=sys.stderr, flush=True))
+    if not rate >= 0:
+        raise RecordingError(f'--rate must be >= 0, got {rate}')
+    if not settle >= 0:
+        raise RecordingError(f'--settle must be >= 0, got {settle}')
+    available = recording_topics(bag)
+    if topics:
+        missing = [t for t in topics if t not in available]
+        if missing:
+            raise RecordingError(f'{bag}: no {", ".join(missing)} topic (topics: '
+                                 f'{", ".join(sorted(available)) or "none"})')
+        selected = list(dict.fromkeys(topics))
+    else:
+        selected = list(available)
+    if clock:
+        selected = [t for t in selected if t != '/clock']
+    if not selected:
+        raise RecordingError(f'{bag}: nothing to replay')
+    classes = {t: message_class(t, available[t][0]) for t in selected}
+    header = {t for t, cls in classes.items() if _has_header(cls)}
+
+    stop = stop or threading.Event()
+    restore = install_signals(stop)
+    context = Context()
+    node = None
+    counts = {t: 0 for t in selected}
+    if clock:
+        counts['/clock'] = 0
+    try:
+        rclpy.init(args=args, context=context, signal_handler_options=SignalHandlerOptions.NO)
+        node = rclpy.create_node('friction_joint_replay', context=context,
+                                 start_parameter_services=False)
+        qos = QoSProfile(history=HistoryPolicy.KEEP_ALL,
+                         reliability=ReliabilityPolicy.RELIABLE,
+                         durability=DurabilityPolicy.VOLATILE)
+        pubs = {t: node.create_publisher(cls, t, qos) for t, cls in classes.items()}
+        clock_pub = None
+        if clock:
+            clock_pub = node.create_publisher(message_class('/clock', _CLOCK_TYPE), '/clock',
+                                              qos)
+        every = list(pubs.values()) + ([clock_pub] if clock_pub else [])
+        t_wait = time.monotonic() + wait
+        while not stop.is_set() and time.monotonic() < t_wait and \
+                any(p.get_subscription_count() == 0 for p in every):
+            time.sleep(0.01)
+        if settle > 0 and all(p.get_subscription_count() > 0 for p in every):
+            stop.wait(settle)
+        log(f'replaying {", ".join(selected)}{" + /clock" if clock else ""} from {bag} '
+            f'at rate {rate:g}')
+
+        t_start = time.monotonic()
+        while not stop.is_set():
+            now_clock = -1
+            t0_bag = t0_wall = None
+            for topic, _, bag_ns, raw in iter_messages(bag, selected):
+                if stop.is_set():
+                    break
+                if rate > 0:
+                    if t0_bag is None:
+                        t0_bag, t0_wall = bag_ns, time.monotonic()
+                    delay = t0_wall + (bag_ns - t0_bag) * 1e-9 / rate - time.monotonic()
+                    if delay > 0:
+                        stop.wait(delay)
+                        if stop.is_set():
+                            break
+                if clock and topic in header and len(raw) >= 12:
+                    sec, nsec = _STAMP.unpack_from(raw, 4)
+                    ns = sec * 1_000_000_000 + nsec
+                    if ns > now_clock:
+                        now_clock = ns
+                        clock_pub.publish(_clock_bytes(ns))
+                        counts['/clock'] += 1
+                try:
+                    pubs[topic].publish(raw)
+                except RCLError as exc:
+                    raise RecordingError(f'{topic}: publishing failed after {counts[topic]} '
+                                         f'messages ({exc}); a subscriber has stopped taking '
+                                         'messages') from None
+                counts[topic] += 1
+            if not loop:
+                break
+        elapsed = time.monotonic() - t_start
+        for p in every:
+            p.wait_for_all_acked(Duration(seconds=5))
+        log(f'replay took {elapsed:.3f} s')
+        return counts
+    finally:
+        if node is not None:
+            node.destroy_node()
+        if context.ok():
+            context.try_shutdown()
+        restore()
+
+
+def build_parser(parser):
+    """Add the ``replay`` arguments to ``parser``."""
+    parser.add_argument('bag', metavar='BAG', help='rosbag2 directory or .mcap file')
+    parser.add_argument('--rate', type=float, default=1.0, metavar='R',
+                        help='time scale (2 = twice as fast); 0 = as fast as possible, in order '
+                             '(default 1)')
+    parser.add_argument('--topics', nargs='+', metavar='TOPIC',
+                        help='topics to replay (default: all in the bag)')
+    parser.add_argument('--no-clock', dest='clock', action='store_false',
+                        help='do not publish /clock from the header stamps (the bag\'s own '
+                             '/clock, if any, is then replayed)')
+    parser.add_argument('--loop', action='store_true', help='start over at the end until stopped')
+    parser.add_argument('--wait', type=float, default=2.0, metavar='S',
+                        help='wait up to S seconds for a subscriber on every topic before '
+                             'playing (default 2)')
+    parser.add_argument('--settle', type=float, default=0.5, metavar='S',
+                        help='then wait S seconds more so that every subscriber has matched '
+                             'from its side too (default 0.5)')
+    return parser
+
+
+def _run(args, ros_args=None):
+    counts = replay(args.bag, args.rate, args.topics, args.clock, args.loop, args.wait,
+                    args.settle, args=ros_args)
+    print(f'replayed {format_counts(counts)} from {args.bag}', flush=True)
+    return 0
+
+
+def register(subparsers):
+    """Add the ``replay`` subcommand to an argparse subparsers object."""
+    parser = subparsers.add_parser(
+        'replay', help='publish a recording again, with /clock',
+        description='Publish the messages of a recording (rosbag2 directory or .mcap) with '
+                    'their original timing scaled by --rate, and /clock from their header '
+                    'stamps so nodes with use_sim_time run on recorded data.')
+    build_parser(parser)
+    parser.set_defaults(func=_run)
+    return parser
+
+
+def main(args=None):
+    """Console script ``replay`` (``ros2 run friction_joint replay BAG ...``)."""
+    return console_main('replay', 'Publish a recording again, with /clock.', build_parser,
+                        _run, args)
+
+
+if __name__ == '__main__':
+    sys.exit(main())

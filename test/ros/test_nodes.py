@@ -1,0 +1,201 @@
+"""Nodes as separate processes: lockstep equals offline, replay equals live, robustness."""
+import math
+import os
+import sys
+
+import numpy as np
+import pytest
+
+from friction_joint import load_gear
+from friction_joint.bag.reader import read_recording
+from friction_joint.control.controller import Controller, SineTrajectory, pd_gains
+from friction_joint.control.observer import DisturbanceObserver
+from friction_joint.testbed.plant import Plant
+
+PY = sys.executable
+MODEL = 'config/csd25.yaml'
+TRUTH = 'config/csd25_truth.yaml'
+DURATION = 0.4          # simulated seconds of the lockstep run
+XI0 = 27.0
+
+
+def node_cmd(node, gear, **params):
+    cmd = [PY, '-m', f'friction_joint.ros.nodes.{node}', '--ros-args', '--params-file', gear]
+    for k, v in params.items():
+        cmd += ['-p', f'{k}:={v}']
+    return cmd
+
+
+def offline_loop(n):
+    """The same closed loop in one process: plant, eq. 17 controller, observer."""
+    model, truth = load_gear(MODEL), load_gear(TRUTH)
+    plant = Plant(truth, xi0=XI0)
+    ctrl = Controller(model, *pd_gains(model.inertia, 0.04, 0.06), 'lugre', plant.dt, 'measured')
+    obs = DisturbanceObserver(model, 60.0, plant.dt, 'lugre', gravity=False)
+    traj = SineTrajectory(0.4, 1.5)
+    s = plant.last
+    q, effort, est = [s.q], [s.effort], [obs(s.effort, s.q, s.qd, s.xi)]
+    for k in range(n):
+        t = round(k * 1e9 / plant.rate) * 1e-9           # the stamps' time, as the node sees it
+        s = plant.step(ctrl(s.q, s.qd, s.xi, *traj(t)))
+        q.append(s.q)
+        effort.append(s.effort)
+        est.append(obs(s.effort, s.q, s.qd, s.xi))
+    return np.array(q), np.array(effort), np.array(est)
+
+
+@pytest.fixture(scope='module')
+def lockstep_bag(tmp_path_factory):
+    """A lockstep bringup run recorded to a bag (sim, controller, estimator, recorder)."""
+    import roshelpers
+    env = roshelpers.ros_environ()
+    out = tmp_path_factory.mktemp('bringup') / 'run'
+    proc = roshelpers.Proc([PY, '-m', 'friction_joint', 'bringup', '--model', MODEL, '--truth',
+                            TRUTH, '--duration', str(DURATION), '--xi0', str(XI0),
+                            '--record', str(out), '--log-dir', str(out) + '_logs'], env)
+    try:
+        rc = proc.wait(timeout=240)
+    finally:
+        proc.stop()
+    assert rc == 0, proc.describe()
+    assert f'recording in {out}' in proc.stdout
+    return out
+
+
+def test_lockstep_closed_loop_equals_offline(lockstep_bag):
+    rec = read_recording(lockstep_bag)
+    n = int(round(DURATION * 3000))
+    q, effort, est = offline_loop(n)
+    js = rec.joint_states
+    # every step recorded once (the initial state may have been re-sent before start-up)
+    k = np.round(js.t * 3000).astype(int)
+    assert k[0] == 0 and k[-1] == n
+    assert set(np.unique(k)) == set(range(n + 1))
+    first = np.unique(k, return_index=True)[1]
+    np.testing.assert_allclose(js.q[first], q, rtol=0, atol=1e-9)
+    np.testing.assert_allclose(js.effort[first], effort, rtol=0, atol=1e-9)
+    assert np.max(np.abs(q)) > 0.05                       # it really moved
+    ext = rec.external_torque
+    ke = np.round(ext.t * 3000).astype(int)
+    fe = np.unique(ke, return_index=True)[1]
+    assert len(fe) == n + 1
+    np.testing.assert_allclose(ext.effort[fe], est, rtol=0, atol=1e-9)
+    # the contract topics are all there
+    assert len(rec.temperature.t) >= n and rec.link_torque is not None
+    assert rec.joint_command is not None and len(rec.joint_command.t) >= n
+
+
+def test_replay_into_estimator_equals_live(lockstep_bag, spawn, ros_node):
+    from sensor_msgs.msg import JointState
+    import roshelpers
+    rec = read_recording(lockstep_bag)
+    live = {int(round(t * 3000)): e for t, e in zip(rec.external_torque.t, rec.external_torque.effort)}
+    got = {}
+    sub = ros_node.node.create_subscription(
+        JointState, '/external_torque',
+        lambda m: got.setdefault(round((m.header.stamp.sec * 1e9 + m.header.stamp.nanosec) * 3e-6),
+                                 m.effort[0]), roshelpers.reliable_qos())
+    est = spawn(node_cmd('estimator', MODEL, use_sim_time='true'))
+    assert est.wait_for('external torque observer', 30), est.describe()
+    assert ros_node.wait_for_publishers(sub, timeout=20)
+    player = spawn([PY, '-m', 'friction_joint', 'replay', str(lockstep_bag), '--rate', '0.25',
+                    '--wait', '60', '--topics', '/joint_states', '/joint_temperature'])
+    done = ros_node.spin_until(lambda: len(got) >= len(live), timeout=120)
+    missing = sorted(set(live) - set(got))
+    assert done, (f'{len(got)} of {len(live)} estimates, missing steps {missing[:5]} .. '
+                  f'{missing[-5:]}\n' + player.describe() + est.describe())
+    keys = sorted(live)
+    np.testing.assert_allclose([got[k] for k in keys], [live[k] for k in keys], rtol=0, atol=1e-9)
+
+
+def test_topics_types_and_rates(spawn, ros_node):
+    from sensor_msgs.msg import JointState
+    import roshelpers
+    sim = spawn(node_cmd('joint_sim', TRUTH, mode='realtime'))
+    assert sim.wait_for('realtime simulation', 30), sim.describe()
+    count = []
+    sub = ros_node.node.create_subscription(JointState, '/joint_states', lambda m: count.append(m),
+                                            roshelpers.reliable_qos())
+    assert ros_node.wait_for_publishers(sub, timeout=20)
+    ros_node.spin_for(1.0)
+    n0 = len(count)
+    ros_node.spin_for(2.0)
+    assert (len(count) - n0) / 2.0 > 50                   # streaming; the benchmark measures the rate
+    types = dict(ros_node.node.get_topic_names_and_types())
+    assert types['/joint_states'] == ['sensor_msgs/msg/JointState']
+    assert types['/joint_temperature'] == ['sensor_msgs/msg/Temperature']
+    assert types['/link_torque'] == ['geometry_msgs/msg/WrenchStamped']
+    assert '/clock' not in types                           # real time: no simulated clock
+    m = count[-1]
+    assert list(m.name) == ['joint'] and len(m.position) == len(m.velocity) == len(m.effort) == 1
+
+
+def test_nodes_survive_garbage_and_reject_bad_parameters(spawn, ros_node):
+    from rcl_interfaces.srv import SetParameters
+    from rclpy.parameter import Parameter
+    from sensor_msgs.msg import JointState, Temperature
+    import roshelpers
+    qos = roshelpers.reliable_qos()
+    ctrl = spawn(node_cmd('controller', MODEL, sync='false'))
+    est = spawn(node_cmd('estimator', MODEL, sync='false'))
+    assert ctrl.wait_for('eq. 17 controller', 30) and est.wait_for('external torque', 30)
+    pub_js = ros_node.node.create_publisher(JointState, '/joint_states', qos)
+    pub_t = ros_node.node.create_publisher(Temperature, '/joint_temperature', qos)
+    cmds = []
+    sub = ros_node.node.create_subscription(JointState, '/joint_command', cmds.append, qos)
+    assert ros_node.wait_for_subscribers(pub_js, 2, timeout=20)
+    assert ros_node.wait_for_publishers(sub, timeout=20)
+
+    def state(names, pos, vel, eff, sec=1):
+        m = JointState()
+        m.header.stamp.sec = sec
+        m.name, m.position, m.velocity, m.effort = names, pos, vel, eff
+        return m
+
+    t = Temperature()
+    t.temperature = float('nan')
+    pub_t.publish(t)
+    for bad in (state([], [], [], []), state(['joint'], [float('nan')], [0.0], [0.0]),
+                state(['other'], [0.1], [0.0], [0.0]), state(['joint'], [0.1], [], [])):
+        pub_js.publish(bad)
+    t.temperature = 30.0
+    pub_t.publish(t)
+    ros_node.spin_for(0.5)
+    assert not cmds                                          # nothing answered garbage
+    pub_js.publish(state(['other', 'joint'], [9.0, 0.1], [0.0, 0.0], [0.0, 1.0], sec=2))
+    assert ros_node.spin_until(lambda: len(cmds) >= 1, timeout=10)
+    assert list(cmds[-1].name) == ['joint'] and math.isfinite(cmds[-1].effort[0])
+    assert ctrl.popen.poll() is None and est.popen.poll() is None
+    assert 'ignored' in ctrl.stderr + ctrl.stdout
+
+    client = ros_node.node.create_client(SetParameters, '/controller/set_parameters')
+    assert client.wait_for_service(timeout_sec=10)
+
+    def set_param(name, value):
+        req = SetParameters.Request()
+        req.parameters = [Parameter(name, value=value).to_parameter_msg()]
+        fut = client.call_async(req)
+        ros_node.spin_until(fut.done, timeout=10)
+        return fut.result().results[0]
+
+    bad = set_param('friction_ff', 'coulomb')
+    assert not bad.successful and 'friction_ff' in bad.reason
+    bad = set_param('amplitude', 50.0)
+    assert not bad.successful and 'amplitude' in bad.reason
+    assert set_param('friction_ff', 'gms').successful
+    pub_js.publish(state(['joint'], [0.1], [0.0], [0.0], sec=3))
+    n = len(cmds)
+    assert ros_node.spin_until(lambda: len(cmds) > n, timeout=10)
+    assert ctrl.popen.poll() is None
+
+
+def test_bad_gear_parameters_exit_with_a_clear_error(spawn, tmp_path):
+    bad = tmp_path / 'bad.yaml'
+    bad.write_text(open(MODEL).read().replace('    inertia: 0.22', '    inertia: 0.22\n    intertia: 0.2'))
+    p = spawn(node_cmd('controller', str(bad)))
+    assert p.wait(timeout=60) == 2
+    assert 'unknown parameter intertia' in p.stderr
+    p = spawn(node_cmd('joint_sim', TRUTH, mode='warp'))
+    assert p.wait(timeout=60) == 2
+    assert 'mode' in p.stderr and 'lockstep' in p.stderr
+    assert os.path.exists(MODEL)

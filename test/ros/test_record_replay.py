@@ -1,0 +1,191 @@
+"""``friction_joint record`` / ``replay`` as processes on an isolated ROS 2 domain."""
+import re
+import time
+
+import numpy as np
+import pytest
+
+from friction_joint.bag.reader import read_recording, write_recording
+from roshelpers import PYTHON, reliable_qos
+
+pytest.importorskip('rclpy')
+
+CLI = [PYTHON, '-m', 'friction_joint']
+
+
+def _joint_state(i, names=('joint',)):
+    from sensor_msgs.msg import JointState
+    m = JointState()
+    m.header.stamp.sec, m.header.stamp.nanosec = 100 + i // 1000, (i % 1000) * 1_000_000
+    m.name = list(names)
+    k = len(names)
+    m.position = [float(i) + j for j in range(k)]
+    m.velocity = [0.5 * i] * k
+    m.effort = [-float(i)] * k
+    return m
+
+
+def _publish(node, pub, msgs, rate=2000.0):
+    period = 1.0 / rate
+    t0 = time.perf_counter()
+    for i, m in enumerate(msgs):
+        pub.publish(m)
+        while time.perf_counter() < t0 + (i + 1) * period:
+            pass
+    from rclpy.duration import Duration
+    assert pub.wait_for_all_acked(Duration(seconds=10))
+
+
+def test_record_counts_every_message(ros_node, spawn, tmp_path):
+    from mcap.reader import make_reader
+    from mcap_ros2.decoder import DecoderFactory
+    from rosbags.highlevel import AnyReader
+    from sensor_msgs.msg import JointState
+
+    n = 1500
+    out = tmp_path / 'rec'
+    rec = spawn(CLI + ['record', out, '--topics', '/joint_states'])
+    assert rec.wait_for('recording /joint_states', 30), rec.describe()
+    pub = ros_node.node.create_publisher(JointState, '/joint_states', reliable_qos(None))
+    assert ros_node.wait_for_subscribers(pub), rec.describe()
+    assert rec.wait_for('/joint_states: 1 publisher matched', 10), rec.describe()
+    _publish(ros_node, pub, [_joint_state(i) for i in range(n)], rate=3000.0)
+    assert rec.stop() == 0, rec.describe()
+    assert f'recorded {n} messages (/joint_states: {n}) to {out}' in rec.stdout, rec.describe()
+    assert sorted(p.name for p in tmp_path.iterdir()) == ['rec']
+
+    with AnyReader([out]) as reader:
+        msgs = [(t, reader.deserialize(raw, c.msgtype)) for c, t, raw in reader.messages()]
+    assert len(msgs) == n
+    assert [m.position[0] for _, m in msgs] == list(range(n))
+    assert [m.header.stamp.nanosec for _, m in msgs[:3]] == [0, 1_000_000, 2_000_000]
+    assert msgs[0][1].name == ['joint'] and msgs[5][1].effort[0] == -5.0
+    bag_times = np.array([t for t, _ in msgs])
+    assert np.all(np.diff(bag_times) >= 0)
+    assert abs(bag_times[0] / 1e9 - time.time()) < 60             # receive (wall) time
+
+    with open(next(out.glob('*.mcap')), 'rb') as fh:
+        decoded = [m for _, _, _, m in make_reader(
+            fh, decoder_factories=[DecoderFactory()]).iter_decoded_messages()]
+    assert [m.position[0] for m in decoded] == list(range(n))
+
+
+def test_record_duration_default_topics_read_back(ros_node, spawn, tmp_path):
+    from sensor_msgs.msg import JointState, Temperature
+
+    out = tmp_path / 'rec'
+    rec = spawn(CLI + ['record', out, '--duration', '4'])
+    assert rec.wait_for('recording', 30), rec.describe()
+    js = ros_node.node.create_publisher(JointState, '/joint_states', reliable_qos(None))
+    tp = ros_node.node.create_publisher(Temperature, '/joint_temperature', reliable_qos())
+    assert ros_node.wait_for_subscribers(js) and ros_node.wait_for_subscribers(tp)
+    assert rec.wait_for('/joint_states: 1 publisher matched', 10), rec.describe()
+    assert rec.wait_for('/joint_temperature: 1 publisher matched', 10), rec.describe()
+    for i in range(5):
+        m = Temperature()
+        m.header.stamp.sec = 100 + i // 2
+        m.header.stamp.nanosec = (i % 2) * 500_000_000
+        m.temperature, m.variance = 30.0 + i, 0.1
+        tp.publish(m)
+    _publish(ros_node, js, [_joint_state(i, ('other', 'joint')) for i in range(300)])
+    assert rec.wait(timeout=30) == 0, rec.describe()
+    assert re.search(r'recorded 305 messages \(/joint_states: 300, /joint_temperature: 5, '
+                     r'/link_torque: 0, .*/clock: 0\)', rec.stdout), rec.describe()
+
+    data = read_recording(out, joint_name='joint')
+    np.testing.assert_array_equal(data.joint_states.q, np.arange(300) + 1.0)
+    np.testing.assert_array_equal(data.joint_states.effort, -np.arange(300.0))
+    np.testing.assert_allclose(data.joint_states.t, 100 + np.arange(300) * 1e-3)
+    np.testing.assert_array_equal(data.temperature.xi, [30, 31, 32, 33, 34])
+    np.testing.assert_array_equal(data.temperature_at([100.7, 101.2]), [31, 32])
+    assert data.link_torque is None and data.joint_command is None
+    assert read_recording(out).joint_name == 'other'
+
+
+def test_record_refuses_existing_output(spawn, tmp_path):
+    (tmp_path / 'rec').mkdir()
+    rec = spawn(CLI + ['record', tmp_path / 'rec'])
+    assert rec.wait(timeout=60) == 2
+    assert 'exists already' in rec.stderr
+    rec = spawn(CLI + ['record', tmp_path / 'x', '--topics', '/unknown'])
+    assert rec.wait(timeout=60) == 2
+    assert '/unknown is not a contract topic' in rec.stderr
+
+
+def _replay_bag(path, n=300):
+    t = 10.0 + np.arange(n) * 1e-3
+    write_recording(path, {
+        '/joint_states': dict(t=t, q=np.arange(n, dtype=float), qd=np.zeros(n),
+                              effort=np.ones(n)),
+        '/joint_temperature': dict(t=[10.0, 10.2], xi=[25.0, 26.0]),
+        '/clock': dict(t=t + 1000.0)})              # the bag's own clock, to be skipped
+    return t
+
+
+class _Collector:
+    def __init__(self, node, topics):
+        from rosgraph_msgs.msg import Clock
+        from sensor_msgs.msg import JointState, Temperature
+        types = {'/joint_states': JointState, '/joint_temperature': Temperature, '/clock': Clock}
+        self.got = {t: [] for t in topics}
+        self.arrival = {t: [] for t in topics}
+        self.subs = [node.create_subscription(types[t], t, self._cb(t), reliable_qos())
+                     for t in topics]
+
+    def _cb(self, topic):
+        def cb(msg):
+            self.got[topic].append(msg)
+            self.arrival[topic].append(time.monotonic())
+        return cb
+
+
+def test_replay_publishes_in_order_with_clock(ros_node, spawn, tmp_path):
+    n = 300
+    t = _replay_bag(tmp_path / 'bag', n)
+    col = _Collector(ros_node.node, ['/joint_states', '/joint_temperature', '/clock'])
+    rep = spawn(CLI + ['replay', tmp_path / 'bag', '--rate', '1', '--wait', '60'])
+    ros_node.spin_until(lambda: rep.popen.poll() is not None, timeout=40)
+    ros_node.spin_until(lambda: len(col.got['/joint_states']) >= n, timeout=5)
+    assert rep.wait() == 0, rep.describe()
+    ros_node.spin_for(0.2)
+    assert f'replayed {2 * n + 2} messages (/joint_states: {n}, /joint_temperature: 2, ' \
+           f'/clock: {n}) from' in rep.stdout, rep.describe()
+    js = col.got['/joint_states']
+    assert [m.position[0] for m in js] == list(range(n))
+    assert len(col.got['/joint_temperature']) == 2
+    clock = np.array([c.clock.sec + c.clock.nanosec * 1e-9 for c in col.got['/clock']])
+    assert len(clock) == n and np.all(np.diff(clock) > 0)
+    np.testing.assert_allclose(clock, t, atol=1e-9)           # from the stamps, not the bag's
+    span = col.arrival['/joint_states'][-1] - col.arrival['/joint_states'][0]
+    assert 0.2 < span < 2.0                                     # 0.3 s of data at rate 1
+
+
+def test_replay_single_mcap_fast_without_clock(ros_node, spawn, tmp_path):
+    n = 300
+    _replay_bag(tmp_path / 'one.mcap', n)
+    col = _Collector(ros_node.node, ['/joint_states', '/clock'])
+    rep = spawn(CLI + ['replay', tmp_path / 'one.mcap', '--rate', '0', '--no-clock', '--wait', '60',
+                       '--topics', '/joint_states', '/clock'])
+    ros_node.spin_until(lambda: rep.popen.poll() is not None, timeout=40)
+    ros_node.spin_until(lambda: len(col.got['/clock']) >= n, timeout=5)
+    assert rep.wait() == 0, rep.describe()
+    assert [m.position[0] for m in col.got['/joint_states']] == list(range(n))
+    clock = [c.clock.sec + c.clock.nanosec * 1e-9 for c in col.got['/clock']]
+    assert clock[0] == pytest.approx(1010.0)                    # the bag's own /clock
+    rep = spawn(CLI + ['replay', tmp_path / 'one.mcap', '--topics', '/nope'])
+    assert rep.wait(timeout=60) == 2 and 'no /nope topic' in rep.stderr
+
+
+def test_replay_ends_with_an_error_when_a_subscriber_stops_taking(ros_node, spawn, tmp_path):
+    from sensor_msgs.msg import JointState
+    n = int(np.random.default_rng(5).integers(20_000, 25_000))
+    _replay_bag(tmp_path / 'bag', n)
+    ros_node.node.create_subscription(JointState, '/joint_states', lambda m: None,
+                                      reliable_qos(None))      # keep-all, never spun
+    rep = spawn(CLI + ['replay', tmp_path / 'bag', '--rate', '0', '--no-clock', '--wait', '60',
+                       '--topics', '/joint_states'])
+    assert rep.wait(timeout=120) == 2, rep.describe()
+    m = re.search(r'/joint_states: publishing failed after (\d+) messages .* a subscriber has '
+                  r'stopped taking messages', rep.stderr)
+    assert m and 0 < int(m.group(1)) < n, rep.describe()
+    assert 'replayed' not in rep.stdout
