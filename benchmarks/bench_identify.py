@@ -38,7 +38,7 @@ import numpy as np
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 sys.path.insert(0, ROOT)
 
-from friction_joint.bag.reader import write_recording  # noqa: E402
+from friction_joint.bag import write_recording  # noqa: E402
 from friction_joint.experiments.excitation import EXCITATION, plan_block, simulate_identification  # noqa: E402
 from friction_joint.gear import load_gear  # noqa: E402
 from friction_joint.identification.pipeline import identify_recordings  # noqa: E402
@@ -102,11 +102,11 @@ def main():
     step3 = tm['time_step_3_s']
     fig_s = float('nan')
     if not args.no_report:
-        from friction_joint.experiments.paper import _render_png
+        from friction_joint.output import render_png
         from friction_joint.identification.report import identification_figures
         t0 = time.perf_counter()
         for draw, size in identification_figures(run.identifier, run.recordings).values():
-            _render_png(draw, size)
+            render_png(draw, size)
         fig_s = time.perf_counter() - t0
 
     rec = run.recordings[0]

@@ -76,7 +76,7 @@ def realtime(seconds, e):
     each /joint_command minus its stamp (the stamp of the state it answers,
     taken by the simulator when it published that state).
     """
-    from friction_joint.bag.reader import read_recording
+    from friction_joint.bag import read_recording
     with tempfile.TemporaryDirectory() as d:
         out = os.path.join(d, 'rt')
         rec = start([PY, '-m', 'friction_joint', 'record', out, '--topics', '/joint_states',

@@ -1,23 +1,31 @@
 """friction_joint: a simulated Harmonic Drive joint with thermal- and load-dependent friction.
 
-The core (everything except :mod:`friction_joint.ros.nodes`) imports no ROS:
+The subpackages, one concept each (the tree is the architecture):
 
-* :mod:`~friction_joint.gear`   gear parameter files (CONTRACT section 4)
-* :mod:`~friction_joint.models.static` static curve, seed eq. 1, 5-7
-* :mod:`~friction_joint.models.lugre`  modified LuGre model, eq. 10
-* :mod:`~friction_joint.models.gms`    modified GMS model, eq. 11-13
-* :mod:`~friction_joint.models.joint`  joint + friction integrated together
+* :mod:`~friction_joint.models`: static curve (seed eq. 1, 5-7), LuGre (eq. 10),
+  GMS (eq. 11-13) and the joint they act in;
+* :mod:`~friction_joint.testbed`: the simulated hardware (plant, sensors, thermal model);
+* :mod:`~friction_joint.control`: the eq. 17 controller and the eq. 4/15 observer;
+* :mod:`~friction_joint.identification`: the paper's three identification steps;
+* :mod:`~friction_joint.diagnosis`: what a model gets wrong on measured data;
+* :mod:`~friction_joint.experiments`: the paper's experiments, the classic LuGre
+  experiments, excitations and hidden-effect recordings;
+* :mod:`~friction_joint.bag`: recordings (rosbag2 / MCAP) without ROS;
+* :mod:`~friction_joint.ros`: the only place that imports rclpy (nodes, record,
+  replay, bring-up);
+* :mod:`~friction_joint.cli`: the only place that parses arguments;
+
+and the modules shared by all of them: :mod:`~friction_joint.gear` (gear
+parameter files), :mod:`~friction_joint.exceptions`, :mod:`~friction_joint.output`
+(atomic result files) and :mod:`~friction_joint.demo` (the main job).
 """
-from .exceptions import (ExcitationError, FrictionJointError, GearConfigError,
-                         GearConfigWarning, RecordingError)
+from ._version import __version__
+from .exceptions import (ExcitationError, ExperimentError, FrictionJointError, GearConfigError,
+                         GearConfigWarning, PreslidingDataError, RecordingError, SimulationError)
 from .gear import FrictionParams, GearParams, gear_from_dict, load_gear, save_gear
-from .models.gms import GMS
-from .models.joint import Joint
-from .models.lugre import LuGre
-from .models.static import StaticFriction
+from .models import GMS, Joint, LuGre, StaticFriction
 
-__version__ = '0.1.0'
-
-__all__ = ['FrictionJointError', 'GearConfigError', 'GearConfigWarning', 'RecordingError',
-           'ExcitationError', 'FrictionParams', 'GearParams', 'gear_from_dict', 'load_gear',
+__all__ = ['__version__', 'FrictionJointError', 'GearConfigError', 'GearConfigWarning',
+           'RecordingError', 'ExcitationError', 'PreslidingDataError', 'ExperimentError',
+           'SimulationError', 'FrictionParams', 'GearParams', 'gear_from_dict', 'load_gear',
            'save_gear', 'StaticFriction', 'LuGre', 'GMS', 'Joint']

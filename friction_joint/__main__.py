@@ -1,4 +1,4 @@
-"""``python -m friction_joint ...`` is the ``friction_joint`` command."""
+"""``python -m friction_joint COMMAND``: the command line (see :mod:`friction_joint.cli`)."""
 import sys
 
 from .cli import main

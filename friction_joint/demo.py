@@ -15,8 +15,12 @@ import os
 import time
 
 from .exceptions import FrictionJointError
+from .experiments.classic import EXPERIMENTS as CLASSIC_EXPERIMENTS
+from .experiments.classic_report import write_experiment
+from .experiments.runner import run_experiment
+from .identification.pipeline import run_identify
 
-__all__ = ['run_demo', 'register']
+__all__ = ['run_demo']
 
 CLASSIC = ('presliding', 'lag', 'breakaway', 'stick-slip')
 TESTBED = ('chirp', 'compensation', 'estimation')
@@ -38,7 +42,6 @@ def _figures(d):
 
 def run_demo(out, model=None, truth=None, duration_scale=1.0):
     """Run all experiments into ``out`` and write ``out/report.md``; returns its path."""
-    from .cli import main as cli_main
     model = model or _config('csd25.yaml')
     truth = truth or _config('csd25_truth.yaml')
     os.makedirs(out, exist_ok=True)
@@ -49,8 +52,7 @@ def run_demo(out, model=None, truth=None, duration_scale=1.0):
     for name in CLASSIC:
         t0 = time.perf_counter()
         d = os.path.join(out, 'classic')
-        if cli_main(['classic', name, '--out', d]) != 0:
-            raise FrictionJointError(f'classic {name} failed')
+        write_experiment(name, CLASSIC_EXPERIMENTS[name](), d)
         with open(os.path.join(d, f'{name}.json'), encoding='utf-8') as fh:
             numbers = json.load(fh)
         lines += [f'### {name} ({time.perf_counter() - t0:.1f} s)', '',
@@ -61,17 +63,13 @@ def run_demo(out, model=None, truth=None, duration_scale=1.0):
     for name in TESTBED:
         t0 = time.perf_counter()
         d = os.path.join(out, name)
-        args = ['experiment', name, '--model', model, '--truth', truth, '--out', d]
-        if duration_scale != 1.0:
-            args += ['--duration-scale', str(duration_scale)]
-        if cli_main(args) != 0:
-            raise FrictionJointError(f'experiment {name} failed')
+        run_experiment(name, model, truth, d, duration_scale=duration_scale)
         with open(os.path.join(d, 'summary.json'), encoding='utf-8') as fh:
             summary = json.load(fh)
         lines += [f'### {name} ({time.perf_counter() - t0:.1f} s)', '']
         lines += [f'![{f}]({name}/{f})' for f in _figures(d)]
         lines += ['', '```json', json.dumps(summary, indent=1), '```', '']
-    lines += _identification(out, model, truth, duration_scale, cli_main)
+    lines += _identification(out, model, truth, duration_scale)
     path = os.path.join(out, 'report.md')
     tmp = path + '.tmp'
     with open(tmp, 'w', encoding='utf-8') as fh:
@@ -80,7 +78,7 @@ def run_demo(out, model=None, truth=None, duration_scale=1.0):
     return path
 
 
-def _identification(out, model, truth, duration_scale, cli_main):
+def _identification(out, model, truth, duration_scale):
     """Record the paper's identification excitation on the simulator and identify."""
     import shutil
     d = os.path.join(out, 'identification')
@@ -88,14 +86,11 @@ def _identification(out, model, truth, duration_scale, cli_main):
     if os.path.exists(d):
         shutil.rmtree(d)
     t0 = time.perf_counter()
-    if cli_main(['experiment', 'identification', '--truth', truth, '--out', bag,
-                 '--duration-scale', str(0.25 * duration_scale)]) != 0:
-        raise FrictionJointError('experiment identification failed')
+    run_experiment('identification', None, truth, bag, duration_scale=0.25 * duration_scale)
     t1 = time.perf_counter()
     gear = os.path.join(d, 'identified.yaml')
     report = os.path.join(d, 'report')
-    if cli_main(['identify', bag, '--model', model, '--out', gear, '--report', report]) != 0:
-        raise FrictionJointError('identify failed')
+    run_identify([bag], model, gear, report_dir=report)
     t2 = time.perf_counter()
     with open(gear, encoding='utf-8') as fh:
         header = [ln[2:].rstrip() for ln in fh if ln.startswith('# ')]
@@ -117,7 +112,7 @@ def _ros_run(out, model, truth, duration):
     import matplotlib.pyplot as plt
     import numpy as np
 
-    from .bag.reader import read_recording
+    from .bag import read_recording
     from .ros.bringup import bringup
 
     bag = os.path.join(out, 'bag')
@@ -157,18 +152,3 @@ def _ros_run(out, model, truth, duration):
             '![ros run](ros_run.png)', '',
             f'Estimator vs link torque sensor after 0.5 s: RMS {np.sqrt(np.mean(err ** 2)):.3f} Nm, '
             f'max {np.max(np.abs(err)):.3f} Nm.', '']
-
-
-def _cmd(args):
-    path = run_demo(args.out, args.model, args.truth, args.duration_scale)
-    print(f'report: {path}')
-    return 0
-
-
-def register(sub):
-    p = sub.add_parser('demo', help='run the main job and write a report with figures')
-    p.add_argument('--out', required=True, help='output directory')
-    p.add_argument('--model', help='model gear file (default config/csd25.yaml)')
-    p.add_argument('--truth', help='truth gear file (default config/csd25_truth.yaml)')
-    p.add_argument('--duration-scale', type=float, default=1.0, help='shorten experiments (e.g. 0.2)')
-    p.set_defaults(func=_cmd)

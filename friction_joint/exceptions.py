@@ -1,7 +1,8 @@
 """Exceptions raised by friction_joint, named for the problem they report."""
 
 __all__ = ['FrictionJointError', 'GearConfigError', 'GearConfigWarning',
-           'RecordingError', 'ExcitationError', 'SimulationError']
+           'RecordingError', 'ExcitationError', 'PreslidingDataError', 'ExperimentError',
+           'SimulationError']
 
 
 class FrictionJointError(Exception):
@@ -26,3 +27,11 @@ class ExcitationError(FrictionJointError):
 
 class SimulationError(FrictionJointError):
     """The simulated state left the finite range (an unstable loop or a runaway command)."""
+
+
+class PreslidingDataError(FrictionJointError, ValueError):
+    """Arrays given to the pre-sliding fit are malformed (lengths, NaN, time axis)."""
+
+
+class ExperimentError(FrictionJointError, ValueError):
+    """An experiment cannot run with the options given (e.g. a run too short to evaluate)."""

@@ -38,7 +38,7 @@ from .exceptions import GearConfigError, GearConfigWarning
 
 __all__ = ['GearParams', 'FrictionParams', 'LuGreParams', 'GMSParams', 'RippleParams',
            'load_gear', 'gear_from_dict', 'gear_from_flat', 'save_gear', 'SCHEMA',
-           'FRICTION_MODELS', 'passivity_bound']
+           'FRICTION_MODELS', 'passivity_bound', 'Section']
 
 FRICTION_MODELS = ('static', 'lugre', 'gms')
 REQUIRED = object()

@@ -6,6 +6,7 @@ into place (:func:`os.replace`), in the order given (put the JSON summary
 last: its presence means the files before it belong to it).  An error leaves
 no partial result behind.
 """
+import collections
 import io
 import json
 import math
@@ -16,7 +17,11 @@ import numpy as np
 
 from .exceptions import FrictionJointError
 
-__all__ = ['json_clean', 'json_bytes', 'render_png', 'write_files']
+__all__ = ['json_clean', 'json_bytes', 'render_png', 'write_files', 'ExperimentResult',
+           'write_results']
+
+#: ``summary``: dict of plain numbers (for JSON); ``figures``: {file name: (draw(fig), size)}
+ExperimentResult = collections.namedtuple('ExperimentResult', ['summary', 'figures'])
 
 
 def json_clean(obj):
@@ -86,3 +91,25 @@ def write_files(out_dir, targets, error=FrictionJointError):
             if os.path.exists(tmp):
                 os.unlink(tmp)
     return paths
+
+
+def write_results(result, out_dir, json_name='summary.json', error=FrictionJointError):
+    """Write the figures and ``summary.json`` of ``result`` into ``out_dir`` atomically.
+
+    ``result`` is an :class:`ExperimentResult` (or anything with ``summary`` and
+    ``figures``); ``json_name`` names the JSON file (default ``summary.json``);
+    ``error`` is the exception class raised when writing fails.
+
+    Everything is rendered in memory, written to temporary files in
+    ``out_dir`` (created if missing), then renamed into place with
+    :func:`os.replace`, ``summary.json`` last: a ``summary.json`` present
+    means the figures next to it belong to it.
+
+    Returns
+    -------
+    list of str
+        The paths written.
+    """
+    targets = [(name, render_png(draw, size)) for name, (draw, size) in result.figures.items()]
+    targets.append((json_name, json_bytes(result.summary)))
+    return write_files(out_dir, targets, error)

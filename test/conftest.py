@@ -1,10 +1,22 @@
+# Copyright 2026 friction_joint maintainers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
 """Test-suite settings shared by every test directory.
 
 Tests name the shipped files by their path in the source tree
-(``config/csd25.yaml``), so the suite runs from the repository root whatever
-directory pytest (or ``colcon test``) was started in.
+(config/csd25.yaml), so the suite runs from the repository root whatever
+directory pytest (or colcon test) was started in.
 """
 import os
 
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-os.chdir(ROOT)
+os.chdir(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))

@@ -1,7 +1,11 @@
-"""The ``friction_joint`` command and its subcommands.
+"""The command line: ``friction_joint COMMAND`` and the ``record``/``replay`` console scripts.
 
-Each subcommand lives in its own module, which provides
-``register(subparsers)``; the parser it adds sets ``func(args) -> int``.
+Only this subpackage parses arguments.  Each subcommand is one module with
+``NAME``, ``HELP``, ``DESCRIPTION``, ``add_arguments(parser)`` and
+``run(args) -> int``; :func:`main` builds the parser from :data:`SUBCOMMANDS`.
+The modules import the library lazily inside ``run`` where it needs ROS, so
+``friction_joint --help`` and the ROS-free commands work without rclpy.
+
 Errors of this package (bad input) end with a one-line message naming the
 problem and exit status 2; nothing half-written is left as a result.
 """
@@ -11,28 +15,30 @@ import sys
 
 from ..exceptions import FrictionJointError
 
-__all__ = ['main']
+__all__ = ['main', 'build_parser', 'SUBCOMMANDS']
 
-#: subcommand modules, in the order ``--help`` lists them
-SUBCOMMANDS = ('friction_joint.experiments.classic', 'friction_joint.experiments.paper',
-               'friction_joint.identification.pipeline', 'friction_joint.demo',
-               'friction_joint.ros.record', 'friction_joint.ros.replay', 'friction_joint.ros.bringup',
-               'friction_joint.cli.diagnose')
+#: subcommand modules of this package, in the order ``--help`` lists them
+SUBCOMMANDS = ('classic', 'experiment', 'identify', 'demo', 'record', 'replay', 'bringup',
+               'diagnose')
 
 
 def build_parser():
+    """The ``friction_joint`` argument parser with every subcommand."""
     parser = argparse.ArgumentParser(
         prog='friction_joint',
         description='Simulated Harmonic Drive joint with thermal- and load-dependent friction.')
     sub = parser.add_subparsers(dest='command', metavar='COMMAND')
     sub.required = True
     for name in SUBCOMMANDS:
-        importlib.import_module(name).register(sub)
+        module = importlib.import_module(f'{__name__}.{name}')
+        p = sub.add_parser(module.NAME, help=module.HELP, description=module.DESCRIPTION)
+        module.add_arguments(p)
+        p.set_defaults(func=module.run)
     return parser
 
 
 def main(argv=None):
-    """Entry point; returns the exit status."""
+    """Entry point of ``friction_joint``; returns the exit status."""
     parser = build_parser()
     args = parser.parse_args(argv)
     try:
@@ -43,7 +49,3 @@ def main(argv=None):
     except KeyboardInterrupt:
         print(f'friction_joint {args.command}: interrupted', file=sys.stderr)
         return 130
-
-
-if __name__ == '__main__':
-    sys.exit(main())

@@ -117,7 +117,7 @@ class Controller:
         """tau_g(q) = m g l sin(q) of the model's lever."""
         return self.mgl * math.sin(q)
 
-    def __call__(self, q, qd, xi, q_d, qd_d=0.0, qdd_d=0.0, dt=None):
+    def __call__(self, q, qd, xi, q_d, qd_d=0.0, qdd_d=0.0, *, dt=None):
         """Torque command for one sample; components are kept in ``self.last``.
 
         ``dt`` is the time since the previous sample when it differs from the

@@ -31,9 +31,10 @@ import dataclasses
 
 import numpy as np
 
-from ..bag.reader import read_recording
+from ..bag import read_recording
 from ..exceptions import ExcitationError, RecordingError
-from ..identification.presliding import PreslidingDataError, zero_phase_derivatives
+from .._signal import zero_phase_derivatives
+from ..exceptions import PreslidingDataError
 
 __all__ = ['BIN', 'V_STICK', 'STICK_MARGIN', 'N_BLOCKS', 'DiagnosisData', 'load_data']
 

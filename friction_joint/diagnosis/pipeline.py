@@ -77,9 +77,9 @@ MAX_ROUNDS = 8
 
 
 def base_structure(gear):
-    """The :class:`~friction_joint.diagnosis.structures.Structure` of a gear file."""
+    """The :class:`~friction_joint.diagnosis.structures.CandidateStructure` of a gear file."""
     f = gear.friction
-    s = dm.Structure(nfc=len(f.fc), nfv=len(f.fv), nfc_load=len(f.fc_load),
+    s = dm.CandidateStructure(nfc=len(f.fc), nfv=len(f.fv), nfc_load=len(f.fc_load),
                      nfv_load=len(f.fv_load))
     if f.fs is not None:
         vs0 = float(np.polynomial.polynomial.polyval(np.mean(f.temperature_range), f.vs))
@@ -556,4 +556,4 @@ def _refit(s, ctx, y):
 
 
 def _cv(s, param, ctx, y, block, k):
-    return dm.cross_validate(dm.grid_of(s, param, ctx), ctx, y, block, k)
+    return dm.cross_validate_structures(dm.grid_of(s, param, ctx), ctx, y, block, k)

@@ -11,12 +11,17 @@ Figures (PNG bytes, rendered with :func:`friction_joint.output.render_png`):
 * ``gains.png``: held-out gain of every candidate in every greedy round.
 """
 import math
+import os
+import time
 
 import numpy as np
+import yaml
 
-from ..output import render_png
+from ..gear import gear_from_dict, load_gear
+from ..output import json_bytes, render_png, write_files
+from .pipeline import diagnose, EFFECTS
 
-__all__ = ['figures', 'markdown', 'CAUSE_VARIABLES']
+__all__ = ['figures', 'markdown', 'CAUSE_VARIABLES', 'run_diagnose']
 
 #: effect -> axis label of the variable its residual is plotted against
 CAUSE_VARIABLES = {
@@ -220,3 +225,38 @@ def markdown(diag, figure_names, model_path):
     lines += ['## Timing', '', '| stage | s |', '|---|---|']
     lines += [f'| {k} | {v:.2f} |' for k, v in rep['timing'].items()]
     return '\n'.join(lines) + '\n'
+
+
+def _gear_yaml(gear, header):
+    text = yaml.safe_dump(gear.to_dict(), sort_keys=False, default_flow_style=None)
+    doc = yaml.safe_load(text)                    # must load like a gear file does
+    gear_from_dict(doc['/**']['ros__parameters'], source='extended.yaml')
+    return ''.join(f'# {ln}\n' for ln in header.splitlines()) + text
+
+
+def run_diagnose(paths, model_path, out, *, effects=EFFECTS, joint_name=None, progress=None):
+    """Diagnose and write the result directory; returns the paths written."""
+    start = time.perf_counter()
+    base = load_gear(model_path)
+    diag = diagnose(paths, base, effects=effects, joint_name=joint_name, progress=progress)
+    t0 = time.perf_counter()
+    figs = figures(diag)
+    diag.report['timing']['report_s'] = time.perf_counter() - t0
+    rep = diag.report
+    header = (f'Extended by "friction_joint diagnose" from {os.path.abspath(model_path)}\n'
+              f'named causes: {", ".join(rep["named_causes"]) or "none"}\n'
+              f'held-out torque RMSE {rep["baseline"]["torque_rmse"]:.4f} -> '
+              f'{rep["extended"]["torque_rmse"]:.4f} Nm\n'
+              'recordings: ' + ', '.join(os.path.abspath(p) for p in paths))
+    gear_text = _gear_yaml(diag.gear, header)
+    rep['model_file'] = os.path.abspath(model_path)
+    rep['extended_file'] = os.path.abspath(os.path.join(out, 'extended.yaml'))
+    rep['timing']['total_s'] = time.perf_counter() - start
+    md = markdown(diag, [n for n, _ in figs], model_path)
+    targets = figs + [('report.md', md.encode('utf-8')),
+                      ('extended.yaml', gear_text.encode('utf-8')),
+                      ('report.json', json_bytes(rep))]
+    paths_written = write_files(out, targets)
+    if progress:
+        progress('timing: ' + ', '.join(f'{k} {v:.2f} s' for k, v in rep['timing'].items()))
+    return paths_written

@@ -30,7 +30,7 @@ import numpy as np
 
 from .._jit import njit
 
-__all__ = ['Structure', 'design', 'solve', 'CVResult', 'cross_validate', 'fit_all',
+__all__ = ['CandidateStructure', 'design', 'solve', 'CVResult', 'cross_validate_structures', 'fit_all',
            'grid_of', 'coefficients', 'presliding_state']
 
 VS_GRID = np.geomspace(0.003, 1.0, 15)           # rad/s, output side
@@ -41,7 +41,7 @@ GMS_RATIOS = np.array([0.6, 0.25, 0.1, 0.05])
 
 
 @dataclasses.dataclass(frozen=True)
-class Structure:
+class CandidateStructure:
     """A model structure: polynomial lengths, flags and nonlinear parameter values."""
 
     nfc: int = 1
@@ -253,7 +253,7 @@ def _penalty(s, ctx):
     return 1.02 if s.ripple and abs(s.cyc - 2.0 * ctx.gear_ratio) > 1e-9 else 1.0
 
 
-def cross_validate(structures, ctx, y, block, k):
+def cross_validate_structures(structures, ctx, y, block, k):
     """K-fold contiguous-block CV; per fold the grid point with the least training error wins."""
     mats, colnames = [], []
     for s in structures:

@@ -1,1 +1,24 @@
-"""experiments."""
+"""Experiments on the simulated test bed and in the literature.
+
+* the paper's applications: :mod:`~friction_joint.experiments.chirp` (Fig. 5),
+  :mod:`~friction_joint.experiments.compensation` (Fig. 6-7),
+  :mod:`~friction_joint.experiments.estimation` (Fig. 8), run by name through
+  :mod:`~friction_joint.experiments.runner`;
+* :mod:`~friction_joint.experiments.classic`: the classic LuGre experiments of
+  Canudas de Wit et al. (1995), figures in :mod:`~friction_joint.experiments.classic_report`;
+* :mod:`~friction_joint.experiments.excitation`: the identification excitation
+  (Section V-A) recorded on the test bed;
+* :mod:`~friction_joint.experiments.hidden`: recordings with a hidden effect,
+  for testing the diagnosis.
+"""
+from .chirp import chirp
+from .classic import breakaway, frictional_lag, presliding, stick_slip
+from .compensation import compensation
+from .estimation import estimation
+from .excitation import simulate_identification
+from .hidden import EFFECT_RANGES, apply_effect, apply_effects, draw_effect, simulate_recording
+from .runner import EXPERIMENTS, run_experiment
+
+__all__ = ['chirp', 'compensation', 'estimation', 'EXPERIMENTS', 'run_experiment',
+           'presliding', 'frictional_lag', 'breakaway', 'stick_slip', 'simulate_identification',
+           'EFFECT_RANGES', 'apply_effect', 'apply_effects', 'draw_effect', 'simulate_recording']

@@ -27,9 +27,9 @@ Each function returns ``{'summary': dict, 'series': dict}``: ``summary``
 holds the key numbers (plain floats and lists, written to JSON by the
 command), ``series`` the numpy arrays the figure is drawn from.
 
-The command ``friction_joint classic EXPERIMENT --out DIR`` (see
-:func:`register`) runs one experiment and writes ``DIR/EXPERIMENT.png`` and
-``DIR/EXPERIMENT.json``, both atomically.
+Figures and files: :mod:`friction_joint.experiments.classic_report`; the
+command ``friction_joint classic EXPERIMENT --out DIR`` runs one experiment
+and writes ``DIR/EXPERIMENT.png`` and ``DIR/EXPERIMENT.json``, both atomically.
 """
 import math
 import warnings
@@ -40,11 +40,10 @@ from ..exceptions import FrictionJointError, GearConfigWarning
 from ..gear import gear_from_dict
 from ..models.joint import Joint
 from ..models.lugre import LuGre
-from ..output import json_bytes, render_png, write_files
 from ..models.static import StaticFriction
 
 __all__ = ['CANUDAS_1995', 'canudas_gear', 'presliding', 'frictional_lag', 'breakaway',
-           'stick_slip', 'slip_onsets', 'EXPERIMENTS', 'write_experiment', 'register']
+           'stick_slip', 'slip_onsets', 'EXPERIMENTS']
 
 #: Table I of Canudas de Wit et al. (1995) plus the unit mass (SI units).
 CANUDAS_1995 = {'sigma0': 1e5, 'sigma1': math.sqrt(1e5), 'sigma2': 0.4,
@@ -446,151 +445,10 @@ def stick_slip(k=2.0, vp=0.1, duration=30.0, dt=5e-5, threshold=0.05, params=Non
     return {'summary': summary, 'series': series}
 
 
-# ---------------------------------------------------------------- figures ---
-
-PLOT_POINTS = 20000   # series are thinned to about this many points per line
-
-
-def _thin(*arrays):
-    """Every k-th sample of equally long arrays, k chosen for ~PLOT_POINTS points."""
-    step = max(1, len(arrays[0]) // PLOT_POINTS)
-    return [np.asarray(a)[::step] for a in arrays]
-
-
-def _plot_presliding(fig, res):
-    s, m = res['series'], res['summary']
-    t, force, x, friction = _thin(s['t'], s['force'], s['x'], s['friction'])
-    ax1, ax2 = fig.subplots(1, 2)
-    ax1.plot(t, force, color='C0', label='applied force')
-    ax1.set_xlabel('time (s)')
-    ax1.set_ylabel('applied force (N)', color='C0')
-    ax1b = ax1.twinx()
-    ax1b.plot(t, 1e6 * x, color='C1', label='displacement')
-    ax1b.set_ylabel('displacement (\u00b5m)', color='C1')
-    ax1.set_title('force below $F_s$ and response')
-    ax2.plot(1e6 * x, friction, color='C3', label='LuGre')
-    xs = np.array([-0.2, 0.2]) * m['force_amplitude'] / m['sigma0']
-    ax2.plot(1e6 * xs, m['sigma0'] * xs, 'k--', label='slope $\\sigma_0$ = %.0f N/m' % m['sigma0'])
-    ax2.set_xlabel('displacement (\u00b5m)')
-    ax2.set_ylabel('friction force (N)')
-    ax2.set_title('pre-sliding: stiffness %.0f N/m at zero force' % m['stiffness'])
-    ax2.legend(loc='lower right', fontsize='small')
-    ax2.grid(True, alpha=0.3)
-
-
-def _plot_lag(fig, res):
-    s, m = res['series'], res['summary']
-    ax = fig.subplots()
-    ax.plot(1e3 * s['v_static'], s['friction_static'], 'k--', lw=1, label='steady state')
-    for i, w in enumerate(m['omegas']):
-        v, f = _thin(s['v'][i], s['friction'][i])
-        ax.plot(1e3 * v, f, color=f'C{i}',
-                label='$\\omega$ = %g rad/s (width %.3g N)' % (w, m['loop_width'][i]))
-    ax.set_xlabel('velocity (mm/s)')
-    ax.set_ylabel('friction force (N)')
-    ax.set_title('frictional lag: $v(t) = %g + %g\\,\\cos(\\omega t)$ mm/s'
-                 % (1e3 * m['v_mean'], 1e3 * m['v_amplitude']))
-    ax.legend(fontsize='small')
-    ax.grid(True, alpha=0.3)
-
-
-def _plot_breakaway(fig, res):
-    s, m = res['series'], res['summary']
-    ax1, ax2 = fig.subplots(1, 2)
-    for i, r in enumerate(m['rates']):
-        ax1.plot(*_thin(s['force'][i], s['friction'][i]), lw=1, label='%g N/s' % r)
-    ax1.set_xlabel('applied force (N)')
-    ax1.set_ylabel('friction force (N)')
-    ax1.set_title('force ramps $F = r\\,t$')
-    ax1.legend(fontsize='x-small', ncol=2)
-    ax1.grid(True, alpha=0.3)
-    ok = [i for i, f in enumerate(m['breakaway_force']) if f is not None]
-    rates = [m['rates'][i] for i in ok]
-    ax2.semilogx(rates, [m['breakaway_force'][i] for i in ok], 'o-', label='friction at peak')
-    ax2.semilogx(rates, [m['applied_force_at_breakaway'][i] for i in ok], 's--',
-                 label='applied force then')
-    ax2.axhline(m['fs'], color='k', lw=0.8, ls=':')
-    ax2.axhline(m['fc'], color='k', lw=0.8, ls=':')
-    ax2.set_xlabel('force rate (N/s)')
-    ax2.set_ylabel('break-away force (N)')
-    ax2.set_title('varying break-away force')
-    ax2.legend(fontsize='small')
-    ax2.grid(True, which='both', alpha=0.3)
-
-
-def _plot_stick_slip(fig, res):
-    s, m = res['series'], res['summary']
-    t, x, y, v, friction = _thin(s['t'], s['x'], s['y'], s['v'], s['friction'])
-    ax1, ax2 = fig.subplots(2, 1, sharex=True)
-    ax1.plot(t, x, label='mass $x$')
-    ax1.plot(t, y, '--', label='spring end $y = v_p t$')
-    ax1.set_ylabel('position (m)')
-    ax1.legend(fontsize='small')
-    ax1.set_title('stick-slip: period %.4g s' % m['period'] if m['period'] else 'stick-slip')
-    ax2.plot(t, friction, color='C3', label='friction force')
-    ax2.set_ylabel('friction force (N)', color='C3')
-    ax2.set_xlabel('time (s)')
-    ax2b = ax2.twinx()
-    ax2b.plot(t, v, color='C2', lw=0.8)
-    ax2b.set_ylabel('velocity (m/s)', color='C2')
-    for t_on in m['slip_onsets']:
-        ax2.axvline(t_on, color='k', lw=0.5, ls=':')
-
-
-#: name -> (experiment function, figure function, title)
+#: command-line name -> experiment function (no arguments: the Canudas 1995 set-up)
 EXPERIMENTS = {
-    'presliding': (presliding, _plot_presliding, 'Pre-sliding displacement'),
-    'lag': (frictional_lag, _plot_lag, 'Frictional lag'),
-    'breakaway': (breakaway, _plot_breakaway, 'Varying break-away force'),
-    'stick-slip': (stick_slip, _plot_stick_slip, 'Stick-slip motion'),
+    'presliding': presliding,
+    'lag': frictional_lag,
+    'breakaway': breakaway,
+    'stick-slip': stick_slip,
 }
-
-
-def _draw(name, result):
-    def draw(fig):
-        EXPERIMENTS[name][1](fig, result)
-        fig.suptitle(EXPERIMENTS[name][2] + ' (LuGre, Canudas de Wit et al. 1995 parameters)')
-    return draw
-
-
-def write_experiment(name, result, out_dir):
-    """Write ``out_dir/name.png`` and ``out_dir/name.json`` atomically.
-
-    Both files are rendered in memory and written to temporary files in
-    ``out_dir`` first; only then are they renamed into place (os.replace),
-    so an error leaves no partial result.  ``out_dir`` is created if missing.
-
-    Returns
-    -------
-    tuple of str
-        Paths of the PNG and JSON files.
-    """
-    png = render_png(_draw(name, result), (10, 5) if name != 'stick-slip' else (9, 6.5), dpi=110)
-    return tuple(write_files(out_dir, [(name + '.png', png),
-                                       (name + '.json', json_bytes(result['summary']))]))
-
-
-def _run(args):
-    func = EXPERIMENTS[args.experiment][0]
-    result = func()
-    paths = write_experiment(args.experiment, result, args.out)
-    print('wrote ' + ', '.join(paths))
-    return 0
-
-
-def register(subparsers):
-    """Add the ``classic`` subcommand to an argparse subparsers object."""
-    parser = subparsers.add_parser(
-        'classic', help='the classic LuGre experiments of Canudas de Wit et al. (1995)',
-        description='Run one of the four classic LuGre experiments of Canudas de Wit, '
-                    'Olsson, Astrom & Lischinsky (1995) with their Table I parameters on '
-                    'a unit mass, and write DIR/EXPERIMENT.png (figure) and '
-                    'DIR/EXPERIMENT.json (key numbers).')
-    parser.add_argument('experiment', choices=tuple(EXPERIMENTS),
-                        help='presliding: force below F_s; lag: frictional lag loops; '
-                             'breakaway: break-away force vs force rate; stick-slip: '
-                             'spring-pulled mass')
-    parser.add_argument('--out', required=True, metavar='DIR',
-                        help='output directory (created if missing)')
-    parser.set_defaults(func=_run)
-    return parser

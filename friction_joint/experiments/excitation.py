@@ -304,7 +304,7 @@ def _gains(inertia, bandwidth):
     return inertia * bandwidth ** 2, 2.0 * inertia * bandwidth
 
 
-def record_segment(plant, command, q_ref, qd_ref, every, t_off, out, temp_t, temp_xi):
+def record_segment(plant, command, q_ref, qd_ref, every, t_off, *, out, temp_t, temp_xi):
     """Run ``plant`` closed loop over a reference and append the measured record.
 
     ``command(sample, k) -> tau`` is the control law for step k.  Appends to
@@ -361,7 +361,7 @@ def simulate_identification(truth, duration_scale=1.0, seed=None, cfg=None, pres
     Returns
     -------
     topics : dict
-        Topic -> dict of arrays, the input of :func:`friction_joint.bag.reader.write_recording`.
+        Topic -> dict of arrays, the input of :func:`friction_joint.bag.write_recording`.
     summary : dict
         Plan and run facts: block temperatures, planned plateaus (times in the
         recording), pre-sliding segments, duration, gains, velocity range.
@@ -397,7 +397,7 @@ def simulate_identification(truth, duration_scale=1.0, seed=None, cfg=None, pres
         plant = Plant(gear, xi0=float(xi0), seed=seed0 + b, q0=0.0)
         record_segment(plant, lambda s, k: (J * qdd_ref[k] + kp * (q_ref[k] - s.q)
                                             + kd * (qd_ref[k] - s.qd) + mgl * math.sin(s.q)),
-                       q_ref, qd_ref, every, t_off, out, temp_t, temp_xi)
+                       q_ref, qd_ref, every, t_off, out=out, temp_t=temp_t, temp_xi=temp_xi)
         plateaus += [dict(p, t0=p['t0'] + t_off, t1=p['t1'] + t_off, block=b)
                      for p in plan.plateaus]
         pres += [dict(p, t0=p['t0'] + t_off, t1=p['t1'] + t_off, block=b) for p in plan.presliding]

@@ -77,7 +77,7 @@ import warnings
 
 import numpy as np
 
-from ..bag.reader import write_recording
+from ..bag import write_recording
 from ..control.controller import Controller, pd_gains
 from .excitation import record_segment
 from ..exceptions import FrictionJointError, GearConfigWarning
@@ -341,7 +341,7 @@ def plan_segment(rng, gear_ratio, dt, duration, q0=0.0, cfg=SEGMENT):
 
 # --------------------------------------------------------------------------- simulation
 
-def simulate_recording(truth_gear, path=None, duration=90.0, seed=0, base_gear=None,
+def simulate_recording(truth_gear, path=None, *, duration=90.0, seed=0, base_gear=None,
                        n_segments=None, link_torque=True, command=True, compress=False,
                        cfg=None):
     """Run ``truth_gear`` on the simulated test bed under the rich excitation; write a recording.
@@ -414,7 +414,7 @@ def simulate_recording(truth_gear, path=None, duration=90.0, seed=0, base_gear=N
         ctrl = Controller(base, kp, kd, 'none', dt)
         n = len(q_ref)
         record_segment(plant, lambda s, k: ctrl(s.q, s.qd, s.xi, q_ref[k], qd_ref[k], qdd_ref[k]),
-                       q_ref, qd_ref, every, t_off, out, temp_t, temp_xi)
+                       q_ref, qd_ref, every, t_off, out=out, temp_t=temp_t, temp_xi=temp_xi)
         segments.append({'temperature': float(xi0), 't0': t_off, 't1': t_off + n * dt,
                          'xi_end': float(plant.thermal.xi)})
         q_start = float(plant.last.q_true)

@@ -37,22 +37,21 @@ without a ``delta_v`` key means linear viscous friction: delta_v stays 1.
 import datetime
 import importlib.util
 import os
-import sys
 import time
 import warnings
 
 import numpy as np
 import yaml
 
-from ..bag.reader import read_recording
-from ..exceptions import (ExcitationError, FrictionJointError, GearConfigError, GearConfigWarning,
+from ..bag import read_recording
+from ..exceptions import (ExcitationError, FrictionJointError, GearConfigWarning,
                          RecordingError)
-from ..experiments.paper import ExperimentResult, write_results
 from ..gear import load_gear, save_gear
+from ..output import ExperimentResult, write_results
 from .static_fit import StaticIdentifier
 from .plateaus import Plateaus, find_plateaus
 
-__all__ = ['IdentificationRun', 'identify_recordings', 'run_identify', 'register',
+__all__ = ['IdentificationRun', 'identify_recordings', 'run_identify',
            'MAX_PRESLIDING_ERROR']
 
 #: step 3: a pre-sliding fit whose RMS torque error exceeds this fraction of the RMS
@@ -190,7 +189,7 @@ def _step3(gear, recordings, mode, progress):
             errors = []
             for piece in pieces:
                 try:
-                    segs = ps.presliding_segments(piece['t'], piece['qd'], gear, model,
+                    segs = ps.presliding_segments(piece['t'], piece['qd'], gear=gear, model=model,
                                                   xi=piece['xi'])
                 except ExcitationError as exc:
                     errors.append(str(exc))
@@ -262,7 +261,7 @@ def _step3(gear, recordings, mode, progress):
     return gear, result
 
 
-def identify_recordings(paths, structure, orders=None, joint_name=None, detection=None,
+def identify_recordings(paths, structure, *, orders=None, joint_name=None, detection=None,
                         presliding='auto', progress=None):
     """Identify a gear from recordings (steps 1-3); the engine of the command.
 
@@ -368,7 +367,7 @@ def _header(run, paths, structure_path):
     return '\n'.join(lines)
 
 
-def run_identify(paths, model_path, out, orders=None, report_dir=None, presliding='auto',
+def run_identify(paths, model_path, out, *, orders=None, report_dir=None, presliding='auto',
                  joint_name=None, progress=None):
     """Run the identification and write the report directory and GEAR.yaml.
 
@@ -404,60 +403,3 @@ def run_identify(paths, model_path, out, orders=None, report_dir=None, preslidin
         raise FrictionJointError(f'cannot write {out}: {exc.strerror}') from None
     load_gear(out)                      # the file must load in every node
     return written + [out]
-
-
-def _parse_orders(text):
-    if text is None or text == 'structure':
-        return None
-    if text == 'auto':
-        return 'auto'
-    out = {}
-    for item in text.split(','):
-        key, _, val = item.partition('=')
-        try:
-            out[key.strip()] = int(val)
-        except ValueError:
-            raise GearConfigError(f'--orders: expected auto, structure or NAME=ORDER,... '
-                                  f'(e.g. fc=2,fv=2,fc_load=1), got {text!r}') from None
-    return out
-
-
-def _run(args):
-    def progress(msg):
-        print(msg, file=sys.stderr, flush=True)
-    paths = run_identify(args.recordings, args.model, args.out, orders=_parse_orders(args.orders),
-                         report_dir=args.report, presliding=args.presliding,
-                         joint_name=args.joint, progress=None if args.quiet else progress)
-    print('wrote ' + ', '.join(paths))
-    return 0
-
-
-def register(subparsers):
-    """Add the ``identify`` subcommand to an argparse subparsers object."""
-    parser = subparsers.add_parser(
-        'identify', help='identify the friction model from recordings (seed Section V-A)',
-        description='Identify the temperature- and load-dependent static friction model '
-                    '(steps 1-2: least squares over constant-velocity plateaus) and the '
-                    'LuGre/GMS pre-sliding parameters (step 3) from recordings, in the '
-                    'structure of STRUCTURE.yaml; write GEAR.yaml and a report with figures.')
-    parser.add_argument('recordings', nargs='+', metavar='RECORDING',
-                        help='rosbag2 directories or .mcap files')
-    parser.add_argument('--model', required=True, metavar='STRUCTURE.yaml',
-                        help='gear file giving the model structure (list length = polynomial '
-                             'order + 1), inertia and lever; its coefficient values are not used')
-    parser.add_argument('--out', required=True, metavar='GEAR.yaml',
-                        help='identified gear file to write')
-    parser.add_argument('--orders', default=None, metavar='auto|NAME=N,...',
-                        help='polynomial orders: the structure\'s (default), "auto" (chosen by '
-                             'held-out error) or e.g. "fc=2,fv=1,fc_load=1" (orders, not list '
-                             'lengths: fc=2 gives fc: [c0, c1, c2])')
-    parser.add_argument('--report', default=None, metavar='DIR',
-                        help='report directory (default: GEAR_report next to GEAR.yaml)')
-    parser.add_argument('--presliding', choices=('auto', 'skip', 'require'), default='auto',
-                        help='step 3: run when possible and note why not (auto), never (skip), '
-                             'or fail without it (require)')
-    parser.add_argument('--joint', default=None, metavar='NAME',
-                        help='joint to identify (default: the structure\'s joint_name)')
-    parser.add_argument('--quiet', action='store_true', help='no progress messages')
-    parser.set_defaults(func=_run)
-    return parser

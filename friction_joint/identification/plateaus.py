@@ -271,7 +271,7 @@ def _segments(t, qd, tau_r, opt):
     return segs
 
 
-def plateaus_from_arrays(t, q, qd, effort, xi, tau_ext, inertia, options=None, source='arrays',
+def plateaus_from_arrays(t, q, qd, effort, xi, tau_ext, *, inertia, options=None, source='arrays',
                          torque_source='given'):
     """Find plateaus in sampled arrays (the engine of :func:`find_plateaus`).
 
@@ -348,7 +348,7 @@ def find_plateaus(recording, structure, options=None):
     Parameters
     ----------
     recording : Recording
-        From :func:`friction_joint.bag.reader.read_recording`.
+        From :func:`friction_joint.bag.read_recording`.
     structure : GearParams
         The structure gear file: its inertia (J qdd) and, when the recording has
         no ``/link_torque``, its lever (tau_ext = m g l sin q).
@@ -378,5 +378,5 @@ def find_plateaus(recording, structure, options=None):
     else:
         tau_ext = structure.mgl * np.sin(js.q)
         tsrc = 'lever_model'
-    return plateaus_from_arrays(js.t, js.q, js.qd, js.effort, xi, tau_ext, structure.inertia,
-                                options, source=recording.path, torque_source=tsrc)
+    return plateaus_from_arrays(js.t, js.q, js.qd, js.effort, xi, tau_ext,
+                                inertia=structure.inertia, options=options, source=recording.path, torque_source=tsrc)

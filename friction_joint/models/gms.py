@@ -42,17 +42,21 @@ from ..exceptions import GearConfigError
 from ._sampled import SampledFrictionModel
 from .static import curve_params, g_abs, s_visc, sign
 
-__all__ = ['GMS', 'gms_update']
+__all__ = ['GMS', 'gms_update', 'pack_gms']
 
 G_MIN = 1e-12
 
 
 @njit(inline='always')
-def gms_update(z, stick, slipdir, k, alpha, c, v, h, gabs):
+def gms_update(state, elements, v, h, gabs):
     """Advance the N element states in place over a step of constant velocity v.
 
-    ``z`` deflections (rad), ``stick`` 1/0, ``slipdir`` +1/-1; returns sum k_i z_i.
+    ``state`` is ``(z, stick, slipdir)``: deflections (rad), 1/0, +1/-1;
+    ``elements`` is ``(k, alpha, c)``: stiffnesses, torque shares, attraction
+    parameter; returns sum k_i z_i.
     """
+    z, stick, slipdir = state
+    k, alpha, c = elements
     sv = sign(v)
     ga = max(gabs, G_MIN)
     lam = c / ga
@@ -90,10 +94,10 @@ def _gms_run(temp, load, delta_s, kappa, t_lo, t_hi, k, alpha, c,
     nb, nt = qd.shape
     for b in range(nb):
         for t in range(nt):
-            fc, fs, fv, vs, dv = curve_params(temp, load, t_lo, t_hi, b, xi[b, t], tl[b, t])
+            fc, fs, fv, vs, dv = curve_params(temp, load, (t_lo, t_hi), b, xi[b, t], tl[b, t])
             v = qd[b, t]
             ga = g_abs(fc, fs, vs, delta_s[b], kappa[b], v)
-            tot = gms_update(z[b], stick[b], slipdir[b], k[b], alpha[b], c[b], v, h, ga)
+            tot = gms_update((z[b], stick[b], slipdir[b]), (k[b], alpha[b], c[b]), v, h, ga)
             tau[b, t] = tot + s_visc(fv, dv, kappa[b], v)
 
 

@@ -47,7 +47,7 @@ from .gms import gms_update, pack_gms
 from .lugre import G_MIN, lugre_torque
 from .static import broadcast_batch, curve_params, g_abs, pack_static, s_visc, sign
 
-__all__ = ['Joint', 'JointTrajectory', 'affine2_step']
+__all__ = ['Joint', 'JointTrajectory']
 
 
 @njit
@@ -80,7 +80,7 @@ def _phi_cplx(x, y):
 
 
 @njit
-def affine2_step(a11, a12, a21, a22, b1, b2, x1, x2, h):
+def _affine2_step(a11, a12, a21, a22, b1, b2, x1, x2, h):
     """Exact solution of x' = A x + b (2x2, constant) over h.
 
     Returns ``(x1(h), x2(h), int_0^h x1, int_0^h x2)``.  Uses
@@ -214,7 +214,7 @@ def _implicit_visc(m, r, c, dv, vguess):
 
 
 @njit
-def lugre_joint_step(q, v, z, f, jj, sg0, sg1, fc, fs, fv, vs, dv, ds, kap, h):
+def _lugre_joint_step(q, v, z, f, jj, sg0, sg1, fc, fs, fv, vs, dv, ds, kap, h):
     """One coupled step of joint + LuGre; returns (q, v, z, tau_r) at the step's end."""
     s0 = s_visc(fv, dv, kap, v)
     # predictor: implicit Euler, LuGre rate at v; s(vn) implicit where its slope
@@ -232,7 +232,7 @@ def lugre_joint_step(q, v, z, f, jj, sg0, sg1, fc, fs, fv, vs, dv, ds, kap, h):
     vm = 0.5 * (v + vn)
     a = sg0 * abs(vm) / max(g_abs(fc, fs, vs, ds, kap, vm), G_MIN)
     c, sc = _chord(fv, dv, kap, v, vn, s0)
-    zn, vn, _, dq = affine2_step(-a, 1.0, -(sg0 - sg1 * a) / jj, -(sg1 + c) / jj,
+    zn, vn, _, dq = _affine2_step(-a, 1.0, -(sg0 - sg1 * a) / jj, -(sg1 + c) / jj,
                                  0.0, (f - sc) / jj, z, v, h)
     tau_r = lugre_torque(zn, vn, sg0, sg1, g_abs(fc, fs, vs, ds, kap, vn),
                          s_visc(fv, dv, kap, vn))
@@ -240,7 +240,7 @@ def lugre_joint_step(q, v, z, f, jj, sg0, sg1, fc, fs, fv, vs, dv, ds, kap, h):
 
 
 @njit
-def gms_joint_step(q, v, z, stick, slipdir, k, alpha, cc, f, jj,
+def _gms_joint_step(q, v, z, stick, slipdir, k, alpha, cc, f, jj,
                    fc, fs, fv, vs, dv, ds, kap, h):
     """One coupled step of joint + GMS (element arrays updated in place)."""
     sv = sign(v)
@@ -253,16 +253,16 @@ def gms_joint_step(q, v, z, stick, slipdir, k, alpha, cc, f, jj,
     s0 = s_visc(fv, dv, kap, v)
     vn = _implicit_euler_v(0.0, 1.0, -kst / jj, 0.0, 0.0, (f - ftot - s0) / jj, 0.0, v, h)
     c, sc = _chord(fv, dv, kap, v, vn, s0)
-    dn, vn, _, _ = affine2_step(0.0, 1.0, -kst / jj, -c / jj, 0.0, (f - ftot - sc) / jj,
+    dn, vn, _, _ = _affine2_step(0.0, 1.0, -kst / jj, -c / jj, 0.0, (f - ftot - sc) / jj,
                                 0.0, v, h)
     vbar = dn / h
     ga = g_abs(fc, fs, vs, ds, kap, vbar)
-    tot = gms_update(z, stick, slipdir, k, alpha, cc, vbar, h, ga)
+    tot = gms_update((z, stick, slipdir), (k, alpha, cc), vbar, h, ga)
     return q + dn, vn, tot + s_visc(fv, dv, kap, vn)
 
 
 @njit
-def static_joint_step(q, v, f, jj, fc, fs, fv, vs, dv, ds, kap, h):
+def _static_joint_step(q, v, f, jj, fc, fs, fv, vs, dv, ds, kap, h):
     """One step of joint + static friction with a Karnopp stick zone.
 
     When the velocity would reach zero inside the step the joint sticks if the
@@ -297,7 +297,7 @@ def _inputs(temp, load, t_lo, t_hi, kext, mgl, rip_a, rip_p, rip_c, rip_o, b, q,
     rip = rip_o[b]
     for n in range(rip_a.shape[1]):
         rip += rip_a[b, n] * math.sin((n + 1) * rip_c[b] * q + rip_p[b, n])
-    fc, fs, fv, vs, dv = curve_params(temp, load, t_lo, t_hi, b, xi, abs(te))
+    fc, fs, fv, vs, dv = curve_params(temp, load, (t_lo, t_hi), b, xi, abs(te))
     return te, rip, fc, fs, fv, vs, dv
 
 
@@ -310,7 +310,7 @@ def _run_lugre(temp, load, delta_s, kappa, t_lo, t_hi, rip_a, rip_p, rip_c, rip_
             te, rip, fc, fs, fv, vs, dv = _inputs(temp, load, t_lo, t_hi, kext, mgl, rip_a, rip_p,
                                                   rip_c, rip_o, b, q[b] + 0.5 * h * v[b],
                                                   tau_ext_in[b, k], xi[b, k])
-            q[b], v[b], z[b], tr = lugre_joint_step(
+            q[b], v[b], z[b], tr = _lugre_joint_step(
                 q[b], v[b], z[b], tau[b, k] - te - rip, jj[b], sg0[b], sg1[b],
                 fc, fs, fv, vs, dv, delta_s[b], kappa[b], h)
             out_q[b, k] = q[b]
@@ -329,7 +329,7 @@ def _run_gms(temp, load, delta_s, kappa, t_lo, t_hi, rip_a, rip_p, rip_c, rip_o,
             te, rip, fc, fs, fv, vs, dv = _inputs(temp, load, t_lo, t_hi, kext, mgl, rip_a, rip_p,
                                                   rip_c, rip_o, b, q[b] + 0.5 * h * v[b],
                                                   tau_ext_in[b, k], xi[b, k])
-            q[b], v[b], tr = gms_joint_step(
+            q[b], v[b], tr = _gms_joint_step(
                 q[b], v[b], z[b], stick[b], slipdir[b], k_el[b], alpha[b], cc[b],
                 tau[b, k] - te - rip, jj[b], fc, fs, fv, vs, dv, delta_s[b], kappa[b], h)
             out_q[b, k] = q[b]
@@ -347,7 +347,7 @@ def _run_static(temp, load, delta_s, kappa, t_lo, t_hi, rip_a, rip_p, rip_c, rip
             te, rip, fc, fs, fv, vs, dv = _inputs(temp, load, t_lo, t_hi, kext, mgl, rip_a, rip_p,
                                                   rip_c, rip_o, b, q[b] + 0.5 * h * v[b],
                                                   tau_ext_in[b, k], xi[b, k])
-            q[b], v[b], tr = static_joint_step(q[b], v[b], tau[b, k] - te - rip, jj[b],
+            q[b], v[b], tr = _static_joint_step(q[b], v[b], tau[b, k] - te - rip, jj[b],
                                                fc, fs, fv, vs, dv, delta_s[b], kappa[b], h)
             out_q[b, k] = q[b]
             out_v[b, k] = v[b]

@@ -30,7 +30,7 @@ from ..exceptions import GearConfigError
 from ._sampled import SampledFrictionModel
 from .static import StaticFriction, curve_params, g_abs, s_visc
 
-__all__ = ['LuGre', 'lugre_update', 'lugre_torque']
+__all__ = ['LuGre', 'lugre_update', 'lugre_torque', 'G_MIN']
 
 G_MIN = 1e-12
 
@@ -60,7 +60,7 @@ def _lugre_run(temp, load, delta_s, kappa, t_lo, t_hi, sigma0, sigma1,
     for b in range(nb):
         zb = z[b]
         for k in range(nt):
-            fc, fs, fv, vs, dv = curve_params(temp, load, t_lo, t_hi, b, xi[b, k], tl[b, k])
+            fc, fs, fv, vs, dv = curve_params(temp, load, (t_lo, t_hi), b, xi[b, k], tl[b, k])
             v = qd[b, k]
             ga = g_abs(fc, fs, vs, delta_s[b], kappa[b], v)
             zb = lugre_update(zb, v, h, sigma0[b], ga)

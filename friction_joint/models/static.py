@@ -30,7 +30,8 @@ import numpy as np
 
 from .._jit import njit
 
-__all__ = ['PARAMETERS', 'PackedStatic', 'pack_static', 'StaticFriction']
+__all__ = ['PARAMETERS', 'PackedStatic', 'pack_static', 'broadcast_batch', 'curve_params',
+           'g_abs', 's_visc', 'sign', 'StaticFriction']
 
 #: Order of the curve parameters in the packed coefficient arrays.
 PARAMETERS = ('fc', 'fs', 'fv', 'vs', 'delta_v')
@@ -54,7 +55,7 @@ class PackedStatic:
 
     __slots__ = ('temp', 'load', 'delta_s', 'velocity_scale', 't_lo', 't_hi', 'offset')
 
-    def __init__(self, temp, load, delta_s, velocity_scale, t_lo, t_hi, offset=None):
+    def __init__(self, temp, load, delta_s, velocity_scale, t_lo, t_hi, *, offset=None):
         self.temp = temp
         self.load = load
         self.delta_s = delta_s
@@ -108,7 +109,7 @@ def pack_static(frictions):
         np.array([f.velocity_scale for f in frictions], dtype=float),
         np.array([f.temperature_range[0] for f in frictions], dtype=float),
         np.array([f.temperature_range[1] for f in frictions], dtype=float),
-        np.array([f.offset for f in frictions], dtype=float))
+        offset=np.array([f.offset for f in frictions], dtype=float))
 
 
 # ---------------------------------------------------------------- kernels ---
@@ -128,9 +129,12 @@ def _poly(temp, load, b, p, x, tl):
 
 
 @njit(inline='always')
-def curve_params(temp, load, t_lo, t_hi, b, xi, tl):
-    """(F_c, F_s, F_v, v_s, delta_v) of set b at temperature xi, load tl."""
-    x = min(max(xi, t_lo[b]), t_hi[b])
+def curve_params(temp, load, t_range, b, xi, tl):
+    """(F_c, F_s, F_v, v_s, delta_v) of set b at temperature xi, load tl.
+
+    ``t_range`` is ``(t_lo, t_hi)``, the arrays of the sets' temperature ranges.
+    """
+    x = min(max(xi, t_range[0][b]), t_range[1][b])
     fc = max(_poly(temp, load, b, FC, x, tl), 0.0)
     fs = max(_poly(temp, load, b, FS, x, tl), 0.0)
     fv = max(_poly(temp, load, b, FV, x, tl), 0.0)
@@ -171,7 +175,7 @@ def _static_eval(temp, load, delta_s, kappa, t_lo, t_hi, qd, xi, tl, out_g, out_
     nb, nt = qd.shape
     for b in range(nb):
         for k in range(nt):
-            fc, fs, fv, vs, dv = curve_params(temp, load, t_lo, t_hi, b, xi[b, k], tl[b, k])
+            fc, fs, fv, vs, dv = curve_params(temp, load, (t_lo, t_hi), b, xi[b, k], tl[b, k])
             v = qd[b, k]
             out_g[b, k] = sign(v) * g_abs(fc, fs, vs, delta_s[b], kappa[b], v)
             out_s[b, k] = s_visc(fv, dv, kappa[b], v)
@@ -182,7 +186,7 @@ def _param_eval(temp, load, t_lo, t_hi, xi, tl, out):
     nb, nt = xi.shape
     for b in range(nb):
         for k in range(nt):
-            fc, fs, fv, vs, dv = curve_params(temp, load, t_lo, t_hi, b, xi[b, k], tl[b, k])
+            fc, fs, fv, vs, dv = curve_params(temp, load, (t_lo, t_hi), b, xi[b, k], tl[b, k])
             out[0, b, k] = fc
             out[1, b, k] = fs
             out[2, b, k] = fv

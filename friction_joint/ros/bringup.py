@@ -21,7 +21,7 @@ import time
 from ..exceptions import FrictionJointError
 from ..gear import load_gear
 
-__all__ = ['bringup', 'register', 'NodeProcess']
+__all__ = ['bringup', 'NodeProcess']
 
 
 class NodeProcess:
@@ -61,7 +61,7 @@ def _node(module, gear_file, params):
     return argv
 
 
-def bringup(model, truth, duration, record=None, mode='lockstep', friction='lugre',
+def bringup(model, truth, duration, *, record=None, mode='lockstep', friction='lugre',
             amplitude=0.4, omega=1.5, xi0=None, log_dir=None, env=None, quiet=False):
     """Run the closed loop as separate processes; returns the bag path (or None).
 
@@ -127,24 +127,3 @@ def bringup(model, truth, duration, record=None, mode='lockstep', friction='lugr
     if record:
         say(f'bringup: recording in {record}')
     return record
-
-
-def _cmd(args):
-    bringup(args.model, args.truth, args.duration, args.record, args.mode, args.friction,
-            args.amplitude, args.omega, args.xi0, args.log_dir)
-    return 0
-
-
-def register(sub):
-    p = sub.add_parser('bringup', help='start sim, controller, estimator (and recorder) as processes')
-    p.add_argument('--model', required=True, help='gear file of controller and estimator')
-    p.add_argument('--truth', required=True, help='gear file of the simulated joint')
-    p.add_argument('--duration', type=float, required=True, help='seconds to run')
-    p.add_argument('--record', help='record the contract topics into this new bag directory')
-    p.add_argument('--mode', default='lockstep', choices=('lockstep', 'realtime'))
-    p.add_argument('--friction', default='lugre', choices=('none', 'static', 'lugre', 'gms'))
-    p.add_argument('--amplitude', type=float, default=0.4, help='reference amplitude, rad')
-    p.add_argument('--omega', type=float, default=1.5, help='reference frequency, rad/s')
-    p.add_argument('--xi0', type=float, help='initial gear temperature of the simulator, degC')
-    p.add_argument('--log-dir', help='write each process log here')
-    p.set_defaults(func=_cmd)

@@ -20,7 +20,6 @@ behind for a moment must not let its queue overwrite messages it has
 acknowledged), except ``/clock`` (best effort, keep-last 1000).  A reliable subscription does not match a
 best-effort publisher; record such a topic from a reliable republisher.
 """
-import argparse
 import importlib
 import os
 import shutil
@@ -30,11 +29,11 @@ import tempfile
 import threading
 import time
 
-from ..bag.reader import CONTRACT_TYPES
+from ..bag import CONTRACT_TYPES
 from ..exceptions import RecordingError
 
 __all__ = ['record', 'Recorder', 'parse_topics', 'message_class', 'install_signals',
-           'format_counts', 'register', 'console_main', 'main', 'QOS_DEPTH']
+           'format_counts', 'QOS_DEPTH']
 
 #: keep-last depth of the /clock subscription
 QOS_DEPTH = 1000
@@ -171,7 +170,7 @@ def install_signals(stop, force=None):
     return lambda: [signal.signal(s, h) for s, h in old.items()]
 
 
-def record(out, topics=None, duration=None, args=None, log=None, stop=None):
+def record(out, *, topics=None, duration=None, args=None, log=None, stop=None):
     """Record ``topics`` into ``out`` until a signal, ``duration`` or ``stop`` is set.
 
     Parameters
@@ -276,65 +275,3 @@ def format_counts(counts):
     """``'N messages (/a: n1, /b: n2)'`` of a topic -> count dict."""
     detail = ', '.join(f'{t}: {n}' for t, n in counts.items())
     return f'{sum(counts.values())} messages ({detail})'
-
-
-def build_parser(parser):
-    """Add the ``record`` arguments to ``parser``."""
-    parser.add_argument('out', metavar='OUT', help='rosbag2 directory to create (must not exist)')
-    parser.add_argument('--topics', nargs='+', metavar='TOPIC',
-                        help='topics to record, TOPIC or TOPIC:pkg/msg/Type for non-contract '
-                             f'topics (default: {" ".join(CONTRACT_TYPES)})')
-    parser.add_argument('--duration', type=float, metavar='S',
-                        help='stop after S seconds (default: until Ctrl-C / SIGTERM)')
-    return parser
-
-
-def _run(args, ros_args=None):
-    counts = record(args.out, args.topics, args.duration, args=ros_args)
-    print(f'recorded {format_counts(counts)} to {args.out}', flush=True)
-    return 0
-
-
-def register(subparsers):
-    """Add the ``record`` subcommand to an argparse subparsers object."""
-    parser = subparsers.add_parser(
-        'record', help='record topics into a rosbag2 recording (MCAP)',
-        description='Record topics into a rosbag2 directory (version 9, MCAP, CDR) until '
-                    'Ctrl-C, SIGTERM or --duration; every message received is written.')
-    build_parser(parser)
-    parser.set_defaults(func=_run)
-    return parser
-
-
-def console_main(prog, description, build, run, args=None):
-    """Body of the ``record`` / ``replay`` console scripts (``ros2 run friction_joint PROG``).
-
-    ``args`` is a full command line including the program name, as for ``rclpy.init``
-    (default ``sys.argv``); ROS arguments (``--ros-args ...``) go to rclpy.  ``build``
-    adds the options to a parser, ``run(opts, ros_args)`` does the work and prints the
-    result.  A :class:`RecordingError` ends with ``PROG: error: ...`` and status 2,
-    Ctrl-C with 130.
-    """
-    from rclpy.executors import ExternalShutdownException
-    from rclpy.utilities import remove_ros_args
-
-    argv = list(sys.argv if args is None else args)
-    parser = build(argparse.ArgumentParser(prog=prog, description=description))
-    opts = parser.parse_args(remove_ros_args(args=argv)[1:])
-    try:
-        return run(opts, argv)
-    except RecordingError as exc:
-        print(f'{prog}: error: {exc}', file=sys.stderr)
-        return 2
-    except (KeyboardInterrupt, ExternalShutdownException):
-        return 130
-
-
-def main(args=None):
-    """Console script ``record`` (``ros2 run friction_joint record OUT ...``)."""
-    return console_main('record', 'Record topics into a rosbag2 recording (MCAP).',
-                        build_parser, _run, args)
-
-
-if __name__ == '__main__':
-    sys.exit(main())

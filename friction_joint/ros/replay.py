@@ -28,11 +28,11 @@ import sys
 import threading
 import time
 
-from ..bag.reader import iter_messages, recording_topics
+from ..bag import iter_messages, recording_topics
 from ..exceptions import RecordingError
-from .record import console_main, format_counts, install_signals, message_class
+from .record import install_signals, message_class
 
-__all__ = ['replay', 'register', 'main']
+__all__ = ['replay']
 
 
 _STAMP = struct.Struct('<iI')
@@ -48,7 +48,7 @@ def _clock_bytes(ns):
     return b'\x00\x01\x00\x00' + _STAMP.pack(ns // 1_000_000_000, ns % 1_000_000_000)
 
 
-def replay(bag, rate=1.0, topics=None, clock=True, loop=False, wait=2.0, settle=0.5, args=None,
+def replay(bag, *, rate=1.0, topics=None, clock=True, loop=False, wait=2.0, settle=0.5, args=None,
            log=None, stop=None):
     """Publish the messages of ``bag`` with their original timing.
 
@@ -187,53 +187,3 @@ def replay(bag, rate=1.0, topics=None, clock=True, loop=False, wait=2.0, settle=
         if context.ok():
             context.try_shutdown()
         restore()
-
-
-def build_parser(parser):
-    """Add the ``replay`` arguments to ``parser``."""
-    parser.add_argument('bag', metavar='BAG', help='rosbag2 directory or .mcap file')
-    parser.add_argument('--rate', type=float, default=1.0, metavar='R',
-                        help='time scale (2 = twice as fast); 0 = as fast as possible, in order '
-                             '(default 1)')
-    parser.add_argument('--topics', nargs='+', metavar='TOPIC',
-                        help='topics to replay (default: all in the bag)')
-    parser.add_argument('--no-clock', dest='clock', action='store_false',
-                        help='do not publish /clock from the header stamps (the bag\'s own '
-                             '/clock, if any, is then replayed)')
-    parser.add_argument('--loop', action='store_true', help='start over at the end until stopped')
-    parser.add_argument('--wait', type=float, default=2.0, metavar='S',
-                        help='wait up to S seconds for a subscriber on every topic before '
-                             'playing (default 2)')
-    parser.add_argument('--settle', type=float, default=0.5, metavar='S',
-                        help='then wait S seconds more so that every subscriber has matched '
-                             'from its side too (default 0.5)')
-    return parser
-
-
-def _run(args, ros_args=None):
-    counts = replay(args.bag, args.rate, args.topics, args.clock, args.loop, args.wait,
-                    args.settle, args=ros_args)
-    print(f'replayed {format_counts(counts)} from {args.bag}', flush=True)
-    return 0
-
-
-def register(subparsers):
-    """Add the ``replay`` subcommand to an argparse subparsers object."""
-    parser = subparsers.add_parser(
-        'replay', help='publish a recording again, with /clock',
-        description='Publish the messages of a recording (rosbag2 directory or .mcap) with '
-                    'their original timing scaled by --rate, and /clock from their header '
-                    'stamps so nodes with use_sim_time run on recorded data.')
-    build_parser(parser)
-    parser.set_defaults(func=_run)
-    return parser
-
-
-def main(args=None):
-    """Console script ``replay`` (``ros2 run friction_joint replay BAG ...``)."""
-    return console_main('replay', 'Publish a recording again, with /clock.', build_parser,
-                        _run, args)
-
-
-if __name__ == '__main__':
-    sys.exit(main())

@@ -74,7 +74,8 @@ class Plant:
         self.link_noise = sens['link_torque_noise']
         self.temperature = TemperatureSensor(
             sens['temperature_time_constant'], sens['temperature_resolution'],
-            sim['temperature_rate'], sens['temperature_noise'], self.rate, self.rng, self.thermal.xi)
+            sim['temperature_rate'], sens['temperature_noise'], self.rate, rng=self.rng,
+            xi0=self.thermal.xi)
         self.t = 0.0
         self.k = 0
         self.last = self._sample(q0, 0.0, 0.0, 0.0, 0.0, 0.0, True)

@@ -99,7 +99,7 @@ class CurrentLoop:
 class TemperatureSensor:
     """Housing temperature sensor: lag, sample-and-hold at its rate, quantisation."""
 
-    def __init__(self, time_constant, resolution, rate_hz, noise, sim_rate_hz, rng, xi0):
+    def __init__(self, time_constant, resolution, rate_hz, noise, sim_rate_hz, *, rng, xi0):
         self.a = math.exp(-1.0 / (time_constant * sim_rate_hz))
         self.resolution = resolution
         self.every = max(1, int(round(sim_rate_hz / rate_hz)))

@@ -6,8 +6,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from friction_joint.bag import reader as bagmod
-from friction_joint.bag.reader import (JointStates, Recording, iter_messages, read_recording,
+from friction_joint.bag import _cdr as bagmod
+from friction_joint.bag import (JointStates, Recording, iter_messages, read_recording,
                                 recording_topics, write_recording, zero_order_hold)
 from friction_joint.exceptions import FrictionJointError, RecordingError
 
@@ -193,8 +193,8 @@ def test_varying_layouts_skipped_messages_and_order(tmp_path):
 
 
 def test_many_layouts_decode_one_by_one(tmp_path, monkeypatch):
-    monkeypatch.setattr(bagmod, '_MAX_LAYOUTS', 3)
-    monkeypatch.setattr(bagmod, '_BLOCK', 7)
+    monkeypatch.setattr(bagmod, 'MAX_LAYOUTS', 3)
+    monkeypatch.setattr(bagmod, 'BLOCK', 7)
     js = 'sensor_msgs/msg/JointState'
     msgs = [('/joint_states', js, i, _js(['joint'], [float(i)], i, 'f' * (i % 5)))
             for i in range(1, 40)]

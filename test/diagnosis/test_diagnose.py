@@ -22,7 +22,7 @@ import numpy as np
 import pytest
 
 import friction_joint
-from friction_joint.bag.reader import write_recording
+from friction_joint.bag import write_recording
 from friction_joint.exceptions import GearConfigWarning
 from friction_joint.experiments.hidden import EFFECTS, apply_effects, draw_effect, simulate_recording
 

@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
 
-from friction_joint.experiments import classic
+from friction_joint.experiments import classic, classic_report
 from friction_joint.cli import main
 from friction_joint.exceptions import GearConfigWarning
 from friction_joint.gear import passivity_bound
@@ -270,10 +270,9 @@ def test_cli_writes_png_and_json(tmp_path, name):
 def test_cli_leaves_nothing_on_error(tmp_path, monkeypatch):
     def broken(draw, size, dpi=100):
         raise RuntimeError('figure failed')
-    monkeypatch.setattr(classic, 'render_png', broken)
+    monkeypatch.setattr(classic_report, 'render_png', broken)
     monkeypatch.setitem(classic.EXPERIMENTS, 'lag',
-                        (lambda: classic.frictional_lag(samples_per_period=2000),)
-                        + classic.EXPERIMENTS['lag'][1:])
+                        lambda: classic.frictional_lag(samples_per_period=2000))
     out = tmp_path / 'out'
     out.mkdir()
     with pytest.raises(RuntimeError):
@@ -283,8 +282,7 @@ def test_cli_leaves_nothing_on_error(tmp_path, monkeypatch):
 
 def test_cli_reports_unwritable_out(tmp_path, monkeypatch, capsys):
     monkeypatch.setitem(classic.EXPERIMENTS, 'lag',
-                        (lambda: classic.frictional_lag(samples_per_period=2000),)
-                        + classic.EXPERIMENTS['lag'][1:])
+                        lambda: classic.frictional_lag(samples_per_period=2000))
     blocker = tmp_path / 'file'
     blocker.write_text('not a directory')
     assert main(['classic', 'lag', '--out', str(blocker)]) == 2

@@ -12,7 +12,7 @@ import os
 import numpy as np
 import pytest
 
-from friction_joint.bag.reader import read_recording, write_recording
+from friction_joint.bag import read_recording, write_recording
 from friction_joint.cli import main
 from friction_joint.exceptions import ExcitationError
 from friction_joint.experiments.excitation import simulate_identification

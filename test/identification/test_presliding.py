@@ -20,9 +20,10 @@ from friction_joint.control.controller import Controller, pd_gains
 from friction_joint.exceptions import ExcitationError, GearConfigWarning
 from friction_joint.gear import load_gear
 from friction_joint.testbed.plant import Plant
-from friction_joint.identification.presliding import (EXPERIMENT_ADVICE, PreslidingDataError, fit_presliding,
-                                       pattern_search, presliding_rmse, presliding_segments,
-                                       zero_phase_derivatives)
+from friction_joint._signal import zero_phase_derivatives
+from friction_joint.exceptions import PreslidingDataError
+from friction_joint.identification import (EXPERIMENT_ADVICE, fit_presliding, pattern_search,
+                                           presliding_rmse, presliding_segments)
 
 CONFIG = pathlib.Path(__file__).resolve().parents[2] / 'config'
 MODEL = load_gear(CONFIG / 'csd25.yaml')
@@ -107,8 +108,8 @@ def _fit(rec, start, model, velocity='qd_zp'):
 def _held_out_rmse(rec, gears, model):
     """RMSE of each gear on the held-out run's segments (found with the first gear)."""
     segs = presliding_segments(rec['t'], rec['qd_zp'], gear=gears[0], model=model, xi=rec['xi'])
-    return [presliding_rmse(g, model, rec['t'], rec['qd_zp'], rec['tau_r'], rec['xi'],
-                            rec['tau_link'], segments=segs, q=rec['q']) for g in gears]
+    return [presliding_rmse(g, rec['t'], rec['qd_zp'], rec['tau_r'], rec['xi'],
+                            rec['tau_link'], model=model, segments=segs, q=rec['q']) for g in gears]
 
 
 def _summary(model, true, fit, rmse):
@@ -256,18 +257,18 @@ def test_segment_lists_slices_and_rest_start_agree(lugre_case):
     _, truth, start, rec, _ = lugre_case
     segs = presliding_segments(rec['t'], rec['qd_zp'], gear=start, model='lugre', xi=rec['xi'])
     args = [rec[k] for k in ('t', 'qd_zp', 'tau_r', 'xi', 'tau_link')]
-    by_segments = presliding_rmse(truth, 'lugre', *args, segments=segs, q=rec['q'])
-    by_lists = presliding_rmse(truth, 'lugre', *([a[s.slice] for s in segs] for a in args),
+    by_segments = presliding_rmse(truth, *args, model='lugre', segments=segs, q=rec['q'])
+    by_lists = presliding_rmse(truth, *([a[s.slice] for s in segs] for a in args), model='lugre',
                                q=[rec['q'][s.slice] for s in segs])
-    by_slices = presliding_rmse(truth, 'lugre', *args, segments=[s.slice for s in segs],
+    by_slices = presliding_rmse(truth, *args, model='lugre', segments=[s.slice for s in segs],
                                 q=rec['q'])
     assert by_lists == pytest.approx(by_segments, rel=1e-12)
     assert by_slices == pytest.approx(by_segments, rel=1e-12)
     # the test bed starts relaxed at rest: the whole run from sample 0 fits as well
-    from_rest = presliding_rmse(truth, 'lugre', *args, q=rec['q'], init='rest')
+    from_rest = presliding_rmse(truth, *args, model='lugre', q=rec['q'], init='rest')
     assert from_rest < 1.2 * by_segments
     # without the ripple removed the same truth fits worse
-    assert presliding_rmse(truth, 'lugre', *args, segments=segs) > 1.1 * by_segments
+    assert presliding_rmse(truth, *args, model='lugre', segments=segs) > 1.1 * by_segments
 
 
 def test_fit_of_one_free_parameter(gms_case):

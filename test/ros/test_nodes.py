@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from friction_joint import load_gear
-from friction_joint.bag.reader import read_recording
+from friction_joint.bag import read_recording
 from friction_joint.control.controller import Controller, SineTrajectory, pd_gains
 from friction_joint.control.observer import DisturbanceObserver
 from friction_joint.testbed.plant import Plant

@@ -5,7 +5,7 @@ import time
 import numpy as np
 import pytest
 
-from friction_joint.bag.reader import read_recording, write_recording
+from friction_joint.bag import read_recording, write_recording
 from roshelpers import PYTHON, reliable_qos
 
 pytest.importorskip('rclpy')

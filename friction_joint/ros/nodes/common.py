@@ -10,7 +10,7 @@ from ...gear import SCHEMA, Section, gear_from_flat
 
 __all__ = ['gear_keys', 'declare_gear', 'declare_node_params', 'stamp_to_ns', 'ns_to_stamp',
            'joint_index', 'finite', 'stream_qos', 'take_queued', 'StampPairing', 'Rejects',
-           'PairedInput', 'run_node']
+           'PairedInput', 'run_node', 'parameter_guard']
 
 
 def gear_keys(schema=SCHEMA, prefix=''):

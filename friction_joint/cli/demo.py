@@ -1,0 +1,27 @@
+"""``friction_joint demo --out DIR``: the main job (see :mod:`friction_joint.demo`)."""
+__all__ = ['NAME', 'HELP', 'DESCRIPTION', 'add_arguments', 'run']
+
+NAME = 'demo'
+HELP = 'run the main job and write a report with figures'
+DESCRIPTION = ('Bring the ROS 2 nodes up with a recording, run the classic and test-bed '
+               'experiments, identify the model from a recorded excitation, and write '
+               'DIR/report.md with figures.')
+
+
+def add_arguments(parser):
+    """Add the ``demo`` arguments to ``parser``."""
+    parser.add_argument('--out', required=True, help='output directory')
+    parser.add_argument('--model', help='model gear file (default config/csd25.yaml)')
+    parser.add_argument('--truth', help='truth gear file (default config/csd25_truth.yaml)')
+    parser.add_argument('--duration-scale', type=float, default=1.0,
+                        help='shorten experiments (e.g. 0.2)')
+    return parser
+
+
+def run(args):
+    """Run the demo; prints the report's path."""
+    from ..demo import run_demo
+    path = run_demo(args.out, model=args.model, truth=args.truth,
+                    duration_scale=args.duration_scale)
+    print(f'report: {path}')
+    return 0

@@ -1,0 +1,66 @@
+"""``friction_joint identify RECORDING ... --model STRUCTURE.yaml --out GEAR.yaml``.
+
+See :mod:`friction_joint.identification`.
+"""
+from ..exceptions import GearConfigError
+from ._console import progress_printer
+
+__all__ = ['NAME', 'HELP', 'DESCRIPTION', 'add_arguments', 'run', 'parse_orders']
+
+NAME = 'identify'
+HELP = 'identify the friction model from recordings (seed Section V-A)'
+DESCRIPTION = ('Identify the temperature- and load-dependent static friction model (steps '
+               '1-2: least squares over constant-velocity plateaus) and the LuGre/GMS '
+               'pre-sliding parameters (step 3) from recordings, in the structure of '
+               'STRUCTURE.yaml; write GEAR.yaml and a report with figures.')
+
+
+def add_arguments(parser):
+    """Add the ``identify`` arguments to ``parser``."""
+    parser.add_argument('recordings', nargs='+', metavar='RECORDING',
+                        help='rosbag2 directories or .mcap files')
+    parser.add_argument('--model', required=True, metavar='STRUCTURE.yaml',
+                        help='gear file giving the model structure (list length = polynomial '
+                             'order + 1), inertia and lever; its coefficient values are not used')
+    parser.add_argument('--out', required=True, metavar='GEAR.yaml',
+                        help='identified gear file to write')
+    parser.add_argument('--orders', default=None, metavar='auto|NAME=N,...',
+                        help='polynomial orders: the structure\'s (default), "auto" (chosen by '
+                             'held-out error) or e.g. "fc=2,fv=1,fc_load=1" (orders, not list '
+                             'lengths: fc=2 gives fc: [c0, c1, c2])')
+    parser.add_argument('--report', default=None, metavar='DIR',
+                        help='report directory (default: GEAR_report next to GEAR.yaml)')
+    parser.add_argument('--presliding', choices=('auto', 'skip', 'require'), default='auto',
+                        help='step 3: run when possible and note why not (auto), never (skip), '
+                             'or fail without it (require)')
+    parser.add_argument('--joint', default=None, metavar='NAME',
+                        help='joint to identify (default: the structure\'s joint_name)')
+    parser.add_argument('--quiet', action='store_true', help='no progress messages')
+    return parser
+
+
+def parse_orders(text):
+    """``--orders`` text -> None (the structure's), ``'auto'`` or ``{name: order}``."""
+    if text is None or text == 'structure':
+        return None
+    if text == 'auto':
+        return 'auto'
+    out = {}
+    for item in text.split(','):
+        key, _, val = item.partition('=')
+        try:
+            out[key.strip()] = int(val)
+        except ValueError:
+            raise GearConfigError(f'--orders: expected auto, structure or NAME=ORDER,... '
+                                  f'(e.g. fc=2,fv=2,fc_load=1), got {text!r}') from None
+    return out
+
+
+def run(args):
+    """Identify and write the gear file and its report."""
+    from ..identification.pipeline import run_identify
+    paths = run_identify(args.recordings, args.model, args.out, orders=parse_orders(args.orders),
+                         report_dir=args.report, presliding=args.presliding,
+                         joint_name=args.joint, progress=progress_printer(args.quiet))
+    print('wrote ' + ', '.join(paths))
+    return 0

@@ -1,0 +1,40 @@
+"""``friction_joint record OUT`` (also the ``record`` console script).
+
+Records topics into a rosbag2 directory; see :func:`friction_joint.ros.record.record`.
+"""
+import sys
+
+from ..bag import CONTRACT_TYPES
+
+__all__ = ['NAME', 'HELP', 'DESCRIPTION', 'add_arguments', 'run', 'main']
+
+NAME = 'record'
+HELP = 'record topics into a rosbag2 recording (MCAP)'
+DESCRIPTION = ('Record topics into a rosbag2 directory (version 9, MCAP, CDR) until Ctrl-C, '
+               'SIGTERM or --duration; every message received is written.')
+
+
+def add_arguments(parser):
+    """Add the ``record`` arguments to ``parser``."""
+    parser.add_argument('out', metavar='OUT', help='rosbag2 directory to create (must not exist)')
+    parser.add_argument('--topics', nargs='+', metavar='TOPIC',
+                        help='topics to record, TOPIC or TOPIC:pkg/msg/Type for non-contract '
+                             f'topics (default: {" ".join(CONTRACT_TYPES)})')
+    parser.add_argument('--duration', type=float, metavar='S',
+                        help='stop after S seconds (default: until Ctrl-C / SIGTERM)')
+    return parser
+
+
+def run(args):
+    """Record; prints the message counts."""
+    from ..ros.record import format_counts, record
+    counts = record(args.out, topics=args.topics, duration=args.duration,
+                    args=getattr(args, 'ros_args', None))
+    print(f'recorded {format_counts(counts)} to {args.out}', flush=True)
+    return 0
+
+
+def main(args=None):
+    """Console script ``record`` (``ros2 run friction_joint record OUT ...``)."""
+    from ._console import console_main
+    return console_main(sys.modules[__name__], args)

@@ -1,0 +1,139 @@
+"""Shared pieces of the test-bed experiments: result types, checks, the closed loop."""
+import collections
+import math
+
+import numpy as np
+
+from ..exceptions import ExperimentError, GearConfigError
+
+__all__ = ['MODELS', 'MIN_SAMPLES', 'Experiment', 'json_key', 'n_steps',
+           'check_scale', 'check_model', 'rmse', 'corr', 'grid_on', 'COLORS', 'LABELS',
+           'SumOfSines', 'closed_loop']
+
+#: friction feed-forward / observer models compared
+MODELS = ('none', 'lugre', 'gms')
+
+#: minimum number of samples in an evaluation window
+MIN_SAMPLES = 100
+
+
+#: ``func(model, truth, duration_scale) -> ExperimentResult``, ``help`` one line;
+#: ``output``: ``'results'`` (figures + summary.json in a directory) or ``'recording'``
+#: (``func(model, truth, duration_scale, progress=None)`` returns ``(topics, summary)``,
+#: written as a rosbag2 recording);
+#: ``needs_model``: the experiment uses the ``--model`` gear file
+Experiment = collections.namedtuple('Experiment', ['func', 'help', 'output', 'needs_model'],
+                                    defaults=('results', True))
+
+
+# ---------------------------------------------------------------- helpers ---
+
+def json_key(x):
+    """JSON key of a temperature or amplitude: '27', '0.4'."""
+    return f'{float(x):g}'
+
+
+def n_steps(duration, dt, what):
+    n = int(round(duration / dt))
+    if n < MIN_SAMPLES:
+        raise ExperimentError(
+            f'{what} of {duration:.4g} s has only {n} samples at {1.0 / dt:g} Hz '
+            f'(need >= {MIN_SAMPLES}); increase --duration-scale')
+    return n
+
+
+def check_scale(duration_scale):
+    try:
+        x = float(duration_scale)
+    except (TypeError, ValueError):
+        raise ExperimentError(f'duration scale must be a number, got {duration_scale!r}') from None
+    if not (math.isfinite(x) and x > 0.0):
+        raise ExperimentError(f'duration scale must be a finite number > 0, got {duration_scale}')
+    return x
+
+
+def check_model(model, kinds, where='model gear'):
+    """The model gear must carry the parameters of every dynamic model used."""
+    for kind in kinds:
+        if kind in ('lugre', 'gms') and getattr(model.friction, kind) is None:
+            src = f' ({model.source})' if model.source else ''
+            raise GearConfigError(f'{where}{src} has no friction.{kind} section, '
+                                  f'needed for the {kind} model of this experiment')
+
+
+def rmse(e):
+    return float(np.sqrt(np.mean(np.square(e))))
+
+
+def corr(a, b):
+    if np.std(a) == 0.0 or np.std(b) == 0.0:
+        return float('nan')
+    return float(np.corrcoef(a, b)[0, 1])
+
+
+def grid_on(ax):
+    ax.grid(True, alpha=0.3)
+
+
+COLORS = {'none': 'C3', 'lugre': 'C0', 'gms': 'C2', 'measured': 'k', 'truth': 'k'}
+LABELS = {'none': 'no friction model', 'lugre': 'LuGre', 'gms': 'GMS'}
+
+
+class SumOfSines:
+    """q_d(t) = sum_i a_i sin(w_i t + p_i) with its first two derivatives.
+
+    Parameters
+    ----------
+    components : sequence of (amplitude, omega, phase)
+        rad, rad/s, rad.
+    """
+
+    def __init__(self, components):
+        self.components = [(float(a), float(w), float(p)) for a, w, p in components]
+
+    def __call__(self, t):
+        q = qd = qdd = 0.0
+        for a, w, p in self.components:
+            s, c = math.sin(w * t + p), math.cos(w * t + p)
+            q += a * s
+            qd += a * w * c
+            qdd -= a * w * w * s
+        return q, qd, qdd
+
+
+def closed_loop(plant, controller, reference, n, observers=None):
+    """Run ``n`` control steps; returns dict of arrays at the sample times.
+
+    The command for step k is computed from the sample at its start and the
+    reference at that time (eq. 17); ``observers`` (name -> observer) see the
+    measurements of each new sample.
+    """
+    observers = observers or {}
+    out = {k: np.empty(n) for k in ('t', 'q_d', 'qd_d', 'q', 'q_true', 'qd', 'qd_true',
+                                    'tau_cmd', 'effort', 'xi', 'xi_true', 'tau_ext',
+                                    'tau_link', 'tau_r')}
+    est = {name: np.empty(n) for name in observers}
+    s = plant.last
+    ref = reference(s.t)
+    for k in range(n):
+        tau = controller(s.q, s.qd, s.xi, *ref)
+        s = plant.step(tau)
+        ref = reference(s.t)
+        out['t'][k] = s.t
+        out['q_d'][k] = ref[0]
+        out['qd_d'][k] = ref[1]
+        out['q'][k] = s.q
+        out['q_true'][k] = s.q_true
+        out['qd'][k] = s.qd
+        out['qd_true'][k] = s.qd_true
+        out['tau_cmd'][k] = tau
+        out['effort'][k] = s.effort
+        out['xi'][k] = s.xi
+        out['xi_true'][k] = s.xi_true
+        out['tau_ext'][k] = s.tau_ext
+        out['tau_link'][k] = s.tau_link
+        out['tau_r'][k] = s.tau_r
+        for name, obs in observers.items():
+            est[name][k] = obs(s.effort, s.q, s.qd, s.xi)
+    out['estimates'] = est
+    return out

@@ -1,0 +1,158 @@
+"""Friction compensation (seed Section V-C, Fig. 6-7): sine tracking with feed-forward."""
+import math
+
+import numpy as np
+
+from ..control.controller import Controller, SineTrajectory, pd_gains
+from ..output import ExperimentResult
+from ..testbed.plant import Plant
+from ._common import (COLORS, LABELS, MODELS, check_model,
+                      check_scale, closed_loop, grid_on, json_key, n_steps, rmse)
+
+__all__ = ['COMPENSATION', 'compensation']
+
+
+COMPENSATION = {
+    'amplitudes': (0.4, 2.4),       # rad
+    'omega': 1.5,                   # rad/s
+    'temperatures': (27.0, 35.0),   # degC, plant start temperature
+    'rise_time': 0.04,              # s
+    'overshoot': 0.06,
+    'settle': 1.0,                  # s before the evaluation window
+    'periods': 2,                   # evaluation window, periods of q_d
+    'ff_velocity': ('measured', 'desired'),   # first: main result, others reported too
+}
+
+
+def _compensation_run(model, truth, kp, kd, kind, xi0, amp, n, ff_velocity):
+    c = COMPENSATION
+    plant = Plant(truth, xi0=xi0)
+    ctrl = Controller(model, kp, kd, friction=kind, dt=plant.dt, ff_velocity=ff_velocity)
+    return closed_loop(plant, ctrl, SineTrajectory(amp, c['omega']), n)
+
+
+def compensation(model, truth, duration_scale=1.0):
+    """Friction compensation with eq. 17 (paper Section V-C, Fig. 6-7).
+
+    For each start temperature (27, 35 degC), amplitude (0.4, 2.4 rad) and
+    friction feed-forward (none, LuGre, GMS) the plant tracks
+    q_d = a sin(1.5 t) from rest at q = 0 with the controller of eq. 17
+    (gains from :func:`~friction_joint.control.controller.pd_gains` for the model
+    inertia, 0.04 s rise time, 6 % overshoot; the same gains for all cases).
+    After a settling interval of 1 s the error q_d - q_true is evaluated
+    over two periods of q_d.  The friction feed-forward is driven by the
+    measured velocity as in eq. 17; the variant driven by the desired
+    velocity is run and reported as well.
+
+    Parameters
+    ----------
+    model, truth : GearParams
+    duration_scale : float
+        Multiplies the settling interval and the evaluation window.
+
+    Returns
+    -------
+    ExperimentResult
+        ``summary``: ``max_error_pct[model][temperature][amplitude]`` (max
+        |q_d - q_true| in % of a), ``rmse[...]`` (rad), ``max_error[...]``
+        (rad), ``temperature_end[...]`` (degC, true, end of run) for
+        model in none/lugre/gms, keys like ``'27'`` and ``'0.4'``; ``gains``;
+        ``ff_velocity`` (the variant of the main tables) and
+        ``ff_velocity_variants[variant]`` with the same tables for the
+        others (lugre and gms only).
+    """
+    scale = check_scale(duration_scale)
+    check_model(model, ('lugre', 'gms'))
+    c = COMPENSATION
+    kp, kd = pd_gains(model.inertia, c['rise_time'], c['overshoot'])
+    dt = 1.0 / truth.section('simulation')['rate']
+    period = 2.0 * math.pi / c['omega']
+    settle = c['settle'] * scale
+    window = c['periods'] * period * scale
+    n_settle = int(round(settle / dt))
+    n_eval = n_steps(window, dt, 'compensation evaluation window')
+    n = n_settle + n_eval
+    temps = [json_key(x) for x in c['temperatures']]
+    amps = [json_key(a) for a in c['amplitudes']]
+
+    def table(models):
+        return {m: {tk: {} for tk in temps} for m in models}
+
+    main, *others = c['ff_velocity']
+    summary = {'experiment': 'compensation', 'duration_scale': scale,
+               'omega': c['omega'], 'amplitudes': list(c['amplitudes']),
+               'temperatures': list(c['temperatures']),
+               'gains': {'kp': kp, 'kd': kd, 'rise_time': c['rise_time'],
+                         'overshoot': c['overshoot'], 'inertia': model.inertia},
+               'settle_s': settle, 'evaluation_s': window, 'ff_velocity': main,
+               'max_error_pct': table(MODELS), 'rmse': table(MODELS),
+               'max_error': table(MODELS), 'temperature_end': table(MODELS),
+               'peak_velocity': {},
+               'ff_velocity_variants': {v: {'max_error_pct': table(('lugre', 'gms')),
+                                            'rmse': table(('lugre', 'gms'))} for v in others}}
+    traces = {}
+    for xi0, tk in zip(c['temperatures'], temps):
+        for amp, ak in zip(c['amplitudes'], amps):
+            for kind in MODELS:
+                for variant in c['ff_velocity']:
+                    if variant != main and kind == 'none':
+                        continue        # nothing to feed forward: identical to the main run
+                    r = _compensation_run(model, truth, kp, kd, kind, xi0, amp, n, variant)
+                    e = (r['q_d'] - r['q_true'])[n_settle:]
+                    pct = 100.0 * float(np.max(np.abs(e))) / amp
+                    if variant == main:
+                        summary['max_error_pct'][kind][tk][ak] = pct
+                        summary['rmse'][kind][tk][ak] = rmse(e)
+                        summary['max_error'][kind][tk][ak] = float(np.max(np.abs(e)))
+                        summary['temperature_end'][kind][tk][ak] = float(r['xi_true'][-1])
+                        summary['peak_velocity'][ak] = float(np.max(np.abs(r['qd_d'])))
+                        traces[(tk, ak, kind)] = (r['t'], r['q_d'] - r['q_true'])
+                    else:
+                        v = summary['ff_velocity_variants'][variant]
+                        v['max_error_pct'][kind][tk][ak] = pct
+                        v['rmse'][kind][tk][ak] = rmse(e)
+
+    def draw_errors(fig):
+        axes = fig.subplots(len(amps), len(temps), sharex=True, squeeze=False)
+        for i, ak in enumerate(amps):
+            for j, tk in enumerate(temps):
+                ax = axes[i, j]
+                for kind in MODELS:
+                    t, e = traces[(tk, ak, kind)]
+                    pct = summary['max_error_pct'][kind][tk][ak]
+                    ax.plot(t, 1e3 * e, color=COLORS[kind], lw=0.9,
+                            label=f'{LABELS[kind]} (max {pct:.2f} %)')
+                ax.axvspan(0.0, settle, color='0.85', lw=0, label='settling (not evaluated)')
+                ax.set_title(f'$q_d = {ak}\\,\\sin({c["omega"]:g}t)$ rad, '
+                             f'start {tk} \u00b0C (peak {summary["peak_velocity"][ak]:.2f} rad/s)')
+                ax.set_ylabel('position error $q_d - q$ (mrad)')
+                if i == len(amps) - 1:
+                    ax.set_xlabel('time (s)')
+                ax.legend(fontsize='x-small', loc='upper right')
+                grid_on(ax)
+
+    def draw_bars(fig):
+        ax = fig.subplots()
+        cases = [(tk, ak) for ak in amps for tk in temps]
+        x = np.arange(len(cases))
+        w = 0.26
+        for i, kind in enumerate(MODELS):
+            mx = [summary['max_error_pct'][kind][tk][ak] for tk, ak in cases]
+            rm = [100.0 * summary['rmse'][kind][tk][ak] / float(ak) for tk, ak in cases]
+            pos = x + (i - 1) * w
+            ax.bar(pos, mx, w * 0.9, color=COLORS[kind], alpha=0.8,
+                   label=f'{LABELS[kind]}: max error')
+            ax.bar(pos, rm, w * 0.25, color='k',
+                   label='RMSE' if i == len(MODELS) - 1 else None)
+            for p_, v_ in zip(pos, mx):
+                ax.text(p_, v_, f'{v_:.2f}', ha='center', va='bottom', fontsize='x-small')
+        ax.set_xticks(x)
+        ax.set_xticklabels([f'a = {ak} rad\n{tk} \u00b0C' for tk, ak in cases])
+        ax.set_ylabel('position error (% of amplitude a)')
+        ax.set_title('maximum tracking error (thick bars) and RMSE (thin bars), '
+                     f'ff velocity: {main}')
+        ax.legend(fontsize='small')
+        grid_on(ax)
+
+    return ExperimentResult(summary, {'compensation_error.png': (draw_errors, (13, 8)),
+                                      'compensation_bars.png': (draw_bars, (10, 5.5))})

@@ -1,0 +1,131 @@
+"""The paper's evaluation experiments on the simulated test bed (seed Section V B-D).
+
+Each experiment runs the simulated hardware (:class:`~friction_joint.testbed.plant.Plant`
+with the **truth** gear file) and the identified **model** gear file the way
+the paper runs its test bed and its model:
+
+* :func:`chirp` -- dynamic simulation (Section V-B, Fig. 5).  Two chirp
+  torque commands with the same rising frequency and a low and a high
+  constant amplitude drive the plant open loop against the lever's gravity.
+  The LuGre and GMS models are then simulated open loop with the measured
+  applied torque (effort) as input and the measured temperature fed in, and
+  their velocity and friction torque are compared with the measurement.
+* :func:`compensation` -- friction compensation (Section V-C, Fig. 6-7).
+  q_d = a sin(1.5 t), a in {0.4, 2.4} rad, the plant started at 27 and at
+  35 degC, controller eq. 17 with gains for 0.04 s rise time and 6 %
+  overshoot, friction feed-forward none / LuGre / GMS (same gains for all).
+* :func:`estimation` -- external torque estimation (Section V-D, Fig. 8).
+  Closed-loop motion with variable velocity over most of the lever's
+  gravity range; the disturbance observer (eq. 15) leaves the gravity out,
+  so the lever load is the unknown external torque it has to estimate,
+  with and without the friction model.
+
+Every experiment function takes ``(model, truth, duration_scale=1.0)`` (two
+:class:`~friction_joint.gear.GearParams`) and returns an
+:class:`ExperimentResult`: ``summary`` (plain numbers for ``summary.json``)
+and ``figures`` (file name -> function drawing on a matplotlib Figure).
+:data:`EXPERIMENTS` maps the command-line names to them; adding an
+experiment is adding an entry.
+
+The command ``friction_joint experiment NAME --model M.yaml --truth T.yaml
+--out DIR [--duration-scale X]`` runs one and writes its PNG figures and
+``DIR/summary.json``, all atomically (temporary files renamed into place,
+the JSON last).  ``--duration-scale`` multiplies every duration (settling,
+evaluation window, chirp length) and is meant for quick test runs.
+
+``identification`` (Section V-A) is different: it only needs ``--truth`` and
+writes a *recording* (``--out BAG``, a rosbag2 MCAP directory or ``.mcap``
+file) of the identification excitation of :mod:`friction_joint.experiments.excitation`
+for ``friction_joint identify``.
+"""
+import os
+import time
+
+from ..exceptions import ExperimentError
+from ..gear import load_gear
+from ..output import write_results
+from ._common import Experiment, check_scale
+from .chirp import chirp
+from .compensation import compensation
+from .estimation import estimation
+
+__all__ = ['EXPERIMENTS', 'identification', 'run_experiment']
+
+
+# --------------------------------------------------------- identification ---
+
+def identification(model, truth, duration_scale=1.0, progress=None):
+    """Identification excitation (paper Section V-A): a recording for ``friction_joint identify``.
+
+    Constant-velocity plateaus 0.01..3.5 rad/s in both directions at four
+    temperatures across the truth's range, the lever at different angles,
+    and slow pre-sliding sinusoids; see :mod:`friction_joint.experiments.excitation`.
+    ``model`` is not used; ``progress(message)`` is called once per
+    temperature block.
+
+    Returns
+    -------
+    topics : dict
+        Contract topics, the input of :func:`friction_joint.bag.write_recording`.
+    summary : dict
+        Plan and run facts (block temperatures, planned plateaus, duration).
+    """
+    from .excitation import simulate_identification
+    return simulate_identification(truth, check_scale(duration_scale), progress=progress)
+
+
+#: command-line name -> experiment
+EXPERIMENTS = {
+    'chirp': Experiment(chirp, 'open-loop chirp torques, measured vs LuGre/GMS simulation (Fig. 5)'),
+    'compensation': Experiment(compensation, 'sine tracking with friction feed-forward '
+                                             'none/LuGre/GMS at 27 and 35 degC (Fig. 6-7)'),
+    'estimation': Experiment(estimation, 'external torque estimation with the disturbance '
+                                         'observer, with and without friction model (Fig. 8)'),
+    'identification': Experiment(identification, 'constant-velocity plateaus at several '
+                                                 'temperatures and loads plus pre-sliding '
+                                                 'sinusoids, written as a recording (--out BAG) '
+                                                 'for "friction_joint identify" (Section V-A)',
+                                 'recording', False),
+}
+
+
+def run_experiment(name, model_path, truth_path, out_dir, duration_scale=1.0, progress=None):
+    """Load the gear files, run experiment ``name`` and write its results.
+
+    ``model_path`` may be None for experiments that do not use a model
+    (``identification``).  Experiments with ``output == 'recording'`` write a
+    rosbag2 recording at ``out_dir`` (which must not exist); the others write
+    their figures and ``summary.json`` into the directory ``out_dir``.
+
+    Returns
+    -------
+    list of str
+        The paths written (figures, then ``summary.json``; or the recording).
+    """
+    if name not in EXPERIMENTS:
+        raise ExperimentError(f'unknown experiment {name!r}; choose from {", ".join(EXPERIMENTS)}')
+    exp = EXPERIMENTS[name]
+    scale = check_scale(duration_scale)
+    if exp.needs_model and model_path is None:
+        raise ExperimentError(f'experiment {name} needs --model (the identified model gear file)')
+    if exp.output == 'recording' and os.path.lexists(out_dir):
+        raise ExperimentError(f'{out_dir} exists already: the {name} experiment writes a new '
+                              'recording there; choose another --out')
+    model = load_gear(model_path) if model_path is not None else None
+    truth = load_gear(truth_path)
+    start = time.perf_counter()
+    if exp.output == 'recording':
+        from ..bag import write_recording
+        topics, summary = exp.func(model, truth, scale, progress=progress)
+        path = write_recording(out_dir, topics, joint_name=truth.joint_name)
+        summary['wall_time_s'] = time.perf_counter() - start
+        if progress is not None:
+            progress(f'{len(summary.get("plateaus", []))} plateaus planned, '
+                     f'{summary.get("duration_s", 0.0):.1f} s simulated in '
+                     f'{summary["wall_time_s"]:.1f} s')
+        return [path]
+    result = exp.func(model, truth, scale)
+    result.summary['model_file'] = os.path.abspath(model_path)
+    result.summary['truth_file'] = os.path.abspath(truth_path)
+    result.summary['wall_time_s'] = time.perf_counter() - start
+    return write_results(result, out_dir, error=ExperimentError)

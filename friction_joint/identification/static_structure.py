@@ -1,0 +1,224 @@
+"""The structure of a static friction model and the checks that data can determine it.
+
+A :class:`StaticStructure` says which coefficients a static model has (the
+list lengths of a gear file, CONTRACT section 4); :func:`check_excitation`
+names what to record when plateaus cannot determine one of them.
+"""
+import dataclasses
+
+import numpy as np
+
+from ..exceptions import ExcitationError, GearConfigError
+from ..models.static import PARAMETERS
+
+__all__ = ['PARAMS', 'LOWER', 'UPPER', 'UNITS', 'GROUP_WIDTH', 'MIN_GROUP', 'SPEED_TOL',
+           'StaticStructure', 'temperature_groups', 'distinct_levels', 'group_table',
+           'check_excitation']
+
+#: temperature-polynomial parameters, in the order of the packed arrays of :mod:`static`
+PARAMS = PARAMETERS                      # ('fc', 'fs', 'fv', 'vs', 'delta_v')
+LOWER = {'fc': 0.0, 'fs': 0.0, 'fv': 0.0, 'vs': 1e-6, 'delta_v': 0.05}
+UPPER = {'fc': np.inf, 'fs': np.inf, 'fv': np.inf, 'vs': np.inf, 'delta_v': 3.0}
+UNITS = {'fc': 'Nm', 'fs': 'Nm', 'fv': 'Nm/(rad/s)^dv', 'vs': 'rad/s', 'delta_v': '1'}
+
+#: temperature-group width (degC): plateaus within this span count as one temperature
+GROUP_WIDTH = 1.0
+#: fewest plateaus of a temperature group that counts as a measured temperature
+MIN_GROUP = 3
+#: relative tolerance of "distinct" speeds
+SPEED_TOL = 0.05
+
+
+# ------------------------------------------------------------------ structure ---
+
+@dataclasses.dataclass(frozen=True)
+class StaticStructure:
+    """Which coefficients a static model has (the model structure, CONTRACT section 4).
+
+    Attributes
+    ----------
+    orders : dict
+        Parameter -> temperature polynomial order (list length - 1) of every fitted
+        parameter of :data:`PARAMS`.
+    load_orders : dict
+        Parameter -> load polynomial order m (powers 1..m; 0 = no load term).
+    fixed : dict
+        Parameter -> coefficient list kept as is (not fitted), e.g. ``delta_v: [1.0]``
+        for a linear viscous model.
+    stribeck : bool
+        The model has F_s and v_s.
+    delta_s, velocity_scale : float
+        Kept from the structure file.
+    """
+
+    orders: dict
+    load_orders: dict
+    fixed: dict
+    stribeck: bool
+    delta_s: float = 2.0
+    velocity_scale: float = 1.0
+
+    @classmethod
+    def from_gear(cls, gear, fixed=()):
+        """The structure of a gear file.
+
+        Parameters
+        ----------
+        gear : GearParams
+        fixed : iterable of str
+            Parameters of :data:`PARAMS` kept at the file's values (e.g. ``delta_v``
+            when the file has no ``delta_v`` key: linear viscous friction).
+        """
+        f = gear.friction
+        stribeck = f.fs is not None
+        orders, fix, load = {}, {}, {}
+        for p in PARAMS:
+            coef = getattr(f, p)
+            if coef is None:
+                continue
+            if p in fixed:
+                fix[p] = list(coef)
+            else:
+                orders[p] = len(coef) - 1
+            load[p] = len(getattr(f, p + '_load'))
+        unknown = set(fixed) - set(PARAMS)
+        if unknown:
+            raise GearConfigError(f'cannot fix {", ".join(sorted(unknown))}: not a static '
+                                  f'curve parameter ({", ".join(PARAMS)})')
+        return cls(orders, load, fix, stribeck, f.delta_s, f.velocity_scale)
+
+    def with_orders(self, orders=None, load_orders=None):
+        """A copy with some orders changed."""
+        o = dict(self.orders)
+        o.update(orders or {})
+        lo = dict(self.load_orders)
+        lo.update(load_orders or {})
+        return dataclasses.replace(self, orders=o, load_orders=lo)
+
+    @property
+    def params(self):
+        """Fitted temperature parameters, in :data:`PARAMS` order."""
+        return [p for p in PARAMS if p in self.orders]
+
+    @property
+    def load_params(self):
+        return [p for p in PARAMS if self.load_orders.get(p, 0) > 0]
+
+    def describe(self):
+        """``fc: [3], fv: [3], ..., fc_load: [1]`` (list lengths)."""
+        parts = [f'{p}: [{self.orders[p] + 1}]' for p in self.params]
+        parts += [f'{p}: fixed' for p in self.fixed]
+        parts += [f'{p}_load: [{self.load_orders[p]}]' for p in self.load_params]
+        return ', '.join(parts)
+
+
+# ------------------------------------------------------------- data checks ---
+
+def temperature_groups(xi, width=GROUP_WIDTH):
+    """Group labels of temperatures: sorted, a new group when the span would exceed ``width``."""
+    xi = np.asarray(xi, dtype=float)
+    labels = np.zeros(len(xi), dtype=int)
+    if len(xi) == 0:
+        return labels
+    order = np.argsort(xi)
+    g, start = 0, xi[order[0]]
+    for i in order:
+        if xi[i] - start > width:
+            g += 1
+            start = xi[i]
+        labels[i] = g
+    return labels
+
+
+def distinct_levels(x, rel=SPEED_TOL, absolute=0.0):
+    """Number of distinct values of x (sorted values closer than rel |x| + absolute merge)."""
+    x = np.sort(np.abs(np.asarray(x, dtype=float)))
+    if len(x) == 0:
+        return 0
+    count, ref = 1, x[0]
+    for v in x[1:]:
+        if v - ref > rel * ref + absolute:
+            count += 1
+            ref = v
+    return count
+
+
+def group_table(plateaus):
+    labels = temperature_groups(plateaus.xi)
+    groups = []
+    for g in range(labels.max() + 1 if len(labels) else 0):
+        m = labels == g
+        if m.sum() >= MIN_GROUP:
+            groups.append((float(plateaus.xi[m].mean()), int(m.sum())))
+    return labels, groups
+
+
+def check_excitation(plateaus, structure):
+    """Raise :class:`ExcitationError` if the plateaus cannot determine the structure's coefficients.
+
+    Checks: plateaus exist; both directions; enough plateaus for the number of
+    coefficients; distinct temperatures for each temperature order; low-speed
+    plateaus for the Stribeck parameters; a velocity range for delta_v and F_v;
+    distinct loads for each load order.  The message says what to record.
+    """
+    src = ', '.join(plateaus.sources) or 'the data'
+    n = len(plateaus)
+    if n == 0:
+        raise ExcitationError(
+            f'{src}: no constant-velocity plateaus found: the identification needs segments '
+            'of constant velocity (at least 0.2 s each, both directions, speeds from about '
+            '0.01 rad/s up to the highest operating speed, e.g. '
+            '"friction_joint experiment identification"); the recording has none')
+    pos, neg = int(np.sum(plateaus.qd > 0)), int(np.sum(plateaus.qd < 0))
+    if min(pos, neg) < 2:
+        have, miss = ('positive', 'negative') if neg < 2 else ('negative', 'positive')
+        raise ExcitationError(
+            f'{src}: the {n} plateaus all have {have} velocity ({pos} positive, {neg} negative): '
+            f'record plateaus in both directions (also {miss} velocities); with one direction '
+            'friction cannot be told from a torque offset or a gravity error')
+    lo, hi = float(plateaus.xi.min()), float(plateaus.xi.max())
+    _, groups = group_table(plateaus)
+    temps = ', '.join(f'{x:.1f}' for x, _ in groups) or 'none'
+    for p, order in structure.orders.items():
+        if order >= 1 and len(groups) < order + 1:
+            coeffs = ', '.join(f'c{i}' for i in range(max(1, len(groups))))
+            raise ExcitationError(
+                f'the recording covers xi = {lo:.1f}..{hi:.1f} degC: a temperature polynomial '
+                f'of order {order} for {p} needs plateaus at >= {order + 1} distinct '
+                f'temperatures (found {len(groups)}: {temps} degC, groups of >= {MIN_GROUP} '
+                f'plateaus {GROUP_WIDTH:g} degC wide); record at more temperatures or use '
+                f'{p}: [{coeffs}]')
+    speed = np.abs(plateaus.qd)
+    vmin, vmax = float(speed.min()), float(speed.max())
+    nspeeds = distinct_levels(speed)
+    if structure.stribeck and ('fs' in structure.orders or 'vs' in structure.orders):
+        low = distinct_levels(speed[speed <= 10.0 * vmin])
+        if vmax < 30.0 * vmin or low < 3:
+            raise ExcitationError(
+                f'plateau speeds span {vmin:.3g}..{vmax:.3g} rad/s ({nspeeds} distinct, {low} '
+                'within a decade of the slowest): the Stribeck parameters fs and vs need '
+                'plateaus at low speed (at least 3 distinct speeds in the lowest decade, '
+                'reaching down to 1/30 of the highest speed, e.g. 0.01 rad/s); record slower '
+                'plateaus or drop fs/vs from the structure')
+    if 'delta_v' in structure.orders and (vmax < 10.0 * vmin or nspeeds < 4):
+        raise ExcitationError(
+            f'plateau speeds span {vmin:.3g}..{vmax:.3g} rad/s ({nspeeds} distinct): the '
+            'viscous exponent delta_v needs plateaus over at least a decade of speed '
+            '(>= 4 distinct speeds); record a wider velocity range or fix delta_v')
+    for p in structure.load_params:
+        m = structure.load_orders[p]
+        loads = plateaus.load
+        span = float(loads.max() - loads.min())
+        levels = distinct_levels(loads, rel=0.0, absolute=max(0.5, 0.1 * span))
+        if span < 1.0 or levels < m + 1:
+            raise ExcitationError(
+                f'the plateaus\' loads span tau_L = {loads.min():.2f}..{loads.max():.2f} Nm '
+                f'({levels} distinct levels): the load polynomial of order {m} for {p}_load '
+                f'needs plateaus at >= {m + 1} clearly different loads (at least 1 Nm apart, '
+                'e.g. the lever at different angles); record with varying load or use '
+                f'{p}_load: []')
+    npar = sum(o + 1 for o in structure.orders.values()) + sum(structure.load_orders.values())
+    if n < npar + 2:
+        raise ExcitationError(
+            f'{n} plateaus for {npar} coefficients: record more plateaus (at least {npar + 2}; '
+            'the paper used 34 per temperature series)')

@@ -1,0 +1,42 @@
+# Copyright 2026 friction_joint maintainers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+"""The source tree the convention tests check: its root, its Python files, its modules."""
+import os
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+#: directories (and files) of Python sources the linters check
+SOURCE_DIRS = ('friction_joint', 'test', 'benchmarks', 'launch', 'setup.py')
+PACKAGE = 'friction_joint'
+
+
+def python_files(path):
+    """Every .py file under path (or path itself), sorted."""
+    if os.path.isfile(path):
+        return [path]
+    out = []
+    for dirpath, dirnames, filenames in os.walk(path):
+        dirnames[:] = sorted(d for d in dirnames if not d.startswith(('.', '__pycache__')))
+        out += [os.path.join(dirpath, f) for f in sorted(filenames) if f.endswith('.py')]
+    return out
+
+
+def package_modules():
+    """(dotted name, path) of every module of the package, sorted."""
+    out = []
+    for path in python_files(os.path.join(ROOT, PACKAGE)):
+        rel = os.path.relpath(path, ROOT)[:-3].replace(os.sep, '.')
+        if rel.endswith('.__init__'):
+            rel = rel[:-len('.__init__')]
+        out.append((rel, path))
+    return out

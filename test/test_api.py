@@ -1,0 +1,99 @@
+# Copyright 2026 friction_joint maintainers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+"""The public names: every module declares ``__all__``, every name in it exists, and
+imports between the package's modules use only names the imported module exports
+(or its submodules), so a module's ``__all__`` is its whole interface.
+"""
+import ast
+import importlib
+
+import pytest
+
+from sourcetree import package_modules
+
+MODULES = [(m, p) for m, p in package_modules() if not m.endswith('__main__')]
+
+
+def _resolve(module, is_package, node):
+    """Absolute name of the module an ``ImportFrom`` node imports from (None: not ours)."""
+    if node.level == 0:
+        return node.module if (node.module or '').split('.')[0] == 'friction_joint' else None
+    base = module.split('.') if is_package else module.split('.')[:-1]
+    base = base[:len(base) - (node.level - 1)]
+    return '.'.join(base + ([node.module] if node.module else []))
+
+
+def _internal_imports():
+    for module, path in MODULES:
+        with open(path, encoding='utf-8') as fh:
+            tree = ast.parse(fh.read(), filename=path)
+        is_package = path.endswith('__init__.py')
+        for node in ast.walk(tree):
+            if isinstance(node, ast.ImportFrom):
+                target = _resolve(module, is_package, node)
+                if target:
+                    yield module, node.lineno, target, [a.name for a in node.names]
+
+
+@pytest.mark.parametrize('module', [m for m, _ in MODULES])
+def test_all_names_exist(module, request):
+    if '.ros' in module:
+        pytest.importorskip('rclpy')
+    mod = importlib.import_module(module)
+    assert hasattr(mod, '__all__'), f'{module} has no __all__'
+    missing = [n for n in mod.__all__ if not hasattr(mod, n)]
+    assert not missing, f'{module}.__all__ names missing objects: {missing}'
+    assert len(set(mod.__all__)) == len(mod.__all__), f'{module}.__all__ has duplicates'
+
+
+def test_imports_between_modules_use_exported_names():
+    pytest.importorskip('rclpy')
+    bad = []
+    for module, line, target, names in _internal_imports():
+        mod = importlib.import_module(target)
+        exported = set(getattr(mod, '__all__', ()))
+        for name in names:
+            if name in exported:
+                continue
+            try:
+                importlib.import_module(f'{target}.{name}')     # a submodule
+            except ImportError:
+                bad.append(f'{module}:{line} imports {name} from {target}, which does not '
+                           'export it')
+    assert not bad, '\n'.join(bad)
+
+
+def test_the_top_level_docstring_maps_every_subpackage():
+    import friction_joint
+    subpackages = sorted({m.split('.')[1] for m, p in MODULES
+                          if p.endswith('__init__.py') and m.count('.') == 1})
+    assert len(subpackages) >= 8
+    missing = [s for s in subpackages if f'friction_joint.{s}' not in friction_joint.__doc__]
+    assert not missing, f'friction_joint docstring does not mention {missing}'
+
+
+def test_one_public_class_per_name():
+    """No two modules define a public class or function of the same name."""
+    seen, dup = {}, []
+    for module, path in MODULES:
+        with open(path, encoding='utf-8') as fh:
+            tree = ast.parse(fh.read(), filename=path)
+        for node in tree.body:
+            if isinstance(node, (ast.ClassDef, ast.FunctionDef)) and \
+                    not node.name.startswith('_') and node.name not in ('main', 'run',
+                                                                        'add_arguments'):
+                if node.name in seen:
+                    dup.append(f'{node.name}: {seen[node.name]} and {module}')
+                seen.setdefault(node.name, module)
+    assert not dup, '\n'.join(dup)
