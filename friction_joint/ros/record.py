@@ -1,3 +1,17 @@
+# Copyright 2026 friction_joint maintainers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
 """``friction_joint record OUT``: record topics into a rosbag2 recording without losing messages.
 
 The recorder subscribes with ``raw=True`` (the serialized CDR bytes are written
@@ -31,12 +45,12 @@ import time
 
 from ..bag import CONTRACT_TYPES
 from ..exceptions import RecordingError
+from ._rclpy import take_all
+from .qos import QOS_DEPTH, recorder_qos
 
 __all__ = ['record', 'Recorder', 'parse_topics', 'message_class', 'install_signals',
            'format_counts', 'QOS_DEPTH']
 
-#: keep-last depth of the /clock subscription
-QOS_DEPTH = 1000
 
 _BATCH = 0.002      # s to let messages queue up between takes (bag time is DDS time)
 _DRAIN_QUIET = 0.2     # s without a message that ends the drain
@@ -94,8 +108,6 @@ class Recorder:
 
     def __init__(self, node, writer, topics, typestore, log=None):
         from rclpy.event_handler import SubscriptionEventCallbacks
-        from rclpy.qos import (DurabilityPolicy, HistoryPolicy, QoSProfile,
-                               ReliabilityPolicy)
         self.writer = writer
         self.written = {t: 0 for t, _ in topics}
         self.last_message = time.monotonic()
@@ -106,14 +118,7 @@ class Recorder:
                                      'rosbags Jazzy typestore')
             cls = message_class(topic, msgtype)
             conn = writer.add_connection(topic, msgtype, typestore=typestore)
-            if topic == '/clock':
-                qos = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=QOS_DEPTH,
-                                 reliability=ReliabilityPolicy.BEST_EFFORT,
-                                 durability=DurabilityPolicy.VOLATILE)
-            else:
-                qos = QoSProfile(history=HistoryPolicy.KEEP_ALL,
-                                 reliability=ReliabilityPolicy.RELIABLE,
-                                 durability=DurabilityPolicy.VOLATILE)
+            qos = recorder_qos(topic)
             holder = []
             events = None if log is None else SubscriptionEventCallbacks(
                 matched=self._matched(topic, log))
@@ -139,13 +144,8 @@ class Recorder:
 
         def callback(raw, info):
             put(raw, info)
-            handle = holder[0].handle
-            with handle:                       # take the rest of a burst right away
-                while True:
-                    taken = handle.take_message(cls, True)
-                    if taken is None:
-                        break
-                    put(*taken)
+            for taken in take_all(holder[0], cls, raw=True):   # the rest of a burst, now
+                put(*taken)
             self.last_message = time.monotonic()
 
         return callback

@@ -1,3 +1,17 @@
+# Copyright 2026 friction_joint maintainers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
 """``friction_joint replay BAG``: publish a recording again, with its timing and a ``/clock``.
 
 Messages are published in bag order as the serialized bytes stored in the bag
@@ -30,6 +44,8 @@ import time
 
 from ..bag import iter_messages, recording_topics
 from ..exceptions import RecordingError
+from ._rclpy import RCLError
+from .qos import replay_qos
 from .record import install_signals, message_class
 
 __all__ = ['replay']
@@ -90,10 +106,7 @@ def replay(bag, *, rate=1.0, topics=None, clock=True, loop=False, wait=2.0, sett
     import rclpy
     from rclpy.context import Context
     from rclpy.duration import Duration
-    from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
     from rclpy.signals import SignalHandlerOptions
-    from rclpy.impl.implementation_singleton import rclpy_implementation
-    RCLError = rclpy_implementation.RCLError
 
     log = log or (lambda line: print(line, file=sys.stderr, flush=True))
     if not rate >= 0:
@@ -127,9 +140,7 @@ def replay(bag, *, rate=1.0, topics=None, clock=True, loop=False, wait=2.0, sett
         rclpy.init(args=args, context=context, signal_handler_options=SignalHandlerOptions.NO)
         node = rclpy.create_node('friction_joint_replay', context=context,
                                  start_parameter_services=False)
-        qos = QoSProfile(history=HistoryPolicy.KEEP_ALL,
-                         reliability=ReliabilityPolicy.RELIABLE,
-                         durability=DurabilityPolicy.VOLATILE)
+        qos = replay_qos()
         pubs = {t: node.create_publisher(cls, t, qos) for t, cls in classes.items()}
         clock_pub = None
         if clock:

@@ -1,162 +1,33 @@
-"""Shared pieces of the nodes: gear parameters from ROS parameters, message helpers."""
-import array
+# Copyright 2026 friction_joint maintainers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""Shared pieces of the nodes: message helpers, stamp pairing, input checks, the main loop."""
 import math
 
-from rcl_interfaces.msg import ParameterDescriptor, SetParametersResult
-from rclpy.parameter import Parameter
+from .._rclpy import take_all
 
-from ...exceptions import GearConfigError
-from ...gear import SCHEMA, Section, gear_from_flat
-
-__all__ = ['gear_keys', 'declare_gear', 'declare_node_params', 'stamp_to_ns', 'ns_to_stamp',
-           'joint_index', 'finite', 'stream_qos', 'take_queued', 'StampPairing', 'Rejects',
-           'PairedInput', 'run_node', 'parameter_guard']
-
-
-def gear_keys(schema=SCHEMA, prefix=''):
-    """Dotted names of every leaf key of the gear schema."""
-    out = []
-    for key, spec in schema.items():
-        if isinstance(spec, Section):
-            out += gear_keys(spec.fields, prefix + key + '.')
-        else:
-            out.append(prefix + key)
-    return out
-
-
-def _plain(value):
-    if isinstance(value, (array.array, tuple)):
-        return list(value)
-    return value
-
-
-def declare_gear(node, own=()):
-    """Declare every gear key (dynamically typed) and build the GearParams.
-
-    Parameters come from ``--params-file`` (the gear file) and ``-p``
-    overrides.  Empty lists in a file arrive unset and count as absent (the
-    same meaning).  Any override that is neither a gear key nor one of the
-    node's own parameters ``own`` is an error, as unknown keys are in a gear
-    file.
-
-    Raises
-    ------
-    GearConfigError
-    """
-    desc = ParameterDescriptor(dynamic_typing=True)
-    keys = gear_keys()
-    flat = {}
-    for name in keys:
-        p = node.declare_parameter(name, None, desc)
-        if p.type_ != Parameter.Type.NOT_SET:
-            flat[name] = _plain(p.value)
-    overrides = set(getattr(node, '_parameter_overrides', {}))
-    unknown = sorted(overrides - set(keys) - set(own) - {'use_sim_time'})
-    if unknown:
-        raise GearConfigError(f'unknown parameter {unknown[0]}' +
-                              (f' (and {len(unknown) - 1} more)' if len(unknown) > 1 else '') +
-                              ' for this node; gear keys and the node parameters '
-                              f'{", ".join(sorted(own))} are accepted')
-    return gear_from_flat(flat, source=f'parameters of {node.get_name()}')
-
-
-def declare_node_params(node, defaults, validators=None):
-    """Declare the node's own parameters; returns {name: value}.
-
-    ``defaults`` maps names to default values (their type is the parameter's
-    type; ints are accepted where a float is expected).  ``validators`` maps
-    names to ``f(value) -> error message or None``.
-    """
-    validators = validators or {}
-    values = {}
-    for name, default in defaults.items():
-        desc = ParameterDescriptor(dynamic_typing=True)
-        value = _plain(node.declare_parameter(name, default, desc).value)
-        if isinstance(default, float) and isinstance(value, int) and not isinstance(value, bool):
-            value = float(value)
-        err = _check(name, value, default, validators)
-        if err:
-            raise GearConfigError(f'parameter {name}: {err}')
-        values[name] = value
-    return values
-
-
-def _check(name, value, default, validators):
-    if isinstance(default, bool) != isinstance(value, bool):
-        return f'expected {type(default).__name__}, got {value!r}'
-    if isinstance(default, float):
-        if isinstance(value, bool) or not isinstance(value, (int, float)):
-            return f'expected a number, got {value!r}'
-        if not math.isfinite(value):
-            return f'must be finite, got {value}'
-    elif isinstance(default, str) and not isinstance(value, str):
-        return f'expected a string, got {value!r}'
-    v = validators.get(name)
-    return v(value) if v else None
-
-
-def parameter_guard(node, defaults, validators, apply):
-    """Install a set-parameters callback validating the node's own parameters.
-
-    A bad value is rejected with a reason and the node keeps running; good
-    values are handed to ``apply(name, value)`` after acceptance.
-    """
-    def callback(params):
-        for p in params:
-            if p.name not in defaults:
-                return SetParametersResult(successful=False,
-                                           reason=f'{p.name} cannot be changed at run time')
-            value = _plain(p.value)
-            if isinstance(defaults[p.name], float) and isinstance(value, int) and not isinstance(value, bool):
-                value = float(value)
-            err = _check(p.name, value, defaults[p.name], validators)
-            if err:
-                node.get_logger().warn(f'rejected {p.name}={value!r}: {err}')
-                return SetParametersResult(successful=False, reason=f'{p.name}: {err}')
-        for p in params:
-            value = _plain(p.value)
-            if isinstance(defaults[p.name], float) and isinstance(value, int):
-                value = float(value)
-            apply(p.name, value)
-        return SetParametersResult(successful=True)
-    node.add_on_set_parameters_callback(callback)
-
-
-#: keep-last depth of the topics' QoS
-QOS_DEPTH = 1000
-
-
-def stream_qos(lossless=False):
-    """Reliable, volatile QoS of the contract topics.
-
-    Parameters
-    ----------
-    lossless : bool
-        Keep-all history (for publishers in lockstep / synchronised runs): a sample
-        that a subscriber (the recorder, say) has not acknowledged stays queued until
-        DDS has repaired it.  The default keep-last ``QOS_DEPTH`` lets a publisher run
-        in real time past a stalled subscriber, which then loses the samples pushed
-        out of the queue before they were repaired.
-    """
-    from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
-    if lossless:
-        return QoSProfile(history=HistoryPolicy.KEEP_ALL, reliability=ReliabilityPolicy.RELIABLE,
-                          durability=DurabilityPolicy.VOLATILE)
-    return QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=QOS_DEPTH,
-                      reliability=ReliabilityPolicy.RELIABLE, durability=DurabilityPolicy.VOLATILE)
+__all__ = ['stamp_to_ns', 'ns_to_stamp', 'joint_index', 'finite', 'take_queued',
+           'StampPairing', 'Rejects', 'PairedInput', 'run_node']
 
 
 def take_queued(sub, cls):
-    """The messages already queued on subscription ``sub`` (oldest first).
+    """Return the messages already queued on subscription ``sub`` (oldest first).
 
     Taken straight from the subscription, without a turn of the executor (which
     costs about 0.2 ms in rclpy); ``cls`` is the subscription's message type.
     """
-    out = []
-    with sub.handle:
-        while (taken := sub.handle.take_message(cls, False)) is not None:
-            out.append(taken[0])
-    return out
+    return [msg for msg, _ in take_all(sub, cls)]
 
 
 def stamp_to_ns(stamp):
@@ -233,7 +104,7 @@ class Rejects:
     def _reject(self, what):
         self.rejected += 1
         if self.rejected <= 10 or self.rejected % 1000 == 0:
-            self.get_logger().warn(f'ignored {what} (rejected so far: {self.rejected})')
+            self.get_logger().warning(f'ignored {what} (rejected so far: {self.rejected})')
 
 
 class PairedInput(Rejects):

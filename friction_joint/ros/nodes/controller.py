@@ -1,3 +1,17 @@
+# Copyright 2026 friction_joint maintainers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
 """``controller``: the joint controller of eq. 17 as a ROS 2 node.
 
     ros2 run friction_joint controller --ros-args --params-file config/csd25.yaml \
@@ -27,8 +41,9 @@ from sensor_msgs.msg import JointState, Temperature
 
 from ...control.controller import Controller, SineTrajectory, pd_gains
 from ...models.friction import FRICTION_KINDS
-from .common import (PairedInput, StampPairing, declare_gear, declare_node_params,
-                     parameter_guard, run_node, stream_qos, take_queued)
+from ..parameters import declare_gear, declare_node_params, describe, parameter_guard
+from ..qos import overridable, stream_qos
+from .common import PairedInput, run_node, StampPairing, take_queued
 
 __all__ = ['ControllerNode', 'main']
 
@@ -47,12 +62,30 @@ VALIDATORS = {
 }
 
 
+DESCRIPTORS = {
+    'friction_ff': describe('friction feed-forward model: none, static, lugre or gms',
+                            read_only=False),
+    'ff_velocity': describe('velocity the feed-forward is evaluated at: measured or desired',
+                            read_only=False),
+    'amplitude': describe('reference amplitude a of q_d = offset + a sin(omega t), rad',
+                          read_only=False, low=-3.2, high=3.2),
+    'omega': describe('reference frequency, rad/s', read_only=False, low=0.0, high=100.0),
+    'offset': describe('reference offset, rad', read_only=False, low=-3.2, high=3.2),
+    'rise_time': describe('rise time the PD gains are designed for, s'),
+    'overshoot': describe('overshoot the PD gains are designed for (fraction)', low=0.0,
+                          high=1.0),
+    'rate': describe('control rate, Hz (0: the gear\'s simulation.rate)'),
+    'sync': describe('pair each state with the temperature of the same stamp and answer every '
+                     'state (lockstep); false: answer the newest state (real time)'),
+}
+
+
 class ControllerNode(PairedInput, Node):
     """Wires :class:`~friction_joint.control.controller.Controller` to topics."""
 
     def __init__(self):
         super().__init__('controller')
-        self.p = declare_node_params(self, DEFAULTS, VALIDATORS)
+        self.p = declare_node_params(self, DEFAULTS, VALIDATORS, DESCRIPTORS)
         self.gear = declare_gear(self, own=list(DEFAULTS))
         self.joint = self.gear.joint_name
         rate = self.p['rate'] or self.gear.section('simulation')['rate']
@@ -66,12 +99,15 @@ class ControllerNode(PairedInput, Node):
         self.t0 = None
         self.last_ns = None
         self.last_cmd = None
-        qos = stream_qos()
-        self.pub = self.create_publisher(JointState, '/joint_command',
-                                         stream_qos(lossless=self.p['sync']))
-        self.sub_state = self.create_subscription(JointState, '/joint_states', self.on_state, qos)
+        qos, opts = stream_qos(), overridable()
+        self.pub = self.create_publisher(JointState, 'joint_command',
+                                         stream_qos(lossless=self.p['sync']),
+                                         qos_overriding_options=opts)
+        self.sub_state = self.create_subscription(JointState, 'joint_states', self.on_state, qos,
+                                                  qos_overriding_options=opts)
         self.stale = 0
-        self.create_subscription(Temperature, '/joint_temperature', self.on_temperature, qos)
+        self.create_subscription(Temperature, 'joint_temperature', self.on_temperature, qos,
+                                 qos_overriding_options=opts)
         parameter_guard(self, {k: DEFAULTS[k] for k in RUNTIME}, VALIDATORS, self.apply)
         self.get_logger().info(f'eq. 17 controller for {self.joint}: kp {self.kp:.1f} Nm/rad, '
                                f'kd {self.kd:.2f} Nm s/rad, friction feed-forward {self.p["friction_ff"]}')

@@ -1,3 +1,17 @@
+# Copyright 2026 friction_joint maintainers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
 """``estimator``: the disturbance observer of eq. 4/15 as a ROS 2 node.
 
     ros2 run friction_joint estimator --ros-args --params-file config/csd25.yaml -p friction:=lugre
@@ -21,8 +35,9 @@ from sensor_msgs.msg import JointState, Temperature
 
 from ...models.friction import FRICTION_KINDS
 from ...control.observer import DisturbanceObserver
-from .common import (PairedInput, StampPairing, declare_gear, declare_node_params,
-                     parameter_guard, run_node, stream_qos)
+from ..parameters import declare_gear, declare_node_params, describe, parameter_guard
+from ..qos import overridable, stream_qos
+from .common import PairedInput, run_node, StampPairing
 
 __all__ = ['EstimatorNode', 'main']
 
@@ -34,6 +49,17 @@ VALIDATORS = {
 }
 
 
+DESCRIPTORS = {
+    'friction': describe('friction model of the observer: none, static, lugre or gms',
+                         read_only=False),
+    'beta': describe('cut-off frequency of the observer filter Q(s), rad/s'),
+    'gravity': describe('subtract the model lever\'s gravity (false: estimate it as part of '
+                        'the external torque, as in the paper\'s Section V-D)'),
+    'rate': describe('sample rate, Hz (0: the gear\'s simulation.rate)'),
+    'sync': describe('pair each state with the temperature of the same stamp (lockstep)'),
+}
+
+
 class EstimatorNode(PairedInput, Node):
     """Wires :class:`~friction_joint.control.observer.DisturbanceObserver` to topics."""
 
@@ -41,7 +67,7 @@ class EstimatorNode(PairedInput, Node):
 
     def __init__(self):
         super().__init__('estimator')
-        self.p = declare_node_params(self, DEFAULTS, VALIDATORS)
+        self.p = declare_node_params(self, DEFAULTS, VALIDATORS, DESCRIPTORS)
         self.gear = declare_gear(self, own=list(DEFAULTS))
         self.joint = self.gear.joint_name
         self.dt = 1.0 / (self.p['rate'] or self.gear.section('simulation')['rate'])
@@ -51,11 +77,14 @@ class EstimatorNode(PairedInput, Node):
         self.pair = StampPairing(self.p['sync'])
         self.last_ns = None
         self.last_msg = None
-        qos = stream_qos()
-        self.pub = self.create_publisher(JointState, '/external_torque',
-                                         stream_qos(lossless=self.p['sync']))
-        self.create_subscription(JointState, '/joint_states', self.on_state, qos)
-        self.create_subscription(Temperature, '/joint_temperature', self.on_temperature, qos)
+        qos, opts = stream_qos(), overridable()
+        self.pub = self.create_publisher(JointState, 'external_torque',
+                                         stream_qos(lossless=self.p['sync']),
+                                         qos_overriding_options=opts)
+        self.create_subscription(JointState, 'joint_states', self.on_state, qos,
+                                 qos_overriding_options=opts)
+        self.create_subscription(Temperature, 'joint_temperature', self.on_temperature, qos,
+                                 qos_overriding_options=opts)
         parameter_guard(self, {'friction': DEFAULTS['friction']}, VALIDATORS, self.apply)
         self.get_logger().info(f'external torque observer for {self.joint}: beta {self.p["beta"]:g} '
                                f'rad/s, friction model {self.p["friction"]}')

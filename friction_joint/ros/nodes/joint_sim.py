@@ -1,3 +1,17 @@
+# Copyright 2026 friction_joint maintainers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
 """``joint_sim``: the simulated Harmonic Drive joint (the plant) as a ROS 2 node.
 
     ros2 run friction_joint joint_sim --ros-args --params-file config/csd25_truth.yaml \
@@ -50,8 +64,10 @@ from rosgraph_msgs.msg import Clock
 from sensor_msgs.msg import JointState, Temperature
 
 from ...testbed.plant import Plant
-from .common import (Rejects, declare_gear, declare_node_params, finite, joint_index, ns_to_stamp,
-                     run_node, stamp_to_ns, stream_qos, take_queued)
+from ..parameters import declare_gear, declare_node_params, describe
+from ..qos import CLOCK_QOS, overridable, stream_qos
+from .common import (finite, joint_index, ns_to_stamp, Rejects, run_node, stamp_to_ns,
+                     take_queued)
 
 __all__ = ['JointSimNode', 'main']
 
@@ -74,14 +90,32 @@ VALIDATORS = {
 }
 
 
+DESCRIPTORS = {
+    'mode': describe('realtime (own tick loop at publish_rate) or lockstep (advance when the '
+                     'command of the last state arrives; publishes /clock)'),
+    'publish_rate': describe('realtime: state publish rate, Hz'),
+    'duration': describe('simulated seconds after which the node ends (0: run forever)'),
+    'xi0': describe('initial gear temperature, degC (NaN: thermal.initial of the gear)'),
+    'q0': describe('initial joint position, rad'),
+    'seed': describe('sensor noise seed (-1: simulation.seed of the gear)'),
+    'friction_model': describe('friction model of the plant: static, lugre or gms (empty: '
+                               'friction.model of the gear)'),
+    'resend_period': describe('lockstep: resend the last state after this many seconds '
+                              'without a command, s'),
+    'wait_subscribers': describe('start when this many subscribers of joint_states have '
+                                 'matched', low=0, high=1000, integer=True),
+    'start_delay': describe('seconds to wait after the subscribers have matched, s'),
+}
+
+
 class JointSimNode(Rejects, Node):
     """Wires the :class:`~friction_joint.testbed.plant.Plant` to topics and a timer."""
 
     def __init__(self):
         super().__init__('joint_sim')
         own = {k: v for k, v in DEFAULTS.items() if k != 'xi0'}
-        self.p = declare_node_params(self, own, VALIDATORS)
-        xi0 = self.declare_parameter('xi0', float('nan')).value
+        self.p = declare_node_params(self, own, VALIDATORS, DESCRIPTORS)
+        xi0 = self.declare_parameter('xi0', float('nan'), DESCRIPTORS['xi0']).value
         self.gear = declare_gear(self, own=list(DEFAULTS))
         def plant():
             return Plant(self.gear, model=self.p['friction_model'] or None,
@@ -95,15 +129,22 @@ class JointSimNode(Rejects, Node):
         self.contact = 0.0
         self.done = False
         self.n_end = int(round(self.p['duration'] * self.plant.rate)) if self.p['duration'] > 0 else 0
-        qos, out = stream_qos(), stream_qos(lossless=self.lockstep)
-        self.pub_state = self.create_publisher(JointState, '/joint_states', out)
-        self.pub_temp = self.create_publisher(Temperature, '/joint_temperature', out)
-        self.pub_link = self.create_publisher(WrenchStamped, '/link_torque', out)
-        self.pub_clock = self.create_publisher(Clock, '/clock', 10) if self.lockstep else None
-        self.sub_command = self.create_subscription(JointState, '/joint_command',
-                                                    self.on_command, qos)
-        self.sub_contact = self.create_subscription(WrenchStamped, '/contact_torque',
-                                                    self.on_contact, qos)
+        qos, out, opts = stream_qos(), stream_qos(lossless=self.lockstep), overridable()
+        self.pub_state = self.create_publisher(JointState, 'joint_states', out,
+                                               qos_overriding_options=opts)
+        self.pub_temp = self.create_publisher(Temperature, 'joint_temperature', out,
+                                              qos_overriding_options=opts)
+        self.pub_link = self.create_publisher(WrenchStamped, 'link_torque', out,
+                                              qos_overriding_options=opts)
+        # /clock is global by convention: every node of the system follows one clock
+        self.pub_clock = (self.create_publisher(Clock, '/clock', CLOCK_QOS)
+                          if self.lockstep else None)
+        self.sub_command = self.create_subscription(JointState, 'joint_command',
+                                                    self.on_command, qos,
+                                                    qos_overriding_options=opts)
+        self.sub_contact = self.create_subscription(WrenchStamped, 'contact_torque',
+                                                    self.on_contact, qos,
+                                                    qos_overriding_options=opts)
         if self.lockstep:
             self.started = False
             self.ready_since = None

@@ -1,0 +1,175 @@
+# Copyright 2026 friction_joint maintainers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+
+"""ROS parameters of the nodes: the gear file through the package's schema, the nodes' own.
+
+Every gear key (``friction.fc``, ``lever.mass``, ...) is declared read-only
+with a description, so ``ros2 param describe`` documents it and the values
+go through the same schema as the command line's (:mod:`friction_joint.gear`).
+A node's own parameters are declared with a description, their range where
+one applies, and read-only unless the node accepts them at run time
+(:func:`parameter_guard`).  ``use_sim_time`` and the standard
+``qos_overrides.*`` parameters are accepted besides.
+"""
+import array
+import math
+
+from rcl_interfaces.msg import (FloatingPointRange, IntegerRange, ParameterDescriptor,
+                                SetParametersResult)
+from rclpy.exceptions import InvalidParameterValueException
+from rclpy.parameter import Parameter
+
+from ..exceptions import GearConfigError
+from ..gear import SCHEMA, Section, gear_from_flat
+
+__all__ = ['gear_keys', 'declare_gear', 'declare_node_params', 'parameter_guard', 'describe']
+
+#: parameter names accepted besides the gear keys and a node's own
+STANDARD = ('use_sim_time',)
+#: prefix of the standard QoS override parameters (rclpy QosOverridingOptions)
+QOS_OVERRIDES = 'qos_overrides.'
+
+
+def gear_keys(schema=SCHEMA, prefix=''):
+    """Dotted names of every leaf key of the gear schema."""
+    out = []
+    for key, spec in schema.items():
+        if isinstance(spec, Section):
+            out += gear_keys(spec.fields, prefix + key + '.')
+        else:
+            out.append(prefix + key)
+    return out
+
+
+def _plain(value):
+    if isinstance(value, (array.array, tuple)):
+        return list(value)
+    return value
+
+
+def declare_gear(node, own=()):
+    """Declare every gear key (dynamically typed) and build the GearParams.
+
+    Parameters come from ``--params-file`` (the gear file) and ``-p``
+    overrides.  Empty lists in a file arrive unset and count as absent (the
+    same meaning).  Any override that is neither a gear key nor one of the
+    node's own parameters ``own`` is an error, as unknown keys are in a gear
+    file.
+
+    Raises
+    ------
+    GearConfigError
+    """
+    keys = gear_keys()
+    flat = {}
+    for name in keys:
+        desc = ParameterDescriptor(description=f'gear file key {name} (see the README)',
+                                   dynamic_typing=True, read_only=True)
+        p = node.declare_parameter(name, None, desc)
+        if p.type_ != Parameter.Type.NOT_SET:
+            flat[name] = _plain(p.value)
+    overrides = set(getattr(node, '_parameter_overrides', {}))
+    unknown = sorted(n for n in overrides - set(keys) - set(own) - set(STANDARD)
+                     if not n.startswith(QOS_OVERRIDES))
+    if unknown:
+        raise GearConfigError(f'unknown parameter {unknown[0]}' +
+                              (f' (and {len(unknown) - 1} more)' if len(unknown) > 1 else '') +
+                              ' for this node; gear keys and the node parameters '
+                              f'{", ".join(sorted(own))} are accepted')
+    return gear_from_flat(flat, source=f'parameters of {node.get_name()}')
+
+
+def describe(description, *, read_only=True, low=None, high=None, integer=False):
+    """Return a ParameterDescriptor with a description and, given ``low``/``high``, a range.
+
+    The range is documentation for ``ros2 param describe`` and is enforced by
+    rclpy on later changes; values are validated by the node's validators too.
+    """
+    desc = ParameterDescriptor(description=description, read_only=read_only,
+                               dynamic_typing=True)
+    if low is not None and high is not None:
+        if integer:
+            desc.integer_range = [IntegerRange(from_value=int(low), to_value=int(high), step=0)]
+        else:
+            desc.floating_point_range = [FloatingPointRange(from_value=float(low),
+                                                            to_value=float(high), step=0.0)]
+    return desc
+
+
+def declare_node_params(node, defaults, validators=None, descriptors=None):
+    """Declare the node's own parameters; return {name: value}.
+
+    ``defaults`` maps names to default values (their type is the parameter's
+    type; ints are accepted where a float is expected).  ``validators`` maps
+    names to ``f(value) -> error message or None``; ``descriptors`` names to
+    :class:`ParameterDescriptor` (:func:`describe`).
+    """
+    validators = validators or {}
+    descriptors = descriptors or {}
+    values = {}
+    for name, default in defaults.items():
+        desc = descriptors.get(name) or describe(f'{name} (see the node\'s docstring)')
+        try:
+            value = _plain(node.declare_parameter(name, default, desc).value)
+        except InvalidParameterValueException as exc:
+            raise GearConfigError(f'parameter {name}: {exc}') from None
+        if isinstance(default, float) and isinstance(value, int) and not isinstance(value, bool):
+            value = float(value)
+        err = _check(name, value, default, validators)
+        if err:
+            raise GearConfigError(f'parameter {name}: {err}')
+        values[name] = value
+    return values
+
+
+def _check(name, value, default, validators):
+    if isinstance(default, bool) != isinstance(value, bool):
+        return f'expected {type(default).__name__}, got {value!r}'
+    if isinstance(default, float):
+        if isinstance(value, bool) or not isinstance(value, (int, float)):
+            return f'expected a number, got {value!r}'
+        if not math.isfinite(value):
+            return f'must be finite, got {value}'
+    elif isinstance(default, str) and not isinstance(value, str):
+        return f'expected a string, got {value!r}'
+    v = validators.get(name)
+    return v(value) if v else None
+
+
+def parameter_guard(node, defaults, validators, apply):
+    """Install a set-parameters callback validating the node's own parameters.
+
+    A bad value is rejected with a reason and the node keeps running; good
+    values are handed to ``apply(name, value)`` after acceptance.
+    """
+    def callback(params):
+        for p in params:
+            if p.name not in defaults:
+                return SetParametersResult(successful=False,
+                                           reason=f'{p.name} cannot be changed at run time')
+            value = _plain(p.value)
+            if isinstance(defaults[p.name], float) and isinstance(value, int) and not isinstance(value, bool):
+                value = float(value)
+            err = _check(p.name, value, defaults[p.name], validators)
+            if err:
+                node.get_logger().warning(f'rejected {p.name}={value!r}: {err}')
+                return SetParametersResult(successful=False, reason=f'{p.name}: {err}')
+        for p in params:
+            value = _plain(p.value)
+            if isinstance(defaults[p.name], float) and isinstance(value, int):
+                value = float(value)
+            apply(p.name, value)
+        return SetParametersResult(successful=True)
+    node.add_on_set_parameters_callback(callback)

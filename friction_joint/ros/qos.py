@@ -1,0 +1,83 @@
+# Copyright 2026 friction_joint maintainers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""The QoS profiles of this package, defined once.
+
+* :func:`stream_qos`: the contract topics between the nodes (reliable,
+  volatile; keep-last :data:`QOS_DEPTH`, or keep-all where nothing may be lost);
+* :func:`recorder_qos`: what the recorder subscribes with;
+* :func:`replay_qos`: what replay publishes with;
+* :func:`overridable`: the standard ``qos_overrides.<topic>.<entity>.<policy>``
+  parameters for a node's publishers and subscriptions (users retune a
+  topic's QoS with ``-p qos_overrides./joint_states.publisher.depth:=100``).
+"""
+from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
+from rclpy.qos_overriding_options import QoSOverridingOptions
+
+__all__ = ['QOS_DEPTH', 'CLOCK_QOS', 'stream_qos', 'recorder_qos', 'replay_qos', 'overridable']
+
+#: keep-last depth of the topics' QoS (and of the recorder's /clock subscription)
+QOS_DEPTH = 1000
+
+#: /clock as published by the simulator (rclpy's use_sim_time subscriber is best effort)
+CLOCK_QOS = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=10,
+                       reliability=ReliabilityPolicy.RELIABLE,
+                       durability=DurabilityPolicy.VOLATILE)
+
+
+def stream_qos(lossless=False):
+    """Reliable, volatile QoS of the contract topics.
+
+    Parameters
+    ----------
+    lossless : bool
+        Keep-all history (for publishers in lockstep / synchronised runs): a sample
+        that a subscriber (the recorder, say) has not acknowledged stays queued until
+        DDS has repaired it.  The default keep-last ``QOS_DEPTH`` lets a publisher run
+        in real time past a stalled subscriber, which then loses the samples pushed
+        out of the queue before they were repaired.
+    """
+    if lossless:
+        return QoSProfile(history=HistoryPolicy.KEEP_ALL, reliability=ReliabilityPolicy.RELIABLE,
+                          durability=DurabilityPolicy.VOLATILE)
+    return QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=QOS_DEPTH,
+                      reliability=ReliabilityPolicy.RELIABLE, durability=DurabilityPolicy.VOLATILE)
+
+
+def recorder_qos(topic):
+    """Return the recorder's QoS for ``topic``.
+
+    Reliable keep-all for every topic (a recorder that falls behind for a
+    moment must not let its queue overwrite messages it has acknowledged),
+    except ``/clock`` (best effort, keep-last :data:`QOS_DEPTH`, which matches
+    any publisher).  A reliable subscription does not match a best-effort
+    publisher.
+    """
+    if topic == '/clock':
+        return QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=QOS_DEPTH,
+                          reliability=ReliabilityPolicy.BEST_EFFORT,
+                          durability=DurabilityPolicy.VOLATILE)
+    return QoSProfile(history=HistoryPolicy.KEEP_ALL, reliability=ReliabilityPolicy.RELIABLE,
+                      durability=DurabilityPolicy.VOLATILE)
+
+
+def replay_qos():
+    """Return replay's publisher QoS: reliable keep-all, so no sample is pushed out unrepaired."""
+    return QoSProfile(history=HistoryPolicy.KEEP_ALL, reliability=ReliabilityPolicy.RELIABLE,
+                      durability=DurabilityPolicy.VOLATILE)
+
+
+def overridable():
+    """Return the options that declare the standard ``qos_overrides.*`` parameters of an entity."""
+    return QoSOverridingOptions.with_default_policies()
