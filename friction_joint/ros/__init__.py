@@ -12,7 +12,8 @@
 # See the License for the specific language governing permissions and
 # limitations under the License.
 
-"""The ROS 2 layer: the only subpackage that imports rclpy.
+"""
+The ROS 2 layer: the only subpackage that imports rclpy.
 
 * :mod:`~friction_joint.ros.nodes`: ``joint_sim``, ``controller``, ``estimator``;
 * :mod:`~friction_joint.ros.record`, :mod:`~friction_joint.ros.replay`:

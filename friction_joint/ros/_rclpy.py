@@ -12,7 +12,8 @@
 # See the License for the specific language governing permissions and
 # limitations under the License.
 
-"""The rclpy internals this package relies on, isolated in one place with the reasons.
+"""
+The rclpy internals this package relies on, isolated in one place with the reasons.
 
 Public rclpy does not offer two things the nodes need at 1-3 kHz:
 
@@ -41,7 +42,8 @@ RCLError = rclpy_implementation.RCLError
 
 
 def take_message(subscription, msg_class, raw=False):
-    """Take one queued message of ``subscription`` or None, without an executor turn.
+    """
+    Take one queued message of ``subscription`` or None, without an executor turn.
 
     Returns what the C handle returns: ``(message, info)`` or None.  The caller
     must hold the handle (``with subscription.handle:``); :func:`take_all` does.

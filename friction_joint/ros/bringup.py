@@ -12,7 +12,8 @@
 # See the License for the specific language governing permissions and
 # limitations under the License.
 
-"""``friction_joint bringup``: start simulator, controller, estimator and recorder as processes.
+"""
+``friction_joint bringup``: start simulator, controller, estimator and recorder as processes.
 
     friction_joint bringup --model config/csd25.yaml --truth config/csd25_truth.yaml \
         --duration 10 --record bags/run1
@@ -43,7 +44,8 @@ class NodeProcess:
 
     def __init__(self, name, argv, env=None, log_dir=None):
         self.name = name
-        self.log = open(os.path.join(log_dir, f'{name}.log'), 'w') if log_dir else subprocess.DEVNULL
+        self.log = (open(os.path.join(log_dir, f'{name}.log'), 'w') if log_dir
+                    else subprocess.DEVNULL)
         self.proc = subprocess.Popen(argv, env=env, stdout=self.log, stderr=subprocess.STDOUT,
                                      start_new_session=True)
 
@@ -77,7 +79,8 @@ def _node(module, gear_file, params):
 
 def bringup(model, truth, duration, *, record=None, mode='lockstep', friction='lugre',
             amplitude=0.4, omega=1.5, xi0=None, log_dir=None, env=None, quiet=False):
-    """Run the closed loop as separate processes; returns the bag path (or None).
+    """
+    Run the closed loop as separate processes; returns the bag path (or None).
 
     Parameters
     ----------
@@ -88,8 +91,20 @@ def bringup(model, truth, duration, *, record=None, mode='lockstep', friction='l
     record : str, optional
         Bag directory to record the contract topics into (must not exist).
     mode : {'lockstep', 'realtime'}
+        Simulator mode: lockstep (simulated time, nothing lost) or real time.
     friction : str
         Friction model of controller feed-forward and estimator.
+    amplitude, omega : float
+        Reference q_d = amplitude sin(omega t) of the controller (rad, rad/s).
+    xi0 : float, optional
+        Initial gear temperature of the simulator (degC; default: the truth gear's).
+    log_dir : str, optional
+        Directory for one log file per process (default: logs discarded).
+    env : dict, optional
+        Environment of the processes (default: this process's).
+    quiet : bool
+        Print no progress lines.
+
     """
     for path in (model, truth):
         load_gear(path)                       # fail early, with the file's own error

@@ -13,7 +13,8 @@
 # limitations under the License.
 
 
-"""ROS parameters of the nodes: the gear file through the package's schema, the nodes' own.
+"""
+ROS parameters of the nodes: the gear file through the package's schema, the nodes' own.
 
 Every gear key (``friction.fc``, ``lever.mass``, ...) is declared read-only
 with a description, so ``ros2 param describe`` documents it and the values
@@ -32,7 +33,7 @@ from rclpy.exceptions import InvalidParameterValueException
 from rclpy.parameter import Parameter
 
 from ..exceptions import GearConfigError
-from ..gear import SCHEMA, Section, gear_from_flat
+from ..gear import gear_from_flat, SCHEMA, Section
 
 __all__ = ['gear_keys', 'declare_gear', 'declare_node_params', 'parameter_guard', 'describe']
 
@@ -60,7 +61,8 @@ def _plain(value):
 
 
 def declare_gear(node, own=()):
-    """Declare every gear key (dynamically typed) and build the GearParams.
+    """
+    Declare every gear key (dynamically typed) and build the GearParams.
 
     Parameters come from ``--params-file`` (the gear file) and ``-p``
     overrides.  Empty lists in a file arrive unset and count as absent (the
@@ -71,6 +73,7 @@ def declare_gear(node, own=()):
     Raises
     ------
     GearConfigError
+
     """
     keys = gear_keys()
     flat = {}
@@ -92,7 +95,8 @@ def declare_gear(node, own=()):
 
 
 def describe(description, *, read_only=True, low=None, high=None, integer=False):
-    """Return a ParameterDescriptor with a description and, given ``low``/``high``, a range.
+    """
+    Return a ParameterDescriptor with a description and, given ``low``/``high``, a range.
 
     The range is documentation for ``ros2 param describe`` and is enforced by
     rclpy on later changes; values are validated by the node's validators too.
@@ -109,7 +113,8 @@ def describe(description, *, read_only=True, low=None, high=None, integer=False)
 
 
 def declare_node_params(node, defaults, validators=None, descriptors=None):
-    """Declare the node's own parameters; return {name: value}.
+    """
+    Declare the node's own parameters; return {name: value}.
 
     ``defaults`` maps names to default values (their type is the parameter's
     type; ints are accepted where a float is expected).  ``validators`` maps
@@ -120,7 +125,7 @@ def declare_node_params(node, defaults, validators=None, descriptors=None):
     descriptors = descriptors or {}
     values = {}
     for name, default in defaults.items():
-        desc = descriptors.get(name) or describe(f'{name} (see the node\'s docstring)')
+        desc = descriptors.get(name) or describe(f"{name} (see the node's docstring)")
         try:
             value = _plain(node.declare_parameter(name, default, desc).value)
         except InvalidParameterValueException as exc:
@@ -149,7 +154,8 @@ def _check(name, value, default, validators):
 
 
 def parameter_guard(node, defaults, validators, apply):
-    """Install a set-parameters callback validating the node's own parameters.
+    """
+    Install a set-parameters callback validating the node's own parameters.
 
     A bad value is rejected with a reason and the node keeps running; good
     values are handed to ``apply(name, value)`` after acceptance.
@@ -160,7 +166,8 @@ def parameter_guard(node, defaults, validators, apply):
                 return SetParametersResult(successful=False,
                                            reason=f'{p.name} cannot be changed at run time')
             value = _plain(p.value)
-            if isinstance(defaults[p.name], float) and isinstance(value, int) and not isinstance(value, bool):
+            if isinstance(defaults[p.name], float) and isinstance(value, int) and \
+                    not isinstance(value, bool):
                 value = float(value)
             err = _check(p.name, value, defaults[p.name], validators)
             if err:

@@ -12,7 +12,8 @@
 # See the License for the specific language governing permissions and
 # limitations under the License.
 
-"""The QoS profiles of this package, defined once.
+"""
+The QoS profiles of this package, defined once.
 
 * :func:`stream_qos`: the contract topics between the nodes (reliable,
   volatile; keep-last :data:`QOS_DEPTH`, or keep-all where nothing may be lost);
@@ -37,7 +38,8 @@ CLOCK_QOS = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=10,
 
 
 def stream_qos(lossless=False):
-    """Reliable, volatile QoS of the contract topics.
+    """
+    Reliable, volatile QoS of the contract topics.
 
     Parameters
     ----------
@@ -47,6 +49,7 @@ def stream_qos(lossless=False):
         DDS has repaired it.  The default keep-last ``QOS_DEPTH`` lets a publisher run
         in real time past a stalled subscriber, which then loses the samples pushed
         out of the queue before they were repaired.
+
     """
     if lossless:
         return QoSProfile(history=HistoryPolicy.KEEP_ALL, reliability=ReliabilityPolicy.RELIABLE,
@@ -56,7 +59,8 @@ def stream_qos(lossless=False):
 
 
 def recorder_qos(topic):
-    """Return the recorder's QoS for ``topic``.
+    """
+    Return the recorder's QoS for ``topic``.
 
     Reliable keep-all for every topic (a recorder that falls behind for a
     moment must not let its queue overwrite messages it has acknowledged),

@@ -12,7 +12,8 @@
 # See the License for the specific language governing permissions and
 # limitations under the License.
 
-"""``friction_joint record OUT``: record topics into a rosbag2 recording without losing messages.
+"""
+``friction_joint record OUT``: record topics into a rosbag2 recording without losing messages.
 
 The recorder subscribes with ``raw=True`` (the serialized CDR bytes are written
 as received, nothing is deserialized) and writes every message with the rosbags
@@ -31,7 +32,8 @@ either a complete recording or absent.
 
 QoS: reliable with keep-all history for every topic (a recorder that falls
 behind for a moment must not let its queue overwrite messages it has
-acknowledged), except ``/clock`` (best effort, keep-last 1000).  A reliable subscription does not match a
+acknowledged), except ``/clock`` (best effort, keep-last 1000).  A reliable
+subscription does not match a
 best-effort publisher; record such a topic from a reliable republisher.
 """
 import importlib
@@ -43,13 +45,13 @@ import tempfile
 import threading
 import time
 
+from ._rclpy import take_all
+from .qos import recorder_qos
 from ..bag import CONTRACT_TYPES
 from ..exceptions import RecordingError
-from ._rclpy import take_all
-from .qos import QOS_DEPTH, recorder_qos
 
 __all__ = ['record', 'Recorder', 'parse_topics', 'message_class', 'install_signals',
-           'format_counts', 'QOS_DEPTH']
+           'format_counts']
 
 
 _BATCH = 0.002      # s to let messages queue up between takes (bag time is DDS time)
@@ -78,7 +80,7 @@ def parse_topics(specs):
 
 
 def message_class(topic, msgtype):
-    """The rclpy message class of ``msgtype`` (``pkg/msg/Type``) used on ``topic``."""
+    """Return the rclpy message class of ``msgtype`` (``pkg/msg/Type``) used on ``topic``."""
     try:
         pkg, kind, name = msgtype.split('/')
         return getattr(importlib.import_module(f'{pkg}.{kind}'), name)
@@ -87,7 +89,8 @@ def message_class(topic, msgtype):
 
 
 class Recorder:
-    """Subscriptions of one node that write every message into an open rosbags ``Writer``.
+    """
+    Subscriptions of one node that write every message into an open rosbags ``Writer``.
 
     Parameters
     ----------
@@ -104,6 +107,7 @@ class Recorder:
         (``'/topic: 1 publisher matched'``).  A publisher's messages are recorded only
         from the moment the recorder's side has matched it: DDS marks what a volatile
         reader missed before that as lost.
+
     """
 
     def __init__(self, node, writer, topics, typestore, log=None):
@@ -152,7 +156,8 @@ class Recorder:
 
 
 def install_signals(stop, force=None):
-    """SIGINT/SIGTERM set ``stop`` (a second one also ``force``); returns a restore function.
+    """
+    SIGINT/SIGTERM set ``stop`` (a second one also ``force``); returns a restore function.
 
     rclpy is initialised without its own handlers, which would shut the context down
     at once and leave no chance to drain and finalise.  Outside the main thread
@@ -171,7 +176,8 @@ def install_signals(stop, force=None):
 
 
 def record(out, *, topics=None, duration=None, args=None, log=None, stop=None):
-    """Record ``topics`` into ``out`` until a signal, ``duration`` or ``stop`` is set.
+    """
+    Record ``topics`` into ``out`` until a signal, ``duration`` or ``stop`` is set.
 
     Parameters
     ----------
@@ -197,6 +203,7 @@ def record(out, *, topics=None, duration=None, args=None, log=None, stop=None):
     ------
     RecordingError
         ``out`` exists, a topic or type is unknown, or writing failed.
+
     """
     import rclpy
     from rclpy.context import Context

@@ -12,7 +12,8 @@
 # See the License for the specific language governing permissions and
 # limitations under the License.
 
-"""``friction_joint replay BAG``: publish a recording again, with its timing and a ``/clock``.
+"""
+``friction_joint replay BAG``: publish a recording again, with its timing and a ``/clock``.
 
 Messages are published in bag order as the serialized bytes stored in the bag
 (no deserialization), spaced by their bag (receive) times divided by
@@ -42,11 +43,11 @@ import sys
 import threading
 import time
 
-from ..bag import iter_messages, recording_topics
-from ..exceptions import RecordingError
 from ._rclpy import RCLError
 from .qos import replay_qos
 from .record import install_signals, message_class
+from ..bag import iter_messages, recording_topics
+from ..exceptions import RecordingError
 
 __all__ = ['replay']
 
@@ -66,7 +67,8 @@ def _clock_bytes(ns):
 
 def replay(bag, *, rate=1.0, topics=None, clock=True, loop=False, wait=2.0, settle=0.5, args=None,
            log=None, stop=None):
-    """Publish the messages of ``bag`` with their original timing.
+    """
+    Publish the messages of ``bag`` with their original timing.
 
     Parameters
     ----------
@@ -102,6 +104,7 @@ def replay(bag, *, rate=1.0, topics=None, clock=True, loop=False, wait=2.0, sett
     ------
     RecordingError
         The bag is missing, unreadable, lacks a requested topic, or a type is not installed.
+
     """
     import rclpy
     from rclpy.context import Context
@@ -133,7 +136,7 @@ def replay(bag, *, rate=1.0, topics=None, clock=True, loop=False, wait=2.0, sett
     restore = install_signals(stop)
     context = Context()
     node = None
-    counts = {t: 0 for t in selected}
+    counts = dict.fromkeys(selected, 0)
     if clock:
         counts['/clock'] = 0
     try:

@@ -22,7 +22,8 @@ __all__ = ['stamp_to_ns', 'ns_to_stamp', 'joint_index', 'finite', 'take_queued',
 
 
 def take_queued(sub, cls):
-    """Return the messages already queued on subscription ``sub`` (oldest first).
+    """
+    Return the messages already queued on subscription ``sub`` (oldest first).
 
     Taken straight from the subscription, without a turn of the executor (which
     costs about 0.2 ms in rclpy); ``cls`` is the subscription's message type.
@@ -53,7 +54,8 @@ def finite(*values):
 
 
 class StampPairing:
-    """Pair joint states with the temperature sample of the same stamp (lockstep).
+    """
+    Pair joint states with the temperature sample of the same stamp (lockstep).
 
     In ``sync`` mode a state is processed only once the temperature with its
     stamp has arrived (the simulator publishes one with every state), which
@@ -108,7 +110,8 @@ class Rejects:
 
 
 class PairedInput(Rejects):
-    """Mixin: validated /joint_states + /joint_temperature input, paired by stamp.
+    """
+    Mixin: validated /joint_states + /joint_temperature input, paired by stamp.
 
     The node sets ``joint``, ``pair`` (:class:`StampPairing`) and
     ``state_fields`` (JointState fields it needs) and implements
@@ -139,7 +142,8 @@ class PairedInput(Rejects):
 
 
 def run_node(factory, name, args=None, drain=True):
-    """``main()`` body of a node: init, spin, quiet end on Ctrl-C / SIGTERM.
+    """
+    Run a node as the ``main()`` body: init, spin, quiet end on Ctrl-C / SIGTERM.
 
     The first SIGINT/SIGTERM stops the node *after* it has processed what is
     already queued (``drain``; e.g. an estimator behind a simulator that has

@@ -12,7 +12,8 @@
 # See the License for the specific language governing permissions and
 # limitations under the License.
 
-"""``controller``: the joint controller of eq. 17 as a ROS 2 node.
+"""
+``controller``: the joint controller of eq. 17 as a ROS 2 node.
 
     ros2 run friction_joint controller --ros-args --params-file config/csd25.yaml \
         -p friction_ff:=lugre -p amplitude:=0.4
@@ -21,7 +22,8 @@ Subscribes ``/joint_states`` and ``/joint_temperature``, publishes
 ``/joint_command`` (effort = commanded torque, position/velocity = q_d, qd_d)
 with the stamp of the state it answers.  The reference is
 q_d = offset + amplitude sin(omega t), t from the first state's stamp.
-Gains come from ``rise_time`` and ``overshoot`` (:func:`~friction_joint.control.controller.pd_gains`).
+Gains come from ``rise_time`` and ``overshoot``
+(:func:`~friction_joint.control.controller.pd_gains`).
 
 Run-time parameters (validated; a bad value is rejected with a reason and
 the node keeps running): ``friction_ff`` (none | static | lugre | gms),
@@ -39,11 +41,11 @@ import sys
 from rclpy.node import Node
 from sensor_msgs.msg import JointState, Temperature
 
-from ...control.controller import Controller, SineTrajectory, pd_gains
-from ...models.friction import FRICTION_KINDS
+from .common import PairedInput, run_node, StampPairing, take_queued
 from ..parameters import declare_gear, declare_node_params, describe, parameter_guard
 from ..qos import overridable, stream_qos
-from .common import PairedInput, run_node, StampPairing, take_queued
+from ...control.controller import Controller, pd_gains, SineTrajectory
+from ...models.friction import FRICTION_KINDS
 
 __all__ = ['ControllerNode', 'main']
 
@@ -51,8 +53,10 @@ DEFAULTS = {'friction_ff': 'lugre', 'ff_velocity': 'measured', 'amplitude': 0.4,
             'offset': 0.0, 'rise_time': 0.04, 'overshoot': 0.06, 'rate': 0.0, 'sync': True}
 RUNTIME = ('friction_ff', 'ff_velocity', 'amplitude', 'omega', 'offset')
 VALIDATORS = {
-    'friction_ff': lambda v: None if v in FRICTION_KINDS else f'must be one of {", ".join(FRICTION_KINDS)}',
-    'ff_velocity': lambda v: None if v in ('measured', 'desired') else "must be 'measured' or 'desired'",
+    'friction_ff': lambda v: (None if v in FRICTION_KINDS
+                              else f'must be one of {", ".join(FRICTION_KINDS)}'),
+    'ff_velocity': lambda v: (None if v in ('measured', 'desired')
+                              else "must be 'measured' or 'desired'"),
     'amplitude': lambda v: None if abs(v) <= 3.2 else 'must be within +-3.2 rad',
     'omega': lambda v: None if 0 <= v <= 100 else 'must be in [0, 100] rad/s',
     'offset': lambda v: None if abs(v) <= 3.2 else 'must be within +-3.2 rad',
@@ -74,7 +78,7 @@ DESCRIPTORS = {
     'rise_time': describe('rise time the PD gains are designed for, s'),
     'overshoot': describe('overshoot the PD gains are designed for (fraction)', low=0.0,
                           high=1.0),
-    'rate': describe('control rate, Hz (0: the gear\'s simulation.rate)'),
+    'rate': describe("control rate, Hz (0: the gear's simulation.rate)"),
     'sync': describe('pair each state with the temperature of the same stamp and answer every '
                      'state (lockstep); false: answer the newest state (real time)'),
 }
@@ -110,7 +114,8 @@ class ControllerNode(PairedInput, Node):
                                  qos_overriding_options=opts)
         parameter_guard(self, {k: DEFAULTS[k] for k in RUNTIME}, VALIDATORS, self.apply)
         self.get_logger().info(f'eq. 17 controller for {self.joint}: kp {self.kp:.1f} Nm/rad, '
-                               f'kd {self.kd:.2f} Nm s/rad, friction feed-forward {self.p["friction_ff"]}')
+                               f'kd {self.kd:.2f} Nm s/rad, friction feed-forward '
+                               f'{self.p["friction_ff"]}')
 
     def _controller(self):
         return Controller(self.gear, self.kp, self.kd, self.p['friction_ff'], self.dt,

@@ -12,7 +12,8 @@
 # See the License for the specific language governing permissions and
 # limitations under the License.
 
-"""``estimator``: the disturbance observer of eq. 4/15 as a ROS 2 node.
+"""
+``estimator``: the disturbance observer of eq. 4/15 as a ROS 2 node.
 
     ros2 run friction_joint estimator --ros-args --params-file config/csd25.yaml -p friction:=lugre
 
@@ -33,17 +34,18 @@ import sys
 from rclpy.node import Node
 from sensor_msgs.msg import JointState, Temperature
 
-from ...models.friction import FRICTION_KINDS
-from ...control.observer import DisturbanceObserver
+from .common import PairedInput, run_node, StampPairing
 from ..parameters import declare_gear, declare_node_params, describe, parameter_guard
 from ..qos import overridable, stream_qos
-from .common import PairedInput, run_node, StampPairing
+from ...control.observer import DisturbanceObserver
+from ...models.friction import FRICTION_KINDS
 
 __all__ = ['EstimatorNode', 'main']
 
 DEFAULTS = {'friction': 'lugre', 'beta': 60.0, 'gravity': False, 'rate': 0.0, 'sync': True}
 VALIDATORS = {
-    'friction': lambda v: None if v in FRICTION_KINDS else f'must be one of {", ".join(FRICTION_KINDS)}',
+    'friction': lambda v: (None if v in FRICTION_KINDS
+                           else f'must be one of {", ".join(FRICTION_KINDS)}'),
     'beta': lambda v: None if v > 0 else 'must be > 0',
     'rate': lambda v: None if v >= 0 else 'must be >= 0 (0: simulation.rate)',
 }
@@ -53,9 +55,9 @@ DESCRIPTORS = {
     'friction': describe('friction model of the observer: none, static, lugre or gms',
                          read_only=False),
     'beta': describe('cut-off frequency of the observer filter Q(s), rad/s'),
-    'gravity': describe('subtract the model lever\'s gravity (false: estimate it as part of '
-                        'the external torque, as in the paper\'s Section V-D)'),
-    'rate': describe('sample rate, Hz (0: the gear\'s simulation.rate)'),
+    'gravity': describe("subtract the model lever's gravity (false: estimate it as part of "
+                        "the external torque, as in the paper's Section V-D)"),
+    'rate': describe("sample rate, Hz (0: the gear's simulation.rate)"),
     'sync': describe('pair each state with the temperature of the same stamp (lockstep)'),
 }
 
@@ -86,7 +88,8 @@ class EstimatorNode(PairedInput, Node):
         self.create_subscription(Temperature, 'joint_temperature', self.on_temperature, qos,
                                  qos_overriding_options=opts)
         parameter_guard(self, {'friction': DEFAULTS['friction']}, VALIDATORS, self.apply)
-        self.get_logger().info(f'external torque observer for {self.joint}: beta {self.p["beta"]:g} '
+        self.get_logger().info(f'external torque observer for {self.joint}: '
+                               f'beta {self.p["beta"]:g} '
                                f'rad/s, friction model {self.p["friction"]}')
 
     def _observer(self):

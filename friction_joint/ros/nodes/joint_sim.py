@@ -12,7 +12,8 @@
 # See the License for the specific language governing permissions and
 # limitations under the License.
 
-"""``joint_sim``: the simulated Harmonic Drive joint (the plant) as a ROS 2 node.
+"""
+``joint_sim``: the simulated Harmonic Drive joint (the plant) as a ROS 2 node.
 
     ros2 run friction_joint joint_sim --ros-args --params-file config/csd25_truth.yaml \
         -p mode:=lockstep
@@ -63,11 +64,11 @@ from rclpy.node import Node
 from rosgraph_msgs.msg import Clock
 from sensor_msgs.msg import JointState, Temperature
 
-from ...testbed.plant import Plant
-from ..parameters import declare_gear, declare_node_params, describe
-from ..qos import CLOCK_QOS, overridable, stream_qos
 from .common import (finite, joint_index, ns_to_stamp, Rejects, run_node, stamp_to_ns,
                      take_queued)
+from ..parameters import declare_gear, declare_node_params, describe
+from ..qos import CLOCK_QOS, overridable, stream_qos
+from ...testbed.plant import Plant
 
 __all__ = ['JointSimNode', 'main']
 
@@ -80,10 +81,12 @@ DEFAULTS = {'mode': 'realtime', 'publish_rate': 1000.0, 'duration': 0.0, 'xi0': 
             'q0': 0.0, 'seed': -1, 'friction_model': '', 'resend_period': 0.2,
             'wait_subscribers': 1, 'start_delay': 0.5}
 VALIDATORS = {
-    'mode': lambda v: None if v in ('realtime', 'lockstep') else "must be 'realtime' or 'lockstep'",
+    'mode': lambda v: (None if v in ('realtime', 'lockstep')
+                       else "must be 'realtime' or 'lockstep'"),
     'publish_rate': lambda v: None if v > 0 else 'must be > 0',
     'duration': lambda v: None if v >= 0 else 'must be >= 0',
-    'friction_model': lambda v: None if v in ('', 'static', 'lugre', 'gms') else 'must be static, lugre or gms',
+    'friction_model': lambda v: (None if v in ('', 'static', 'lugre', 'gms')
+                                 else 'must be static, lugre or gms'),
     'resend_period': lambda v: None if v > 0 else 'must be > 0',
     'wait_subscribers': lambda v: None if v >= 0 else 'must be >= 0',
     'start_delay': lambda v: None if v >= 0 else 'must be >= 0',
@@ -117,6 +120,7 @@ class JointSimNode(Rejects, Node):
         self.p = declare_node_params(self, own, VALIDATORS, DESCRIPTORS)
         xi0 = self.declare_parameter('xi0', float('nan'), DESCRIPTORS['xi0']).value
         self.gear = declare_gear(self, own=list(DEFAULTS))
+
         def plant():
             return Plant(self.gear, model=self.p['friction_model'] or None,
                          xi0=None if math.isnan(xi0) else xi0,
@@ -128,7 +132,8 @@ class JointSimNode(Rejects, Node):
         self.tau_cmd = 0.0
         self.contact = 0.0
         self.done = False
-        self.n_end = int(round(self.p['duration'] * self.plant.rate)) if self.p['duration'] > 0 else 0
+        self.n_end = (int(round(self.p['duration'] * self.plant.rate))
+                      if self.p['duration'] > 0 else 0)
         qos, out, opts = stream_qos(), stream_qos(lossless=self.lockstep), overridable()
         self.pub_state = self.create_publisher(JointState, 'joint_states', out,
                                                qos_overriding_options=opts)
@@ -152,8 +157,8 @@ class JointSimNode(Rejects, Node):
             self.last_sent = None
         else:
             self.per_tick = max(1, int(round(self.plant.rate / self.p['publish_rate'])))
-            self.temp_every = max(1, int(round(self.p['publish_rate'] /
-                                               self.gear.section('simulation')['temperature_rate'])))
+            temperature_rate = self.gear.section('simulation')['temperature_rate']
+            self.temp_every = max(1, int(round(self.p['publish_rate'] / temperature_rate)))
             self.ticks = 0
             self.period = 1.0 / self.p['publish_rate']
             self.next_tick = None
@@ -184,7 +189,7 @@ class JointSimNode(Rejects, Node):
 
     # ---------------------------------------------------------------- output
     def stamp_ns(self, k):
-        """Simulated time of step k in ns, rounded per step (no drift)."""
+        """Return the simulated time of step k in ns, rounded per step (no drift)."""
         return round(k * 1e9 / self.plant.rate)
 
     def publish(self, s, temperature):
