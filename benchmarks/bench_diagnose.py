@@ -1,5 +1,20 @@
 #!/usr/bin/env python3
-"""Wall time of ``friction_joint diagnose`` on a 90 s, 1 kHz recording, end to end.
+# Copyright 2026 friction_joint maintainers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""
+Wall time of ``friction_joint diagnose`` on a 90 s, 1 kHz recording, end to end.
 
     .venv/bin/python benchmarks/bench_diagnose.py                    # thermal hidden, 90 s
     .venv/bin/python benchmarks/bench_diagnose.py --effect position_ripple --seconds 60
@@ -34,13 +49,14 @@ ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 sys.path.insert(0, ROOT)
 
 import friction_joint  # noqa: E402
-from friction_joint.experiments.hidden import EFFECTS, apply_effect, simulate_recording  # noqa: E402
+from friction_joint.experiments.hidden import (  # noqa: E402
+    apply_effect, EFFECTS, simulate_recording)
 
 BASE = os.path.join(ROOT, 'config', 'csd25_base.yaml')
 
 
 def main(argv=None):
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap = argparse.ArgumentParser(description=__doc__.strip().splitlines()[0])
     ap.add_argument('--effect', default='thermal', choices=list(EFFECTS) + ['none'])
     ap.add_argument('--seconds', type=float, default=90.0)
     ap.add_argument('--seed', type=int, default=5)

@@ -1,5 +1,20 @@
 #!/usr/bin/env python3
-"""Wall time of the identification of a 10-minute, 1 kHz recording.
+# Copyright 2026 friction_joint maintainers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""
+Wall time of the identification of a 10-minute, 1 kHz recording.
 
     .venv/bin/python benchmarks/bench_identify.py              # 10 min recording
     .venv/bin/python benchmarks/bench_identify.py --minutes 3   # shorter
@@ -33,16 +48,16 @@ import sys
 import tempfile
 import time
 
-import numpy as np
-
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 sys.path.insert(0, ROOT)
 
 from friction_joint.bag import write_recording  # noqa: E402
-from friction_joint.experiments.excitation import EXCITATION, plan_block, simulate_identification  # noqa: E402
+from friction_joint.experiments.excitation import (  # noqa: E402
+    EXCITATION, plan_block, simulate_identification)
 from friction_joint.gear import load_gear  # noqa: E402
 from friction_joint.identification.pipeline import identify_recordings  # noqa: E402
 from friction_joint.models.static import StaticFriction  # noqa: E402
+import numpy as np  # noqa: E402
 
 TRUTH = os.path.join(ROOT, 'config', 'csd25_truth.yaml')
 STRUCTURE = os.path.join(ROOT, 'config', 'csd25.yaml')
@@ -67,7 +82,7 @@ def scale_for(truth, seconds):
 
 
 def main():
-    ap = argparse.ArgumentParser(description=__doc__.split('\n')[0])
+    ap = argparse.ArgumentParser(description=__doc__.strip().split('\n')[0])
     ap.add_argument('--minutes', type=float, default=10.0)
     ap.add_argument('--regenerate', action='store_true')
     ap.add_argument('--no-report', action='store_true', help='skip timing the figures')

@@ -1,5 +1,20 @@
 #!/usr/bin/env python3
-"""Speed and accuracy of the LuGre joint integrator against scipy's Radau.
+# Copyright 2026 friction_joint maintainers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""
+Speed and accuracy of the LuGre joint integrator against scipy's Radau.
 
     .venv/bin/python benchmarks/bench_lugre_joint.py            # 30 s horizon
     .venv/bin/python benchmarks/bench_lugre_joint.py --quick    # 3 s horizon
@@ -65,14 +80,13 @@ import os
 import sys
 import time
 
-import numpy as np
-from scipy.integrate import solve_ivp
-
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(HERE)
 sys.path.insert(0, ROOT)
 
 from friction_joint import Joint, load_gear  # noqa: E402
+import numpy as np  # noqa: E402
+from scipy.integrate import solve_ivp  # noqa: E402
 
 G_MIN = 1e-12       # floor of |g| in the bristle rate, as in the package
 VS_MIN = 1e-9       # physical clipping of the evaluated curve parameters
@@ -82,7 +96,8 @@ DV_MIN = 0.05
 # ------------------------------------------------------------ excitation ---
 
 class Excitation:
-    """Continuous inputs: drive torque tau(t), temperature xi(t), tau_ext_in(t) = 0.
+    """
+    Continuous inputs: drive torque tau(t), temperature xi(t), tau_ext_in(t) = 0.
 
     tau(t) = w(t) env(t) sum_i A_i sin(2 pi f_i t + phi_i) with a slow
     envelope env between 0.2 and 1: at low envelope the torque stays below
@@ -155,7 +170,8 @@ def _poly(c, x):
 
 
 class ContinuousModel:
-    """The continuous-time joint + LuGre model written from the equations.
+    """
+    The continuous-time joint + LuGre model written from the equations.
 
     State y = (q, qd, z).  Independent of the package's numba kernels; only
     the parameter values come from the gear file.
@@ -185,7 +201,8 @@ class ContinuousModel:
         self.offset = float(getattr(f, 'offset', 0.0) or 0.0)   # constant torque in tau_r
         r = getattr(f, 'position_ripple', None)
         self.ripple = () if r is None else tuple(
-            (a, (n + 1) * r.cycles_per_rev, p) for n, (a, p) in enumerate(zip(r.amplitude, r.phase)))
+            (a, (n + 1) * r.cycles_per_rev, p)
+            for n, (a, p) in enumerate(zip(r.amplitude, r.phase)))
         self.jac_floor = float(jac_floor)
 
     def params(self, xi, tl):
@@ -220,7 +237,8 @@ class ContinuousModel:
         return np.array((v, (self.exc.tau_s(t) - tr - te) / self.J, zd))
 
     def jac(self, t, y):
-        """Analytic Jacobian (parameter dependence on the load neglected).
+        """
+        Analytic Jacobian (parameter dependence on the load neglected).
 
         The slope of s is evaluated at max(|qd|, jac_floor): it is infinite
         at qd = 0.  Only Radau's Newton iteration uses the Jacobian; the
@@ -348,11 +366,12 @@ def motion_stats(q, v, tau):
 
 
 def main(argv=None):
-    ap = argparse.ArgumentParser(description=__doc__.split('\n')[0])
+    ap = argparse.ArgumentParser(description=__doc__.strip().split('\n')[0])
     ap.add_argument('--quick', action='store_true', help='3 s horizon, fewer repetitions')
     ap.add_argument('--horizon', type=float, help='simulated time, s (default 30, quick 3)')
     ap.add_argument('--gear', default=os.path.join(ROOT, 'config', 'csd25.yaml'))
-    ap.add_argument('--mgl', type=float, help="lever gravity m g l, Nm (default: the gear file's lever)")
+    ap.add_argument('--mgl', type=float,
+                    help="lever gravity m g l, Nm (default: the gear file's lever)")
     ap.add_argument('--qd0', type=float, default=0.3,
                     help='initial velocity, rad/s (q = 0, z = 0); see the module docstring')
     ap.add_argument('--rate', type=float, default=3000.0, help='sample rate, Hz')
@@ -363,12 +382,15 @@ def main(argv=None):
     ap.add_argument('--scan', type=float, nargs='*',
                     default=[1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-9],
                     help='Radau rtols to try for matched accuracy (loosest first)')
-    ap.add_argument('--radau-repeat', type=int, default=1, help='timing repetitions of the matched Radau run')
+    ap.add_argument('--radau-repeat', type=int, default=1,
+                    help='timing repetitions of the matched Radau run')
     ap.add_argument('--jac-floor', type=float, default=1e-16,
                     help='|qd| floor for the slope of s in the Jacobian given to Radau')
     ap.add_argument('--check-ref', type=float, metavar='RTOL',
-                    help='also integrate a second reference at this rtol and report the difference')
-    ap.add_argument('--cache', help='npz file to store/reuse the tight reference (keyed by a hash of the setup)')
+                    help='also integrate a second reference at this rtol and report the '
+                         'difference')
+    ap.add_argument('--cache', help='npz file to store/reuse the tight reference (keyed by a '
+                                    'hash of the setup)')
     ap.add_argument('--save', help='write ours, reference and errors to this npz')
     args = ap.parse_args(argv)
 
@@ -395,9 +417,10 @@ def main(argv=None):
     traj, t_ours, times = run_ours(gear, exc, mgl, dt, n, repeat, args.qd0)
     st = motion_stats(traj.q, traj.qd, exc.tau(tk))
     print(f'motion: q in [{st["q_range"][0]:.3f}, {st["q_range"][1]:.3f}] rad, max|qd| '
-          f'{st["qd_max"]:.3f} rad/s, tau in [{st["tau_range"][0]:.2f}, {st["tau_range"][1]:.2f}] Nm')
-    print(f'        {100 * st["frac_slow"]:.0f}% of samples at |qd| < 1e-3 rad/s (stiction/creep), '
-          f'{st["reversals_sliding"]} direct reversals between |qd| > 0.01, '
+          f'{st["qd_max"]:.3f} rad/s, tau in [{st["tau_range"][0]:.2f}, '
+          f'{st["tau_range"][1]:.2f}] Nm')
+    print(f'        {100 * st["frac_slow"]:.0f}% of samples at |qd| < 1e-3 rad/s '
+          f'(stiction/creep), {st["reversals_sliding"]} direct reversals between |qd| > 0.01, '
           f'{st["zero_crossings"]} qd sign changes')
     print(f'ours: Joint.simulate best of {repeat}: {t_ours * 1e3:.2f} ms '
           f'(median {np.median(times) * 1e3:.2f} ms, {t_ours / n * 1e9:.0f} ns/step)')
@@ -431,13 +454,15 @@ def main(argv=None):
         y = sol.sol(tk)
         d = errors(tk, model.tau_r_at(tk, y), y[0], y[1], ref['tr'], ref['y'])
         print(f'reference check: Radau rtol={args.check_ref:g} ({wall:.1f} s) differs from the '
-              f'reference by max|tau_r| {d["max"]:.2e} Nm (t={d["argmax_t"]:.4f} s), rms {d["rms"]:.1e}, '
+              f'reference by max|tau_r| {d["max"]:.2e} Nm (t={d["argmax_t"]:.4f} s), '
+              f'rms {d["rms"]:.1e}, '
               f'max|q| {d["q"]:.1e} rad, max|qd| {d["v"]:.1e} rad/s')
 
     err = errors(tk, traj.tau_r, traj.q, traj.qd, ref['tr'], ref['y'])
     e = traj.tau_r - ref['tr']
     print(f'ours vs reference: max|tau_r err| {err["max"]:.3e} Nm at t={err["argmax_t"]:.4f} s, '
-          f'rms {err["rms"]:.3e} Nm, max|q err| {err["q"]:.2e} rad, max|qd err| {err["v"]:.2e} rad/s')
+          f'rms {err["rms"]:.3e} Nm, max|q err| {err["q"]:.2e} rad, '
+          f'max|qd err| {err["v"]:.2e} rad/s')
     for line in where_errors(tk, e, ref['y'], model, exc):
         print(line)
     # near a crossing tau_r(t) ~ F_v |kappa a (t - t_c)|^delta_v is only Hoelder
@@ -459,8 +484,9 @@ def main(argv=None):
         y = sol.sol(tk)
         er = errors(tk, model.tau_r_at(tk, y), y[0], y[1], ref['tr'], ref['y'])
         ok = er['max'] <= err['max']
-        print(f'  {rtol:8.0e}  {wall:8.2f}  {sol.t.size - 1:7d}  {sol.nfev:8d}  {er["max"]:14.3e}  '
-              f'{er["rms"]:9.2e}  {er["q"]:10.2e}{"  <= ours" if ok else ""}', flush=True)
+        print(f'  {rtol:8.0e}  {wall:8.2f}  {sol.t.size - 1:7d}  {sol.nfev:8d}  '
+              f'{er["max"]:14.3e}  {er["rms"]:9.2e}  {er["q"]:10.2e}'
+              f'{"  <= ours" if ok else ""}', flush=True)
         if ok:
             walls = [wall]
             for _ in range(args.radau_repeat - 1):
@@ -487,14 +513,17 @@ def main(argv=None):
     print(f'  {"max |tau_r error| (Nm)":32s} {err["max"]:12.3e}   target <= 1e-3')
     print(f'  {"rms |tau_r error| (Nm)":32s} {err["rms"]:12.3e}')
     if far is not None:
-        print(f'  {"max |tau_r error| >= 2 ms from":32s} {far:12.3e}   (samples at least 2 ms away from any')
-        print(f'  {"  a reference qd zero crossing":32s} {"":12s}    qd zero crossing of the reference)')
+        print(f'  {"max |tau_r error| >= 2 ms from":32s} {far:12.3e}   '
+              '(samples at least 2 ms away from any')
+        print(f'  {"  a reference qd zero crossing":32s} {"":12s}    '
+              'qd zero crossing of the reference)')
     print(f'  benchmark wall time {total:.0f} s')
     if args.save:
         np.savez(args.save, t=tk, q=traj.q, qd=traj.qd, tau_r=traj.tau_r, ref_y=ref['y'],
                  ref_tr=ref['tr'], tau=exc.tau(tk), xi=exc.xi(tk))
     if bound:
-        print('  (ratio_vs_radau below is a lower bound: no scanned Radau run was as accurate as ours)')
+        print('  (ratio_vs_radau below is a lower bound: no scanned Radau run was as accurate '
+              'as ours)')
     print(f'realtime_factor={rtf:.1f} ratio_vs_radau={ratio:.1f} max_error_nm={err["max"]:.3e}')
 
 

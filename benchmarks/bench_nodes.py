@@ -1,4 +1,19 @@
-"""Benchmark of the ROS 2 side: rates, latency, lockstep speed, recorder throughput.
+# Copyright 2026 friction_joint maintainers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""
+Benchmark of the ROS 2 side: rates, latency, lockstep speed, recorder throughput.
 
     .venv/bin/python benchmarks/bench_nodes.py [--quick]
 
@@ -68,7 +83,8 @@ def node(name, gear, **params):
 
 
 def realtime(seconds, e):
-    """Sim + controller in real time, measured from a zero-loss recording.
+    """
+    Sim + controller in real time, measured from a zero-loss recording.
 
     An in-process rclpy subscriber cannot keep up with 2 kHz of input (it
     takes one message per executor turn), so the recorder is the instrument:
@@ -125,13 +141,14 @@ def lockstep(sim_seconds, e):
     return {'steps': steps, 'wall_s': wall, 'steps_per_s': steps / wall}
 
 
-FLOOD = '''
+FLOOD = """
 import sys, time, rclpy
 from rclpy.qos import HistoryPolicy, QoSProfile, ReliabilityPolicy
 from sensor_msgs.msg import JointState
 rclpy.init()
 n = rclpy.create_node('flood')
-pub = n.create_publisher(JointState, '/joint_states', QoSProfile(history=HistoryPolicy.KEEP_ALL, reliability=ReliabilityPolicy.RELIABLE))
+pub = n.create_publisher(JointState, '/joint_states', QoSProfile(
+    history=HistoryPolicy.KEEP_ALL, reliability=ReliabilityPolicy.RELIABLE))
 t = time.monotonic() + 10
 while pub.get_subscription_count() < 1 and time.monotonic() < t:
     rclpy.spin_once(n, timeout_sec=0.05)
@@ -149,7 +166,7 @@ while time.monotonic() - t0 < secs:
 pub.wait_for_all_acked(rclpy.duration.Duration(seconds=5))
 print('published', k, flush=True)
 n.destroy_node(); rclpy.shutdown()
-'''
+"""
 
 
 def recorder(rate, seconds, e):
@@ -171,7 +188,7 @@ def recorder(rate, seconds, e):
 
 
 def main():
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap = argparse.ArgumentParser(description=__doc__.strip().splitlines()[0])
     ap.add_argument('--quick', action='store_true', help='10 s instead of 60 s of real time')
     a = ap.parse_args()
     e = env()
@@ -180,18 +197,21 @@ def main():
     rt = realtime(secs, e)
     print(f'realtime {secs:g} s: /joint_states {rt["rate_hz"]:.1f} Hz (target 1000 +- 1 %), '
           f'gap p99 {rt["gap_p99_ms"]:.2f} ms, max {rt["gap_max_ms"]:.2f} ms; '
-          f'state->command latency p50 {rt["latency_p50_ms"]:.3f} ms, p99 {rt["latency_p99_ms"]:.3f} ms',
+          f'state->command latency p50 {rt["latency_p50_ms"]:.3f} ms, '
+          f'p99 {rt["latency_p99_ms"]:.3f} ms',
           flush=True)
     ls = lockstep(1.0 if a.quick else 3.0, e)
-    print(f'lockstep: {ls["steps"]} steps in {ls["wall_s"]:.2f} s = {ls["steps_per_s"]:.0f} steps/s '
-          f'({ls["steps_per_s"] / 3000:.3f} x real time)', flush=True)
+    print(f'lockstep: {ls["steps"]} steps in {ls["wall_s"]:.2f} s = '
+          f'{ls["steps_per_s"]:.0f} steps/s ({ls["steps_per_s"] / 3000:.3f} x real time)',
+          flush=True)
     r3 = recorder(3000.0, 5.0, e)
     rf = recorder(0.0, 5.0, e)
     for name, r in (('3 kHz', r3), ('flood', rf)):
         print(f'recorder {name}: published {r["published"]}, written {r["written"]}, '
               f'lost {r["lost"]} ({r["rate_msg_s"]:.0f} msg/s)', flush=True)
     print(f'rate_hz={rt["rate_hz"]:.1f} latency_p50_ms={rt["latency_p50_ms"]:.3f} '
-          f'latency_p99_ms={rt["latency_p99_ms"]:.3f} lockstep_steps_per_s={ls["steps_per_s"]:.0f} '
+          f'latency_p99_ms={rt["latency_p99_ms"]:.3f} '
+          f'lockstep_steps_per_s={ls["steps_per_s"]:.0f} '
           f'recorder_lost={r3["lost"] + rf["lost"]} recorder_flood_msg_s={rf["rate_msg_s"]:.0f}')
 
 

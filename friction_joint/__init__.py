@@ -1,4 +1,19 @@
-"""friction_joint: a simulated Harmonic Drive joint with thermal- and load-dependent friction.
+# Copyright 2026 friction_joint maintainers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""
+friction_joint: a simulated Harmonic Drive joint with thermal- and load-dependent friction.
 
 The subpackages, one concept each (the tree is the architecture):
 
@@ -22,7 +37,7 @@ parameter files), :mod:`~friction_joint.exceptions`, :mod:`~friction_joint.outpu
 from ._version import __version__
 from .exceptions import (ExcitationError, ExperimentError, FrictionJointError, GearConfigError,
                          GearConfigWarning, PreslidingDataError, RecordingError, SimulationError)
-from .gear import FrictionParams, GearParams, gear_from_dict, load_gear, save_gear
+from .gear import FrictionParams, gear_from_dict, GearParams, load_gear, save_gear
 from .models import GMS, Joint, LuGre, StaticFriction
 
 __all__ = ['__version__', 'FrictionJointError', 'GearConfigError', 'GearConfigWarning',

@@ -1,4 +1,19 @@
-"""Optional numba acceleration.
+# Copyright 2026 friction_joint maintainers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""
+Optional numba acceleration.
 
 The numerical kernels are written in the subset of Python that numba
 compiles.  When numba is installed they are compiled (and cached on disk);
@@ -19,7 +34,7 @@ except ImportError:  # pragma: no cover - exercised only without numba
 
 
 def njit(*args, **kwargs):
-    """``numba.njit(cache=True)`` if numba is available, else the identity."""
+    """Act as ``numba.njit`` with ``cache=True`` if numba is available, else as the identity."""
     if HAVE_NUMBA:
         kwargs.setdefault('cache', True)
         return _numba.njit(*args, **kwargs)

@@ -1,4 +1,19 @@
-"""``friction_joint demo --out DIR``: the main job, with a Markdown report of the results.
+# Copyright 2026 friction_joint maintainers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""
+``friction_joint demo --out DIR``: the main job, with a Markdown report of the results.
 
 1. brings the ROS 2 nodes up as separate processes (simulated joint on the
    truth gear, eq. 17 controller and eq. 15 estimator on the model gear, a
@@ -57,9 +72,10 @@ def run_demo(out, model=None, truth=None, duration_scale=1.0):
             numbers = json.load(fh)
         lines += [f'### {name} ({time.perf_counter() - t0:.1f} s)', '',
                   f'![{name}](classic/{name}.png)', '', '```json',
-                  json.dumps({k: v for k, v in numbers.items() if not isinstance(v, list) or len(v) < 12},
+                  json.dumps({k: v for k, v in numbers.items()
+                              if not isinstance(v, list) or len(v) < 12},
                              indent=1), '```', '']
-    lines += ['## Simulated test bed: the paper\'s three applications', '']
+    lines += ["## Simulated test bed: the paper's three applications", '']
     for name in TESTBED:
         t0 = time.perf_counter()
         d = os.path.join(out, name)
@@ -94,10 +110,11 @@ def _identification(out, model, truth, duration_scale):
     t2 = time.perf_counter()
     with open(gear, encoding='utf-8') as fh:
         header = [ln[2:].rstrip() for ln in fh if ln.startswith('# ')]
-    lines = ['## Identification from a recording (the paper\'s three steps)', '',
-             f'`friction_joint experiment identification --truth {os.path.basename(truth)}` recorded '
-             f'the excitation in {t1 - t0:.1f} s; `friction_joint identify` fitted the structure of '
-             f'`{os.path.basename(model)}` in {t2 - t1:.1f} s and wrote `identification/identified.yaml`:',
+    lines = ["## Identification from a recording (the paper's three steps)", '',
+             f'`friction_joint experiment identification --truth {os.path.basename(truth)}` '
+             f'recorded the excitation in {t1 - t0:.1f} s; `friction_joint identify` fitted the '
+             f'structure of `{os.path.basename(model)}` in {t2 - t1:.1f} s and wrote '
+             '`identification/identified.yaml`:',
              '', '```'] + header[:40] + ['```', '']
     lines += [f'![{f}](identification/report/{f})' for f in _figures(report)]
     return lines + ['']
@@ -150,5 +167,6 @@ def _ros_run(out, model, truth, duration):
             f'{duration:g} s simulated in {wall:.1f} s wall; bag `bag/` '
             f'({counts}).', '',
             '![ros run](ros_run.png)', '',
-            f'Estimator vs link torque sensor after 0.5 s: RMS {np.sqrt(np.mean(err ** 2)):.3f} Nm, '
+            'Estimator vs link torque sensor after 0.5 s: '
+            f'RMS {np.sqrt(np.mean(err ** 2)):.3f} Nm, '
             f'max {np.max(np.abs(err)):.3f} Nm.', '']

@@ -1,10 +1,24 @@
-"""Gear parameter files: load, validate, modify and save (CONTRACT section 4).
+# Copyright 2026 friction_joint maintainers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
 
-A gear file is a ROS 2 parameter file; everything sits under
-``/**: ros__parameters:``.  The schema below lists every key this package
-knows.  Unknown keys, wrong types, NaN/inf and physically impossible values
-raise :class:`~friction_joint.exceptions.GearConfigError` naming the key.
-A LuGre set that violates the passivity bound only warns
+"""
+Gear parameter files: load, validate, modify and save (README, Interfaces: gear parameter files).
+
+A gear file is a ROS 2 parameter file; everything sits under ``/**: ros__parameters:``.
+The schema below lists every key this package knows.  Unknown keys, wrong types, NaN/inf
+and physically impossible values raise :class:`~friction_joint.exceptions.GearConfigError`
+naming the key.  A LuGre set that violates the passivity bound only warns
 (:class:`~friction_joint.exceptions.GearConfigWarning`).
 
 Keys beyond the contract's base keys (all optional):
@@ -55,7 +69,8 @@ class _Spec:
 
 class Float(_Spec):
     def __init__(self, default=REQUIRED, positive=False, nonnegative=False, doc=''):
-        self.default, self.positive, self.nonnegative, self.doc = default, positive, nonnegative, doc
+        self.default, self.positive, self.nonnegative, self.doc = (
+            default, positive, nonnegative, doc)
 
     def check(self, value, path):
         if isinstance(value, bool) or not isinstance(value, (int, float)):
@@ -90,7 +105,8 @@ class Str(_Spec):
         if not isinstance(value, str) or not value:
             raise GearConfigError(f'{path}: expected a non-empty string, got {value!r}')
         if self.choices and value not in self.choices:
-            raise GearConfigError(f'{path}: must be one of {", ".join(self.choices)}; got {value!r}')
+            raise GearConfigError(f'{path}: must be one of {", ".join(self.choices)}; '
+                                  f'got {value!r}')
         return value
 
 
@@ -115,7 +131,8 @@ class FloatList(_Spec):
         if self.length is not None and len(out) != self.length:
             raise GearConfigError(f'{path}: expected {self.length} numbers, got {len(out)}')
         if len(out) < self.min_len:
-            raise GearConfigError(f'{path}: needs at least {self.min_len} coefficient(s), got {len(out)}')
+            raise GearConfigError(f'{path}: needs at least {self.min_len} coefficient(s), '
+                                  f'got {len(out)}')
         return out
 
 
@@ -134,9 +151,9 @@ def _validate(fields, data, path):
     prefix = path + '.' if path else ''
     unknown = sorted(set(data) - set(fields))
     if unknown:
-        raise GearConfigError(
-            f'unknown key {prefix}{unknown[0]}' + (f' (and {len(unknown) - 1} more)' if len(unknown) > 1 else '')
-            + f'; known keys here: {", ".join(sorted(fields))}')
+        raise GearConfigError(f'unknown key {prefix}{unknown[0]}'
+                              + (f' (and {len(unknown) - 1} more)' if len(unknown) > 1 else '')
+                              + f'; known keys here: {", ".join(sorted(fields))}')
     out = {}
     for key, spec in fields.items():
         if key in data and data[key] is not None:
@@ -170,7 +187,8 @@ FRICTION_SCHEMA = {
     'vs_load': _load('v_s load coefficients'),
     'delta_v_load': _load('delta_v load coefficients'),
     'velocity_scale': Float(1.0, positive=True, doc='curve evaluated at velocity_scale * qd'),
-    'temperature_range': FloatList([0.0, 100.0], length=2, doc='validity range of the polynomials, degC'),
+    'temperature_range': FloatList([0.0, 100.0], length=2,
+                                   doc='validity range of the polynomials, degC'),
     'lugre': Section({
         'sigma0': Float(positive=True, doc='bristle stiffness, Nm/rad'),
         'sigma1': Float(0.0, nonnegative=True, doc='micro-damping, Nm s/rad'),
@@ -182,7 +200,8 @@ FRICTION_SCHEMA = {
     }, doc='GMS parameters (eq. 11-13)'),
     'offset': Float(0.0, doc='constant torque added to the friction torque, Nm'),
     'position_ripple': Section({
-        'cycles_per_rev': Float(REQUIRED, positive=True, doc='fundamental, cycles per output revolution'),
+        'cycles_per_rev': Float(REQUIRED, positive=True,
+                                doc='fundamental, cycles per output revolution'),
         'amplitude': FloatList(REQUIRED, min_len=1, doc='Nm, one per harmonic 1..n'),
         'phase': FloatList(None, min_len=1, doc='rad, one per harmonic (default 0)'),
     }, doc='torque ripple periodic in q, added to the friction torque'),
@@ -214,7 +233,8 @@ SCHEMA = {
         'temperature_resolution': Float(0.0625, positive=True, doc='degC'),
         'temperature_time_constant': Float(4.0, positive=True, doc='sensor lag, s'),
         'temperature_noise': Float(0.0, nonnegative=True, doc='std, degC'),
-        'link_torque_noise': Float(0.03, nonnegative=True, doc='output torque sensor noise std, Nm'),
+        'link_torque_noise': Float(0.03, nonnegative=True,
+                                   doc='output torque sensor noise std, Nm'),
     }, doc='sensor models of the simulated test bed'),
     'simulation': Section({
         'rate': Float(3000.0, positive=True, doc='simulation and control rate, Hz'),
@@ -275,7 +295,8 @@ class FrictionParams:
 
 @dataclasses.dataclass(frozen=True)
 class GearParams:
-    """A validated gear parameter set.
+    """
+    A validated gear parameter set.
 
     ``data`` is the validated ``ros__parameters`` mapping (defaults filled
     in); the other attributes are typed views of it.
@@ -290,7 +311,7 @@ class GearParams:
     given: frozenset = dataclasses.field(default=frozenset(), repr=False, compare=False)
 
     def section(self, name):
-        """A validated simulator section (``'lever'``, ``'thermal'``, ...) with defaults."""
+        """Return a validated simulator section with defaults (``'lever'``, ``'thermal'``, ...)."""
         sec = self.data.get(name)
         if sec is None and name in DEFAULT_SECTIONS:
             sec = _validate(SCHEMA[name].fields, {}, name)
@@ -298,19 +319,19 @@ class GearParams:
 
     @property
     def mgl(self):
-        """Lever gravity amplitude m g l (Nm)."""
+        """Lever gravity amplitude m g l, in Nm."""
         lever = self.section('lever')
         return lever['mass'] * lever['gravity'] * lever['length']
 
     def replace(self, changes):
-        """A new GearParams with ``changes`` (a nested dict) merged in and validated."""
+        """Return a new GearParams with ``changes`` (a nested dict) merged in and validated."""
         data = copy.deepcopy(self.data)
         _merge(data, changes)
-        return gear_from_dict(data, source=self.source,
-                              given=self.given | _given_keys(changes))
+        return gear_from_dict(data, source=self.source, given=self.given | _given_keys(changes))
 
     def to_dict(self):
-        """The gear file's content: ``{'/**': {'ros__parameters': ...}}``.
+        """
+        Return the gear file's content: ``{'/**': {'ros__parameters': ...}}``.
 
         Keys the source did not give and that still hold their default are
         left out, so writing a gear does not change its model structure
@@ -357,7 +378,8 @@ def _tup(x):
 
 
 def gear_from_dict(params, source=None, given=None):
-    """Validate a ``ros__parameters`` mapping and return :class:`GearParams`.
+    """
+    Validate a ``ros__parameters`` mapping and return :class:`GearParams`.
 
     Parameters
     ----------
@@ -372,6 +394,7 @@ def gear_from_dict(params, source=None, given=None):
     ------
     GearConfigError
         Unknown key, wrong type, NaN or a physically impossible value.
+
     """
     where = f'{source}: ' if source else ''
     try:
@@ -408,9 +431,11 @@ def _friction_from(fr):
         k = tuple(g['k'])
         alpha = tuple(g['alpha']) if g['alpha'] is not None else tuple([1.0 / len(k)] * len(k))
         if len(alpha) != len(k):
-            raise GearConfigError(f'friction.gms.alpha: {len(alpha)} fractions for {len(k)} elements')
+            raise GearConfigError(f'friction.gms.alpha: {len(alpha)} fractions for '
+                                  f'{len(k)} elements')
         if abs(sum(alpha) - 1.0) > 1e-9:
-            raise GearConfigError(f'friction.gms.alpha: fractions must sum to 1, got {sum(alpha):.12g}')
+            raise GearConfigError('friction.gms.alpha: fractions must sum to 1, '
+                                  f'got {sum(alpha):.12g}')
         gms = GMSParams(k, alpha, g['c'])
     ripple = None
     if fr['position_ripple'] is not None:
@@ -421,7 +446,8 @@ def _friction_from(fr):
                                   f'{len(r["amplitude"])} amplitudes')
         ripple = RippleParams(r['cycles_per_rev'], tuple(r['amplitude']), tuple(phase))
     if fr['model'] == 'lugre' and lugre is None:
-        raise GearConfigError('friction.model is lugre but friction.lugre (sigma0, sigma1) is missing')
+        raise GearConfigError('friction.model is lugre but friction.lugre (sigma0, sigma1) '
+                              'is missing')
     if fr['model'] == 'gms' and gms is None:
         raise GearConfigError('friction.model is gms but friction.gms (k, c) is missing')
     return FrictionParams(
@@ -453,18 +479,19 @@ def _check_physics(friction):
         if np.any(bad):
             i = int(np.argmax(bad))
             raise GearConfigError(
-                f'friction.{name}: evaluates to {vals[i]:.4g} (must be {"> 0" if strict else ">= 0"}) '
+                f'friction.{name}: evaluates to {vals[i]:.4g} '
+                f'(must be {"> 0" if strict else ">= 0"}) '
                 f'at xi = {xi[i]:.1f} degC inside friction.temperature_range [{lo}, {hi}]; '
                 'narrow the range to where the polynomial was identified or fix the coefficients')
 
 
 def passivity_bound(friction, xi):
-    """Upper bound on sigma1 for a passive LuGre model (Astrom & Canudas de Wit 2008).
+    """
+    Upper bound on sigma1 for a passive LuGre model (Astrom & Canudas de Wit 2008).
 
-    sigma1 < sigma2 F_c / (F_s - F_c), with sigma2 the viscous slope.  For the
-    nonlinear viscous term (eq. 5) sigma2 is taken as ds/dqd at qd = v_s/kappa,
-    the velocity where the Stribeck dip happens; for delta_v = 1 this is the
-    exact linear coefficient.  Returns inf where F_s <= F_c.
+    sigma1 < sigma2 F_c / (F_s - F_c), with sigma2 the viscous slope.  For the nonlinear viscous
+    term (eq. 5) sigma2 is taken as ds/dqd at qd = v_s/kappa, the velocity where the Stribeck dip
+    happens; for delta_v = 1 this is the exact linear coefficient.  Returns inf where F_s <= F_c.
     """
     from .models.static import StaticFriction
     p = StaticFriction(friction).parameters(np.atleast_1d(xi))
@@ -517,11 +544,13 @@ def gear_from_flat(params, source=None):
 
 
 def load_gear(path):
-    """Load and validate a gear parameter file.
+    """
+    Load and validate a gear parameter file.
 
     Parameters
     ----------
     path : str or os.PathLike
+        The gear parameter file.
 
     Returns
     -------
@@ -531,6 +560,7 @@ def load_gear(path):
     ------
     GearConfigError
         The file is missing, not YAML, not a ROS 2 parameter file, or invalid.
+
     """
     path = str(path)
     try:
@@ -541,8 +571,8 @@ def load_gear(path):
     except yaml.YAMLError as exc:
         raise GearConfigError(f'{path}: not valid YAML: {exc}') from None
     if not isinstance(doc, dict) or '/**' not in doc:
-        raise GearConfigError(f'{path}: not a gear parameter file: expected a top-level "/**:" key '
-                              'with "ros__parameters:" below it')
+        raise GearConfigError(f'{path}: not a gear parameter file: expected a top-level '
+                              '"/**:" key with "ros__parameters:" below it')
     extra = sorted(set(doc) - {'/**'})
     if extra:
         raise GearConfigError(f'{path}: unexpected top-level key {extra[0]!r}; '

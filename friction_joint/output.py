@@ -1,4 +1,19 @@
-"""Writing results: figures rendered in memory, files replaced atomically.
+# Copyright 2026 friction_joint maintainers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""
+Writing results: figures rendered in memory, files replaced atomically.
 
 Every command that writes results renders them completely first, writes them
 to temporary files next to their destination, and only then renames them
@@ -56,7 +71,8 @@ def render_png(draw, size, dpi=100):
 
 
 def write_files(out_dir, targets, error=FrictionJointError):
-    """Write ``[(file name, bytes), ...]`` into ``out_dir`` atomically, in order.
+    """
+    Write ``[(file name, bytes), ...]`` into ``out_dir`` atomically, in order.
 
     ``out_dir`` is created if missing.  Files get the usual permissions (the
     umask applies).  Raises ``error`` naming the directory if it cannot be
@@ -66,6 +82,7 @@ def write_files(out_dir, targets, error=FrictionJointError):
     -------
     list of str
         The paths written.
+
     """
     try:
         os.makedirs(out_dir, exist_ok=True)
@@ -94,7 +111,8 @@ def write_files(out_dir, targets, error=FrictionJointError):
 
 
 def write_results(result, out_dir, json_name='summary.json', error=FrictionJointError):
-    """Write the figures and ``summary.json`` of ``result`` into ``out_dir`` atomically.
+    """
+    Write the figures and ``summary.json`` of ``result`` into ``out_dir`` atomically.
 
     ``result`` is an :class:`ExperimentResult` (or anything with ``summary`` and
     ``figures``); ``json_name`` names the JSON file (default ``summary.json``);
@@ -109,6 +127,7 @@ def write_results(result, out_dir, json_name='summary.json', error=FrictionJoint
     -------
     list of str
         The paths written.
+
     """
     targets = [(name, render_png(draw, size)) for name, (draw, size) in result.figures.items()]
     targets.append((json_name, json_bytes(result.summary)))

@@ -34,11 +34,10 @@ lockstep, wall seconds in realtime) makes the simulator end itself; it is
 a duration, the end of the simulator shuts the whole launch down, as
 ``bringup`` stops the other processes.
 
-``namespace`` puts the three nodes into a namespace.  The contract topics are
-absolute names (``/joint_states`` ...), so they are remapped to relative names
-here: in the root namespace (the default) they stay exactly the contract
-topics, in ``namespace:=joint1`` they become ``/joint1/joint_states`` and so
-on.  ``/clock`` stays global.
+``namespace`` puts the three nodes, and with them their topics, into a
+namespace: the nodes use relative topic names, so in the root namespace (the
+default) they are ``/joint_states`` ... and in ``namespace:=joint1`` they are
+``/joint1/joint_states`` and so on.  ``/clock`` stays global.
 """
 
 from launch import LaunchDescription
@@ -48,10 +47,6 @@ from launch_ros.actions import Node
 from launch_ros.substitutions import FindPackageShare
 
 PACKAGE = 'friction_joint'
-
-#: contract topics, moved into the launch namespace (``/clock`` is not: one simulated time)
-TOPICS = ('/joint_states', '/joint_temperature', '/link_torque', '/joint_command',
-          '/external_torque', '/contact_torque')
 
 
 def generate_launch_description():
@@ -66,7 +61,6 @@ def generate_launch_description():
     # bringup gives controller and estimator rate 1000.0 in realtime only; 0.0 (their
     # default) means the gear file's simulation.rate, which is what lockstep runs at
     rate = PythonExpression(["1000.0 if '", mode, "' == 'realtime' else 0.0"])
-    remappings = [(topic, topic[1:]) for topic in TOPICS]
 
     arguments = [
         DeclareLaunchArgument(
@@ -91,23 +85,21 @@ def generate_launch_description():
             'omega', default_value='1.5', description='reference frequency, rad/s'),
         DeclareLaunchArgument(
             'namespace', default_value='',
-            description='namespace of the nodes and of the contract topics'),
+            description='namespace of the nodes and of their topics (/clock stays global)'),
     ]
     estimator = Node(
         package=PACKAGE, executable='estimator', namespace=namespace, output='screen',
-        parameters=[model, {'friction': friction, 'sync': lockstep, 'rate': rate}],
-        remappings=remappings)
+        parameters=[model, {'friction': friction, 'sync': lockstep, 'rate': rate}])
     controller = Node(
         package=PACKAGE, executable='controller', namespace=namespace, output='screen',
         parameters=[model, {'friction_ff': friction,
                             'amplitude': LaunchConfiguration('amplitude'),
                             'omega': LaunchConfiguration('omega'),
-                            'sync': lockstep, 'rate': rate}],
-        remappings=remappings)
+                            'sync': lockstep, 'rate': rate}])
     # waits for the two subscribers (controller, estimator) before the loop starts
     joint_sim = Node(
         package=PACKAGE, executable='joint_sim', namespace=namespace, output='screen',
         parameters=[truth, {'mode': mode, 'duration': LaunchConfiguration('duration'),
                             'wait_subscribers': 2, 'start_delay': 2.0}],
-        remappings=remappings, on_exit=Shutdown(reason='the simulator has finished'))
+        on_exit=Shutdown(reason='the simulator has finished'))
     return LaunchDescription(arguments + [estimator, controller, joint_sim])

@@ -11,7 +11,8 @@
 # WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
 # See the License for the specific language governing permissions and
 # limitations under the License.
-"""Test-suite settings shared by every test directory.
+"""
+Test-suite settings shared by every test directory.
 
 Tests name the shipped files by their path in the source tree
 (config/csd25.yaml), so the suite runs from the repository root whatever

@@ -11,8 +11,10 @@
 # WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
 # See the License for the specific language governing permissions and
 # limitations under the License.
-"""The public names: every module declares ``__all__``, every name in it exists, and
-imports between the package's modules use only names the imported module exports
+"""
+The public names: every module declares ``__all__`` and every name in it exists.
+
+Imports between the package's modules use only names the imported module exports
 (or its submodules), so a module's ``__all__`` is its whole interface.
 """
 import ast

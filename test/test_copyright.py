@@ -12,7 +12,8 @@
 # See the License for the specific language governing permissions and
 # limitations under the License.
 
-"""Every Python file carries the copyright notice and the Apache-2.0 licence header.
+"""
+Every Python file carries the copyright notice and the Apache-2.0 licence header.
 
 The ament_copyright linter is not installable here (no wheel); this test
 applies its rule for this package's one licence: a Copyright <year> <holder>

@@ -1,14 +1,27 @@
+# Copyright 2026 friction_joint maintainers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
 """Gear parameter files: loading, validation errors that name the key, round trip."""
 import copy
 import warnings
 
+from friction_joint import gear_from_dict, GearConfigError, GearConfigWarning, load_gear, save_gear
+from friction_joint.gear import gear_from_flat
+from friction_joint.models.static import StaticFriction
 import numpy as np
 import pytest
 import yaml
-
-from friction_joint import GearConfigError, GearConfigWarning, gear_from_dict, load_gear, save_gear
-from friction_joint.gear import gear_from_flat
-from friction_joint.models.static import StaticFriction
 
 BASE = {
     'joint_name': 'j1', 'gear_ratio': 80.0, 'inertia': 0.12,
@@ -65,8 +78,10 @@ def test_contract_example_defaults(tmp_path):
     (variant(model='dahl'), ['friction.model', 'lugre']),
     (variant(lugre={'sigma0': 0.0}), ['friction.lugre.sigma0', '> 0']),
     (variant(lugre=None), ['friction.lugre', 'missing']),
-    (variant(lugre={'sigma0': 1e4, 'stiffness': 3.0}), ['unknown key', 'friction.lugre.stiffness']),
-    (variant(gms={'k': [1.0, 2.0], 'alpha': [0.3, 0.3], 'c': 1.0}), ['friction.gms.alpha', 'sum to 1']),
+    (variant(lugre={'sigma0': 1e4, 'stiffness': 3.0}),
+     ['unknown key', 'friction.lugre.stiffness']),
+    (variant(gms={'k': [1.0, 2.0], 'alpha': [0.3, 0.3], 'c': 1.0}),
+     ['friction.gms.alpha', 'sum to 1']),
     (variant(temperature_range=[40.0, 20.0]), ['temperature_range', 'lo < hi']),
     (dict(BASE, inertia=-1.0), ['inertia', '> 0']),
     (dict(BASE, wheel=1.0), ['unknown key wheel']),
@@ -82,7 +97,7 @@ def test_bad_gear_names_the_key(tmp_path, params, words):
         assert w in msg
 
 
-@pytest.mark.filterwarnings("ignore::friction_joint.GearConfigWarning")
+@pytest.mark.filterwarnings('ignore::friction_joint.GearConfigWarning')
 def test_polynomial_leaving_physical_range_is_reported():
     # Table I's vs quadratic is negative at 0 degC: the default range exposes it
     bad = variant(fs=[4.48], vs=[-5.31 / 80, 0.549 / 80, -0.007 / 80])

@@ -11,7 +11,8 @@
 # WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
 # See the License for the specific language governing permissions and
 # limitations under the License.
-"""The layering rules of the README, checked on the source tree.
+"""
+The layering rules of the README, checked on the source tree.
 
 * only :mod:`friction_joint.ros` imports rclpy: every other module imports
   in a fresh interpreter in which importing rclpy (or a ROS message package)
@@ -22,7 +23,6 @@
 """
 import ast
 import json
-import os
 import subprocess
 import sys
 
@@ -35,7 +35,7 @@ ROS_ONLY = ('rclpy', 'rcl_interfaces', 'rosgraph_msgs', 'sensor_msgs', 'std_msgs
 MAX_LINES = 600
 MAX_POSITIONAL = 6
 
-BLOCKED_IMPORT = '''
+BLOCKED_IMPORT = """
 import importlib, importlib.abc, json, sys
 BLOCKED = set(sys.argv[1].split(','))
 class Blocker(importlib.abc.MetaPathFinder):
@@ -51,7 +51,7 @@ for name in json.loads(sys.stdin.read()):
     except Exception as exc:
         failed[name] = f'{type(exc).__name__}: {exc}'
 print(json.dumps(failed))
-'''
+"""
 
 
 def _outside_ros():

@@ -1,13 +1,28 @@
-"""Recordings (rosbag2 / MCAP) as numpy arrays, without ROS.
+# Copyright 2026 friction_joint maintainers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
 
-* :mod:`~friction_joint.bag.types`: the contract topics and their array classes
+"""
+Recordings (rosbag2 / MCAP) as numpy arrays, without ROS.
+
+* :mod:`~friction_joint.bag.topics`: the contract topics and their array classes
   (:class:`Recording`, :class:`JointStates`, ...);
 * :mod:`~friction_joint.bag.reader`: :func:`read_recording`, :func:`iter_messages`;
 * :mod:`~friction_joint.bag.writer`: :func:`write_recording`.
 """
 from .reader import iter_messages, read_recording, recording_topics
-from .types import (CONTRACT_TYPES, REQUIRED_TOPICS, ExternalTorque, JointCommand, JointStates,
-                    LinkTorque, Recording, Temperature, zero_order_hold)
+from .topics import (CONTRACT_TYPES, ExternalTorque, JointCommand, JointStates, LinkTorque,
+                     Recording, REQUIRED_TOPICS, Temperature, zero_order_hold)
 from .writer import write_recording
 
 __all__ = ['CONTRACT_TYPES', 'REQUIRED_TOPICS', 'JointStates', 'Temperature', 'LinkTorque',

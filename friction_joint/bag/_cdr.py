@@ -1,4 +1,19 @@
-"""CDR byte layouts of the contract messages, decoded as numpy columns.
+# Copyright 2026 friction_joint maintainers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""
+CDR byte layouts of the contract messages, decoded as numpy columns.
 
 The messages of one topic nearly always share one byte layout (same frame
 id, joint names and array lengths), so each layout is parsed once
@@ -9,8 +24,8 @@ import struct
 
 import numpy as np
 
+from .topics import NS
 from ..exceptions import RecordingError
-from .types import NS
 
 __all__ = ['MessageLayout', 'Cdr', 'WALKERS', 'f64_columns', 'stamps_ns', 'layout_groups',
            'walk_joint_state', 'MAX_LAYOUTS', 'BLOCK']
@@ -22,7 +37,8 @@ BLOCK = 200_000
 
 
 class MessageLayout:
-    """Byte layout of one serialized message: where the stamp and float64 data lie.
+    """
+    Byte layout of one serialized message: where the stamp and float64 data lie.
 
     ``fields`` maps a field name to ``(offset, count)`` of a float64 run; ``mask`` is True
     on every byte that is *not* data (encapsulation, string and sequence lengths, names),
@@ -149,7 +165,8 @@ def stamps_ns(block):
 
 
 def layout_groups(raws, msgtype, topic):
-    """Yield ``(indices, layout, block)`` covering every message of ``raws`` once.
+    """
+    Yield ``(indices, layout, block)`` covering every message of ``raws`` once.
 
     ``block`` is a ``(len(indices), layout.size)`` uint8 array of the messages that share
     ``layout``.

@@ -1,23 +1,39 @@
-"""Reading recordings (rosbag2 directory or single ``.mcap`` file) into numpy arrays.
+# Copyright 2026 friction_joint maintainers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
 
-See :mod:`friction_joint.bag.types` for the topics and fields.
+"""
+Reading recordings (rosbag2 directory or single ``.mcap`` file) into numpy arrays.
+
+See :mod:`friction_joint.bag.topics` for the topics and fields.
 """
 import os
-import struct
 from pathlib import Path
+import struct
 
 import numpy as np
 
-from ..exceptions import RecordingError
 from ._cdr import f64_columns, layout_groups, stamps_ns, walk_joint_state
-from .types import (CONTRACT_TYPES, NS, REQUIRED_TOPICS, ExternalTorque, JointCommand,
-                    JointStates, LinkTorque, Recording, Temperature)
+from .topics import (CONTRACT_TYPES, ExternalTorque, JointCommand, JointStates, LinkTorque, NS,
+                     Recording, REQUIRED_TOPICS, Temperature)
+from ..exceptions import RecordingError
 
 __all__ = ['read_recording', 'recording_topics', 'iter_messages']
 
 
 def _decode_joint_state(raws, topic, joint, required):
-    """Stamps (ns), column dict and skipped count of ``joint`` in JointState messages.
+    """
+    Stamps (ns), column dict and skipped count of ``joint`` in JointState messages.
 
     ``required`` names the fields that must be present; others are NaN where absent.
     """
@@ -25,7 +41,7 @@ def _decode_joint_state(raws, topic, joint, required):
     stamp = np.zeros(n, dtype=np.int64)
     keep = np.zeros(n, dtype=bool)
     cols = {k: np.full(n, np.nan) for k in ('position', 'velocity', 'effort')}
-    missing = {k: 0 for k in required}
+    missing = dict.fromkeys(required, 0)
     for idx, layout, block in layout_groups(raws, 'sensor_msgs/msg/JointState', topic):
         names = layout.names
         if joint in names:
@@ -157,12 +173,14 @@ def _read_raw(path, wanted):
 
 
 def recording_topics(path):
-    """``{topic: (message type, count)}`` of a recording, reading no messages.
+    """
+    ``{topic: (message type, count)}`` of a recording, reading no messages.
 
     Raises
     ------
     RecordingError
         ``path`` is missing or not a readable recording.
+
     """
     path = os.fspath(path)
     reader = _open_reader(path)
@@ -173,7 +191,8 @@ def recording_topics(path):
 
 
 def iter_messages(path, topics=None):
-    """Yield the serialized messages of a recording in bag-time order.
+    """
+    Yield the serialized messages of a recording in bag-time order.
 
     Parameters
     ----------
@@ -191,6 +210,7 @@ def iter_messages(path, topics=None):
     ------
     RecordingError
         The path is missing, not a recording, truncated or corrupt, or lacks a topic.
+
     """
     path = os.fspath(path)
     reader = _open_reader(path)
@@ -219,7 +239,8 @@ def iter_messages(path, topics=None):
 
 
 def read_recording(path, joint_name=None):
-    """Read a recording into arrays.
+    """
+    Read a recording into arrays.
 
     Parameters
     ----------
@@ -241,6 +262,7 @@ def read_recording(path, joint_name=None):
         required topic (``/joint_states``, ``/joint_temperature``) is missing or empty, a
         contract topic has the wrong message type, no message names the joint, or data
         are NaN/inf.  The message names the topic and the problem.
+
     """
     path = os.fspath(path)
     wanted = [t for t in CONTRACT_TYPES if t != '/clock']
@@ -275,7 +297,7 @@ def read_recording(path, joint_name=None):
     t, t_recv, c, skipped = joint_topic('/joint_states', ('position', 'velocity', 'effort'),
                                         {'position': 'q', 'velocity': 'qd', 'effort': 'effort'})
     if len(t) == 0:
-        seen = sorted({n for n in walk_joint_state(js_raws[0]).names})
+        seen = sorted(set(walk_joint_state(js_raws[0]).names))
         raise RecordingError(f'{path}: no /joint_states message names joint {joint_name!r} '
                              f'(first message names: {", ".join(seen) or "none"})')
     joint_states = JointStates(t, t_recv, c['q'], c['qd'], c['effort'], skipped)

@@ -1,10 +1,26 @@
-"""Recordings (rosbag2 / MCAP) as numpy arrays: reading and writing, without ROS.
+# Copyright 2026 friction_joint maintainers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""
+The topics of a recording and the numpy arrays they are read into.
 
 A recording is a rosbag2 directory (``metadata.yaml`` + ``.mcap``, CDR, ROS 2
 Jazzy message definitions) or a single ``.mcap`` file, with the topics of the
-contract (``CONTRACT.md`` sections 2 and 3).  :func:`read_recording` turns one
-into a :class:`Recording` of per-topic arrays; :func:`write_recording` writes
-one from arrays (tests, offline simulator runs, identification experiments).
+README's *Interfaces* (topics and recordings).
+:func:`~friction_joint.bag.read_recording` turns one into a :class:`Recording`
+of per-topic arrays; :func:`~friction_joint.bag.write_recording` writes one
+from arrays (tests, offline simulator runs, identification experiments).
 
 Topic fields (the same names on reading and writing; times in seconds)
 
@@ -59,8 +75,12 @@ NS = 1_000_000_000
 
 @dataclass(frozen=True)
 class JointStates:
-    """``/joint_states`` of one joint: stamps ``t``, ``t_recv`` (s), ``q`` (rad), ``qd`` (rad/s),
-    ``effort`` τ (N m); ``skipped`` messages did not name the joint."""
+    """
+    ``/joint_states`` of one joint.
+
+    Stamps ``t``, ``t_recv`` (s), ``q`` (rad), ``qd`` (rad/s), ``effort`` τ (N m);
+    ``skipped`` messages did not name the joint.
+    """
 
     t: np.ndarray
     t_recv: np.ndarray
@@ -75,8 +95,11 @@ class JointStates:
 
 @dataclass(frozen=True)
 class Temperature:
-    """``/joint_temperature``: stamps ``t``, ``t_recv`` (s), housing temperature ``xi`` (°C),
-    sensor ``variance``."""
+    """
+    ``/joint_temperature``: housing temperature ``xi`` (°C).
+
+    Stamps ``t``, ``t_recv`` (s); sensor ``variance``.
+    """
 
     t: np.ndarray
     t_recv: np.ndarray
@@ -101,8 +124,12 @@ class LinkTorque:
 
 @dataclass(frozen=True)
 class JointCommand:
-    """``/joint_command``: commanded ``effort`` (N m), desired ``q_d``, ``qd_d`` (NaN where the
-    message has no reference); ``skipped`` messages did not name the joint."""
+    """
+    ``/joint_command``: commanded ``effort`` (N m), desired ``q_d``, ``qd_d``.
+
+    ``q_d`` and ``qd_d`` are NaN where the message has no reference; ``skipped``
+    messages did not name the joint.
+    """
 
     t: np.ndarray
     t_recv: np.ndarray
@@ -117,8 +144,11 @@ class JointCommand:
 
 @dataclass(frozen=True)
 class ExternalTorque:
-    """``/external_torque``: estimated τ̂_ext ``effort`` (N m); ``skipped`` messages did not
-    name the joint."""
+    """
+    ``/external_torque``: estimated τ̂_ext ``effort`` (N m).
+
+    ``skipped`` messages did not name the joint.
+    """
 
     t: np.ndarray
     t_recv: np.ndarray
@@ -130,7 +160,8 @@ class ExternalTorque:
 
 
 def zero_order_hold(t_src, x_src, t):
-    """Sample ``x_src(t_src)`` at ``t`` holding the last value (zero-order hold).
+    """
+    Sample ``x_src(t_src)`` at ``t`` holding the last value (zero-order hold).
 
     Parameters
     ----------
@@ -144,6 +175,7 @@ def zero_order_hold(t_src, x_src, t):
     numpy.ndarray
         ``x_src[k]`` of the last ``t_src[k] <= t``; query times before the first sample
         get the first value.
+
     """
     t_src = np.asarray(t_src, dtype=float)
     x_src = np.asarray(x_src)
@@ -164,7 +196,8 @@ def _span_stats(t):
 
 @dataclass(frozen=True)
 class Recording:
-    """A recording of one joint as numpy arrays (see the module docstring for the fields).
+    """
+    A recording of one joint as numpy arrays (see the module docstring for the fields).
 
     Attributes
     ----------
@@ -181,6 +214,7 @@ class Recording:
     unordered : dict
         Topic -> number of messages whose header stamp went backwards in bag order
         (they are returned sorted by stamp).
+
     """
 
     path: str

@@ -1,17 +1,32 @@
-"""Writing recordings from numpy arrays (tests, offline simulator runs, experiments).
+# Copyright 2026 friction_joint maintainers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
 
-See :mod:`friction_joint.bag.types` for the topics and fields.
 """
+Writing recordings from numpy arrays (tests, offline simulator runs, experiments).
+
+See :mod:`friction_joint.bag.topics` for the topics and fields.
+"""
+from dataclasses import fields
 import os
 import shutil
 import tempfile
-from dataclasses import fields
 
 import numpy as np
 
-from ..exceptions import RecordingError
 from ._cdr import WALKERS
-from .types import CONTRACT_TYPES, NS, Recording
+from .topics import CONTRACT_TYPES, NS, Recording
+from ..exceptions import RecordingError
 
 __all__ = ['write_recording']
 
@@ -28,7 +43,7 @@ _WRITE_FIELDS = {
 
 
 def _as_fields(topic, spec):
-    """A mapping of arrays from a dict or one of the data classes."""
+    """Return a mapping of arrays from a dict or one of the data classes."""
     if hasattr(spec, '__dataclass_fields__'):
         spec = {f.name: getattr(spec, f.name) for f in fields(spec) if f.name != 'skipped'}
     if not hasattr(spec, 'keys'):
@@ -64,7 +79,8 @@ def _column(topic, name, x, n, k):
 
 
 def _encode(typestore, msgtype, template, n, stamp, columns):
-    """Serialize ``n`` messages: ``template`` with stamps and float64 ``columns`` replaced.
+    """
+    Serialize ``n`` messages: ``template`` with stamps and float64 ``columns`` replaced.
 
     ``columns`` maps a layout field to an ``(n, count)`` array.
     """
@@ -127,7 +143,8 @@ def _topic_block(typestore, topic, spec, joint_name):
 
 
 def write_recording(path, topics, joint_name=None):
-    """Write a recording (rosbag2 directory, or a single ``.mcap`` file) from arrays.
+    """
+    Write a recording (rosbag2 directory, or a single ``.mcap`` file) from arrays.
 
     Parameters
     ----------
@@ -161,6 +178,7 @@ def write_recording(path, topics, joint_name=None):
     The bag is written into a temporary directory next to ``path`` and renamed at the
     end, so a failure leaves nothing at ``path``.  Messages are written in order of
     ``t_recv``.
+
     """
     from rosbags.rosbag2 import StoragePlugin, Writer
     from rosbags.typesys import Stores, get_typestore

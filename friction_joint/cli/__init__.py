@@ -1,4 +1,19 @@
-"""The command line: ``friction_joint COMMAND`` and the ``record``/``replay`` console scripts.
+# Copyright 2026 friction_joint maintainers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""
+The command line: ``friction_joint COMMAND`` and the ``record``/``replay`` console scripts.
 
 Only this subpackage parses arguments.  Each subcommand is one module with
 ``NAME``, ``HELP``, ``DESCRIPTION``, ``add_arguments(parser)`` and
@@ -23,7 +38,7 @@ SUBCOMMANDS = ('classic', 'experiment', 'identify', 'demo', 'record', 'replay', 
 
 
 def build_parser():
-    """The ``friction_joint`` argument parser with every subcommand."""
+    """Return the ``friction_joint`` argument parser with every subcommand."""
     parser = argparse.ArgumentParser(
         prog='friction_joint',
         description='Simulated Harmonic Drive joint with thermal- and load-dependent friction.')

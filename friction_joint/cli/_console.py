@@ -1,3 +1,17 @@
+# Copyright 2026 friction_joint maintainers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
 """Body of the ``record`` / ``replay`` console scripts (``ros2 run friction_joint PROG``)."""
 import argparse
 import sys
@@ -8,7 +22,7 @@ __all__ = ['console_main', 'progress_printer']
 
 
 def progress_printer(quiet=False):
-    """A ``progress(message)`` callable printing to stderr, or None when ``quiet``."""
+    """Return a ``progress(message)`` callable printing to stderr, or None when ``quiet``."""
     if quiet:
         return None
 
@@ -18,7 +32,8 @@ def progress_printer(quiet=False):
 
 
 def console_main(module, argv=None):
-    """Run the subcommand ``module`` as a console script taking ROS arguments.
+    """
+    Run the subcommand ``module`` as a console script taking ROS arguments.
 
     ``argv`` is a full command line including the program name, as for
     ``rclpy.init`` (default ``sys.argv``); ROS arguments (``--ros-args ...``)

@@ -1,4 +1,19 @@
-"""``friction_joint bringup``: simulator, controller, estimator (and recorder) as processes.
+# Copyright 2026 friction_joint maintainers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""
+``friction_joint bringup``: simulator, controller, estimator (and recorder) as processes.
 
 See :func:`friction_joint.ros.bringup.bringup`.
 """
@@ -21,7 +36,8 @@ def add_arguments(parser):
     parser.add_argument('--friction', default='lugre', choices=('none', 'static', 'lugre', 'gms'))
     parser.add_argument('--amplitude', type=float, default=0.4, help='reference amplitude, rad')
     parser.add_argument('--omega', type=float, default=1.5, help='reference frequency, rad/s')
-    parser.add_argument('--xi0', type=float, help='initial gear temperature of the simulator, degC')
+    parser.add_argument('--xi0', type=float,
+                        help='initial gear temperature of the simulator, degC')
     parser.add_argument('--log-dir', help='write each process log here')
     return parser
 

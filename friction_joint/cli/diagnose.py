@@ -1,4 +1,21 @@
-"""``friction_joint diagnose RECORDING ... --model BASE.yaml --out DIR`` (CONTRACT section 5).
+# Copyright 2026 friction_joint maintainers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""
+``friction_joint diagnose RECORDING ... --model BASE.yaml --out DIR``.
+
+Outputs: README, *Interfaces*, ``diagnose`` outputs.
 
 Fits BASE's structure to the recordings, names the missing effects and writes
 ``DIR/report.json``, ``DIR/extended.yaml``, ``DIR/report.md`` and figures
@@ -9,15 +26,15 @@ written and the command exits with status 2.
 import json
 import os
 
+from ._console import progress_printer
 from ..diagnosis import EFFECTS
 from ..exceptions import FrictionJointError, GearConfigError
-from ._console import progress_printer
 
 __all__ = ['NAME', 'HELP', 'DESCRIPTION', 'add_arguments', 'run', 'parse_effects']
 
 NAME = 'diagnose'
-HELP = 'name the effects a friction model misses, extend it (CONTRACT 5)'
-DESCRIPTION = ('Fit BASE.yaml\'s structure to recordings, test every candidate effect ('
+HELP = 'name the effects a friction model misses, extend it'
+DESCRIPTION = ("Fit BASE.yaml's structure to recordings, test every candidate effect ("
                + ', '.join(EFFECTS) + ') on held-out data, name the significant ones and '
                'write DIR/report.json, DIR/extended.yaml and DIR/report.md with figures.')
 
@@ -31,7 +48,7 @@ def add_arguments(parser):
     parser.add_argument('--effects', default=None, metavar='E1,E2,...',
                         help='candidate effects to test (default: all)')
     parser.add_argument('--joint', default=None, metavar='NAME',
-                        help='joint to read (default: the gear\'s joint_name, else the first)')
+                        help="joint to read (default: the gear's joint_name, else the first)")
     parser.add_argument('--quiet', action='store_true', help='no progress messages')
     return parser
 
@@ -61,5 +78,3 @@ def run(args):
     print(f'named causes: {", ".join(named) or "none"}; wrote {args.out}/report.json, '
           f'{args.out}/extended.yaml, {args.out}/report.md')
     return 0
-
-

@@ -1,9 +1,24 @@
-"""``friction_joint identify RECORDING ... --model STRUCTURE.yaml --out GEAR.yaml``.
+# Copyright 2026 friction_joint maintainers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""
+``friction_joint identify RECORDING ... --model STRUCTURE.yaml --out GEAR.yaml``.
 
 See :mod:`friction_joint.identification`.
 """
-from ..exceptions import GearConfigError
 from ._console import progress_printer
+from ..exceptions import GearConfigError
 
 __all__ = ['NAME', 'HELP', 'DESCRIPTION', 'add_arguments', 'run', 'parse_orders']
 
@@ -34,7 +49,7 @@ def add_arguments(parser):
                         help='step 3: run when possible and note why not (auto), never (skip), '
                              'or fail without it (require)')
     parser.add_argument('--joint', default=None, metavar='NAME',
-                        help='joint to identify (default: the structure\'s joint_name)')
+                        help="joint to identify (default: the structure's joint_name)")
     parser.add_argument('--quiet', action='store_true', help='no progress messages')
     return parser
 

@@ -1,4 +1,19 @@
-"""``friction_joint replay BAG`` (also the ``replay`` console script).
+# Copyright 2026 friction_joint maintainers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""
+``friction_joint replay BAG`` (also the ``replay`` console script).
 
 Publishes a recording again with ``/clock``; see :func:`friction_joint.ros.replay.replay`.
 """
@@ -22,7 +37,7 @@ def add_arguments(parser):
     parser.add_argument('--topics', nargs='+', metavar='TOPIC',
                         help='topics to replay (default: all in the bag)')
     parser.add_argument('--no-clock', dest='clock', action='store_false',
-                        help='do not publish /clock from the header stamps (the bag\'s own '
+                        help="do not publish /clock from the header stamps (the bag's own "
                              '/clock, if any, is then replayed)')
     parser.add_argument('--loop', action='store_true', help='start over at the end until stopped')
     parser.add_argument('--wait', type=float, default=2.0, metavar='S',

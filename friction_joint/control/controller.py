@@ -1,6 +1,21 @@
-"""Joint controller of eq. 17 and PD gain design from step-response specs.
+# Copyright 2026 friction_joint maintainers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
 
-    tau = J qdd_d + k_p (q_d - q) + k_d (qd_d - qd) + tau_g(q) + psi tau_rd(z, qd, xi, tau_L)   (17)
+"""
+Joint controller of eq. 17 and PD gain design from step-response specs.
+
+    tau = J qdd_d + k_p (q_d - q) + k_d (qd_d - qd) + tau_g(q) + psi tau_rd(z, qd, xi, tau_L)  (17)
 
 With the inertia and gravity feed-forward exact, the error obeys
 J e'' + k_d e' + k_p e = 0, a second-order system with omega_n^2 = k_p / J and
@@ -31,7 +46,8 @@ def _unit_step(tn, zeta):
 
 
 def pd_gains(inertia, rise_time=0.04, overshoot=0.06):
-    """PD gains of eq. 17 from a 10-90 % rise time and a maximum overshoot.
+    """
+    PD gains of eq. 17 from a 10-90 % rise time and a maximum overshoot.
 
     Parameters
     ----------
@@ -46,6 +62,7 @@ def pd_gains(inertia, rise_time=0.04, overshoot=0.06):
     -------
     kp, kd : float
         Nm/rad and Nm s/rad.
+
     """
     if not inertia > 0:
         raise FrictionJointError(f'inertia must be > 0, got {inertia}')
@@ -81,7 +98,8 @@ class SineTrajectory:
 
 
 class Controller:
-    """PD + inertia/gravity feed-forward + friction feed-forward (eq. 17).
+    """
+    PD + inertia/gravity feed-forward + friction feed-forward (eq. 17).
 
     Parameters
     ----------
@@ -96,11 +114,13 @@ class Controller:
     ff_velocity : {'measured', 'desired'}
         Velocity fed to the friction model: the measured qd as in eq. 17
         (default), or the desired qd_d (a common, noise-free variant).
+
     """
 
     def __init__(self, gear, kp, kd, friction='lugre', dt=1.0 / 3000.0, ff_velocity='measured'):
         if ff_velocity not in ('measured', 'desired'):
-            raise FrictionJointError(f"ff_velocity must be 'measured' or 'desired', got {ff_velocity!r}")
+            raise FrictionJointError("ff_velocity must be 'measured' or 'desired', "
+                                     f'got {ff_velocity!r}')
         self.gear = gear
         self.J = gear.inertia
         self.mgl = gear.mgl
@@ -118,7 +138,8 @@ class Controller:
         return self.mgl * math.sin(q)
 
     def __call__(self, q, qd, xi, q_d, qd_d=0.0, qdd_d=0.0, *, dt=None):
-        """Torque command for one sample; components are kept in ``self.last``.
+        """
+        Torque command for one sample; components are kept in ``self.last``.
 
         ``dt`` is the time since the previous sample when it differs from the
         control period (a real-time loop that skipped stale samples); it

@@ -1,4 +1,19 @@
-"""Velocity-based disturbance observer with friction model (seed eq. 4 and 15).
+# Copyright 2026 friction_joint maintainers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""
+Velocity-based disturbance observer with friction model (seed eq. 4 and 15).
 
     tau_ext^ = Q(s) [tau + beta J qd - tau_g(q) - tau_rd(qd, xi, tau_L)] - beta J qd,
     Q(s) = beta / (s + beta)                                                    (15)
@@ -21,7 +36,8 @@ __all__ = ['DisturbanceObserver']
 
 
 class DisturbanceObserver:
-    """External torque estimator of eq. 15.
+    """
+    External torque estimator of eq. 15.
 
     Parameters
     ----------
@@ -37,6 +53,7 @@ class DisturbanceObserver:
         tau_ext (False, as in the paper's Section V-D).
     method : str
         ``scipy.signal.cont2discrete`` method for Q(s).
+
     """
 
     def __init__(self, gear, beta=60.0, dt=1.0 / 3000.0, friction='lugre', gravity=False,

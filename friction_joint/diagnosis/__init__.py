@@ -1,4 +1,19 @@
-"""Diagnosis: what a friction model gets wrong on measured data, and the extension that fixes it.
+# Copyright 2026 friction_joint maintainers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""
+Diagnosis: what a friction model gets wrong on measured data, and the extension that fixes it.
 
 * :mod:`~friction_joint.diagnosis.data`: recordings -> measured friction torque on bins;
 * :mod:`~friction_joint.diagnosis.structures`: candidate model structures, linear
@@ -9,7 +24,7 @@
   of the ``diagnose`` command (:func:`run_diagnose`).
 """
 from .data import DiagnosisData, load_data
-from .pipeline import ALPHA, EFFECTS, MIN_GAIN, Diagnosis, base_structure, diagnose, extend
+from .pipeline import ALPHA, base_structure, diagnose, Diagnosis, EFFECTS, extend, MIN_GAIN
 from .report import run_diagnose
 from .structures import CandidateStructure, cross_validate_structures
 

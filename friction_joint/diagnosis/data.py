@@ -1,8 +1,23 @@
-"""Diagnosis input: recordings -> friction-torque data averaged over short time bins.
+# Copyright 2026 friction_joint maintainers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""
+Diagnosis input: recordings -> friction-torque data averaged over short time bins.
 
 For every recording the joint states are split into contiguous pieces (at
 gaps in the stamps), the encoder position is differentiated without phase
-lag (:func:`friction_joint.identification.presliding.zero_phase_derivatives`), and
+lag (:func:`friction_joint._filters.zero_phase_derivatives`), and
 
     y = tau - tau_ext - J q̈          (the measured friction torque tau_r, eq. 2)
 
@@ -18,9 +33,10 @@ samples, at a tenth of the cost and with a tenth of the noise per point.
 A bin is used only when the joint slides throughout it: every sample has
 ``|qd| >= V_STICK`` (2 mrad/s), with a margin of :data:`STICK_MARGIN` around
 stick phases, and :data:`EDGE` (0.1 s) away from the ends of a piece (where
-the zero-phase filter's edge effects spoil the acceleration).  While a joint sticks its friction torque is whatever balances
-the applied torque (Karnopp), which no friction *curve* predicts; leaving
-those samples out keeps every candidate model on the same footing.
+the zero-phase filter's edge effects spoil the acceleration).  While a joint
+sticks its friction torque is whatever balances the applied torque (Karnopp),
+which no friction *curve* predicts; leaving those samples out keeps every
+candidate model on the same footing.
 
 Cross-validation blocks
 -----------------------
@@ -31,10 +47,9 @@ import dataclasses
 
 import numpy as np
 
+from .._filters import zero_phase_derivatives
 from ..bag import read_recording
-from ..exceptions import ExcitationError, RecordingError
-from .._signal import zero_phase_derivatives
-from ..exceptions import PreslidingDataError
+from ..exceptions import ExcitationError, PreslidingDataError, RecordingError
 
 __all__ = ['BIN', 'V_STICK', 'STICK_MARGIN', 'N_BLOCKS', 'DiagnosisData', 'load_data']
 
@@ -54,7 +69,8 @@ EDGE = 0.1
 
 @dataclasses.dataclass
 class DiagnosisData:
-    """Full-rate samples and bin averages of one or more recordings.
+    """
+    Full-rate samples and bin averages of one or more recordings.
 
     Full-rate arrays (all pieces concatenated): ``t``, ``q`` (encoder), ``qf``
     (zero-phase filtered position), ``qd``, ``qdd``, ``effort``, ``tau_ext``,
@@ -113,7 +129,8 @@ def _pieces(t):
 
 
 def load_data(paths, gear, joint_name=None, n_blocks=N_BLOCKS, progress=None):
-    """Read recordings into :class:`DiagnosisData`.
+    """
+    Read recordings into :class:`DiagnosisData`.
 
     Parameters
     ----------
@@ -123,6 +140,10 @@ def load_data(paths, gear, joint_name=None, n_blocks=N_BLOCKS, progress=None):
         The base gear (inertia, lever when there is no ``/link_torque``).
     joint_name : str, optional
         Joint to read (default: the gear's joint name if present, else the first).
+    n_blocks : int, optional
+        Number of contiguous cross-validation blocks (default :data:`N_BLOCKS`).
+    progress : callable, optional
+        Progress callback (currently not called).
 
     Raises
     ------
@@ -130,6 +151,7 @@ def load_data(paths, gear, joint_name=None, n_blocks=N_BLOCKS, progress=None):
         Unreadable recording, missing topic, NaN (from :func:`read_recording`).
     ExcitationError
         Too little sliding motion to fit and cross-validate a model.
+
     """
     if not paths:
         raise RecordingError('no recordings given')

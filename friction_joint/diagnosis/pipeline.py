@@ -1,4 +1,19 @@
-"""Diagnosis: what a base friction model gets wrong, and which missing effects explain it.
+# Copyright 2026 friction_joint maintainers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""
+Diagnosis: what a base friction model gets wrong, and which missing effects explain it.
 
     friction_joint diagnose RECORDING [RECORDING ...] --model BASE.yaml --out DIR
 
@@ -55,15 +70,15 @@ import warnings
 import numpy as np
 from scipy import stats
 
-from ..exceptions import ExcitationError, GearConfigError, GearConfigWarning
-from ..gear import GMSParams, LuGreParams, RippleParams, gear_from_dict, passivity_bound
 from . import structures as dm
 from .data import load_data
+from ..exceptions import ExcitationError, GearConfigError, GearConfigWarning
+from ..gear import gear_from_dict, GMSParams, LuGreParams, passivity_bound, RippleParams
 
 __all__ = ['EFFECTS', 'ALPHA', 'MIN_GAIN', 'WINDOW', 'Diagnosis', 'diagnose',
            'base_structure', 'extend']
 
-#: candidate effects (CONTRACT section 5), in the order they are reported
+#: candidate effects (README, Interfaces: diagnose outputs), in the order they are reported
 EFFECTS = ('thermal', 'load', 'position_ripple', 'nonlinear_viscous', 'stribeck',
            'presliding', 'inertia', 'asymmetry')
 #: family-wise significance level (Holm over the candidates of a round)
@@ -77,10 +92,10 @@ MAX_ROUNDS = 8
 
 
 def base_structure(gear):
-    """The :class:`~friction_joint.diagnosis.structures.CandidateStructure` of a gear file."""
+    """Return a gear file's :class:`~friction_joint.diagnosis.structures.CandidateStructure`."""
     f = gear.friction
     s = dm.CandidateStructure(nfc=len(f.fc), nfv=len(f.fv), nfc_load=len(f.fc_load),
-                     nfv_load=len(f.fv_load))
+                              nfv_load=len(f.fv_load))
     if f.fs is not None:
         vs0 = float(np.polynomial.polynomial.polyval(np.mean(f.temperature_range), f.vs))
         s = s.with_(nfs=len(f.fs), nfs_load=len(f.fs_load), vs=max(vs0, 1e-6) / f.velocity_scale)
@@ -100,8 +115,11 @@ def base_structure(gear):
 
 
 def extend(s, effect):
-    """``(structure, nonlinear parameter to grid)`` of ``s`` extended by ``effect``; None if
-    the structure has it already."""
+    """
+    Return ``(structure, nonlinear parameter to grid)`` of ``s`` extended by ``effect``.
+
+    None if the structure has it already.
+    """
     if effect == 'thermal':
         return s.with_(nfc=s.nfc + 1, nfv=s.nfv + 1, nfs=s.nfs + 1 if s.nfs else 0), None
     if effect == 'load':
@@ -224,10 +242,10 @@ def _refine(s, ctx, y):
 # ---------------------------------------------------------------- gears ----
 
 def _sim_gear(base, s, coef):
-    """An unvalidated GearParams for simulation (coefficients as fitted)."""
+    """Return an unvalidated GearParams for simulation (coefficients as fitted)."""
     f = base.friction
-    kw = dict(fc=tuple(coef['fc']), fv=tuple(coef['fv']), fc_load=tuple(coef['fc_load']),
-              fv_load=tuple(coef['fv_load']), fs=None, vs=None, fs_load=())
+    kw = {'fc': tuple(coef['fc']), 'fv': tuple(coef['fv']), 'fc_load': tuple(coef['fc_load']),
+          'fv_load': tuple(coef['fv_load']), 'fs': None, 'vs': None, 'fs_load': ()}
     if s.nfs:
         kw.update(fs=tuple(coef['fs']), vs=tuple(coef['vs']), fs_load=tuple(coef['fs_load']))
     kw['delta_v'] = tuple(coef['delta_v']) if 'delta_v' in coef else (1.0,)
@@ -250,7 +268,8 @@ def _sim_gear(base, s, coef):
     if hasattr(f, 'offset'):
         kw['offset'] = 0.0            # applied through the drive torque in simulation
     fr = dataclasses.replace(f, **kw)
-    return dataclasses.replace(base, friction=fr, inertia=base.inertia + coef.get('d_inertia', 0.0))
+    return dataclasses.replace(base, friction=fr,
+                               inertia=base.inertia + coef.get('d_inertia', 0.0))
 
 
 def _ctx_ratios(base):
@@ -267,7 +286,7 @@ def _ctx_alpha(base):
 
 
 def extended_gear(base, s, coef, data):
-    """The validated gear file of the extended model (base sections kept)."""
+    """Return the validated gear file of the extended model (base sections kept)."""
     fr = {'fc': coef['fc'], 'fv': coef['fv'], 'fc_load': coef['fc_load'],
           'fv_load': coef['fv_load']}
     if s.nfs:
@@ -350,11 +369,13 @@ def _windows(data):
 
 
 def simulate_windows(data, gears_by_fold, offsets_by_fold):
-    """Open-loop velocity of every window with its held-out fold's gear.
+    """
+    Open-loop velocity of every window with its held-out fold's gear.
 
     Returns
     -------
     (sim, meas, fold) : arrays (W, n-1), (W, n-1), (W,)
+
     """
     from ..models.joint import Joint
     starts, n = _windows(data)
@@ -408,14 +429,21 @@ def _fold_gears(base, cv, ctx, data):
 
 
 def diagnose(paths, base, effects=EFFECTS, joint_name=None, progress=None):
-    """Diagnose ``base`` against recordings.
+    """
+    Diagnose ``base`` against recordings.
 
     Parameters
     ----------
     paths : sequence of str
+        Recordings: rosbag2 directories or ``.mcap`` files.
     base : GearParams
+        The base model (gear file) to diagnose.
     effects : sequence of str
         Candidate effects to test (default all of :data:`EFFECTS`).
+    joint_name : str, optional
+        Joint to read (default: the gear's joint name if present, else the first).
+    progress : callable, optional
+        Called with progress messages.
 
     Returns
     -------
@@ -424,13 +452,15 @@ def diagnose(paths, base, effects=EFFECTS, joint_name=None, progress=None):
     Raises
     ------
     RecordingError, ExcitationError, GearConfigError
+
     """
     say = progress or (lambda m: None)
     timing = {}
     t0 = time.perf_counter()
     unknown = [e for e in effects if e not in EFFECTS]
     if unknown:
-        raise GearConfigError(f'unknown effect(s) {", ".join(unknown)}; known: {", ".join(EFFECTS)}')
+        raise GearConfigError(f'unknown effect(s) {", ".join(unknown)}; '
+                              f'known: {", ".join(EFFECTS)}')
     data = load_data(paths, base, joint_name=joint_name)
     ctx = dm.Context(base, data)
     if base.friction.model != 'static':

@@ -1,4 +1,19 @@
-"""Figures and Markdown report of a diagnosis (:func:`friction_joint.diagnosis.pipeline.diagnose`).
+# Copyright 2026 friction_joint maintainers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""
+Figures and Markdown report of a diagnosis (:func:`friction_joint.diagnosis.pipeline.diagnose`).
 
 Figures (PNG bytes, rendered with :func:`friction_joint.output.render_png`):
 
@@ -17,9 +32,9 @@ import time
 import numpy as np
 import yaml
 
+from .pipeline import diagnose, EFFECTS
 from ..gear import gear_from_dict, load_gear
 from ..output import json_bytes, render_png, write_files
-from .pipeline import diagnose, EFFECTS
 
 __all__ = ['figures', 'markdown', 'CAUSE_VARIABLES', 'run_diagnose']
 
@@ -116,8 +131,10 @@ def figures(diag):
             n = vel['measured'].shape[1]
             for j, w in enumerate(pick):
                 x = j * (n + 50) + np.arange(n)
-                ax.plot(x, vel['measured'][w], color='k', lw=1, label='measured' if j == 0 else None)
-                ax.plot(x, vel['base'][w], color='C3', lw=1, label='base, open loop' if j == 0 else None)
+                ax.plot(x, vel['measured'][w], color='k', lw=1,
+                        label='measured' if j == 0 else None)
+                ax.plot(x, vel['base'][w], color='C3', lw=1,
+                        label='base, open loop' if j == 0 else None)
                 ax.plot(x, vel['extended'][w], color='C0', lw=1, ls='--',
                         label='extended, open loop' if j == 0 else None)
             ax.set_xlabel('samples (held-out windows side by side)')
@@ -187,7 +204,8 @@ def markdown(diag, figure_names, model_path):
              f'Base model: `{model_path}`  ',
              'Recordings: ' + ', '.join(f'`{p}`' for p in rep['data']['recordings']), '',
              f'{rep["data"]["sliding_s"]:.1f} s of sliding data (10 ms bins), '
-             f'temperature {rep["data"]["xi_range"][0]:.2f}..{rep["data"]["xi_range"][1]:.2f} degC, '
+             f'temperature {rep["data"]["xi_range"][0]:.2f}..'
+             f'{rep["data"]["xi_range"][1]:.2f} degC, '
              f'external torque from the {rep["data"]["torque_source"]}.', '',
              '## Result', '',
              ('**Missing effects: ' + ', '.join(named) + '**') if named else

@@ -1,4 +1,19 @@
-"""Friction model structures for diagnosis, as linear regressions over the bin averages.
+# Copyright 2026 friction_joint maintainers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""
+Friction model structures for diagnosis, as linear regressions over the bin averages.
 
 Every structure the diagnosis tries is *linear in its coefficients* once a
 few nonlinear parameters are fixed, so it is fitted by linear least squares
@@ -30,8 +45,8 @@ import numpy as np
 
 from .._jit import njit
 
-__all__ = ['CandidateStructure', 'design', 'solve', 'CVResult', 'cross_validate_structures', 'fit_all',
-           'grid_of', 'coefficients', 'presliding_state']
+__all__ = ['CandidateStructure', 'design', 'solve', 'CVResult', 'cross_validate_structures',
+           'fit_all', 'grid_of', 'coefficients', 'presliding_state']
 
 VS_GRID = np.geomspace(0.003, 1.0, 15)           # rad/s, output side
 DV_GRID = np.array([0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9, 0.95, 1.0, 1.05, 1.1, 1.2, 1.35, 1.5, 1.7])
@@ -81,8 +96,8 @@ class Context:
         self.vl = data.tl / self.ts
         self.gear_ratio = gear.gear_ratio
         poly = np.polynomial.polynomial.polyval
-        self.vs_shape = (poly(x, f.vs) / poly(self.xc, f.vs)) if f.vs is not None and len(f.vs) > 1 \
-            else np.ones_like(x)
+        self.vs_shape = ((poly(x, f.vs) / poly(self.xc, f.vs))
+                         if f.vs is not None and len(f.vs) > 1 else np.ones_like(x))
         self.vs_shape = np.maximum(self.vs_shape, 1e-3)
         self.vs_coef = f.vs
         dvp = f.delta_v
@@ -158,6 +173,7 @@ def design(s, ctx):
         e = np.exp(-np.abs(v / vs) ** ctx.ds)
     else:
         e = 0.0
+
     def terms(base, name, n_temp, n_load):
         # polynomial in the temperature variable u (powers 0..) and the load vl (powers 1..)
         for k in range(n_temp):
@@ -247,9 +263,12 @@ class CVResult:
 
 
 def _penalty(s, ctx):
-    """Training-error factor that makes the grid prefer simpler explanations: a ripple at
-    N cycles per turn (whose 2nd harmonic is the 2 N tooth-engagement ripple) must fit 2 %
-    better than one at 2 N."""
+    """
+    Training-error factor that makes the grid prefer simpler explanations.
+
+    A ripple at N cycles per turn (whose 2nd harmonic is the 2 N tooth-engagement ripple)
+    must fit 2 % better than one at 2 N.
+    """
     return 1.02 if s.ripple and abs(s.cyc - 2.0 * ctx.gear_ratio) > 1e-9 else 1.0
 
 

@@ -1,4 +1,19 @@
-"""Experiments on the simulated test bed and in the literature.
+# Copyright 2026 friction_joint maintainers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""
+Experiments on the simulated test bed and in the literature.
 
 * the paper's applications: :mod:`~friction_joint.experiments.chirp` (Fig. 5),
   :mod:`~friction_joint.experiments.compensation` (Fig. 6-7),
@@ -16,7 +31,7 @@ from .classic import breakaway, frictional_lag, presliding, stick_slip
 from .compensation import compensation
 from .estimation import estimation
 from .excitation import simulate_identification
-from .hidden import EFFECT_RANGES, apply_effect, apply_effects, draw_effect, simulate_recording
+from .hidden import apply_effect, apply_effects, draw_effect, EFFECT_RANGES, simulate_recording
 from .runner import EXPERIMENTS, run_experiment
 
 __all__ = ['chirp', 'compensation', 'estimation', 'EXPERIMENTS', 'run_experiment',

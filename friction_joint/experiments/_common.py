@@ -1,3 +1,17 @@
+# Copyright 2026 friction_joint maintainers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
 """Shared pieces of the test-bed experiments: result types, checks, the closed loop."""
 import collections
 import math
@@ -53,7 +67,7 @@ def check_scale(duration_scale):
 
 
 def check_model(model, kinds, where='model gear'):
-    """The model gear must carry the parameters of every dynamic model used."""
+    """Check that the model gear carries the parameters of every dynamic model used."""
     for kind in kinds:
         if kind in ('lugre', 'gms') and getattr(model.friction, kind) is None:
             src = f' ({model.source})' if model.source else ''
@@ -80,12 +94,14 @@ LABELS = {'none': 'no friction model', 'lugre': 'LuGre', 'gms': 'GMS'}
 
 
 class SumOfSines:
-    """q_d(t) = sum_i a_i sin(w_i t + p_i) with its first two derivatives.
+    """
+    q_d(t) = sum_i a_i sin(w_i t + p_i) with its first two derivatives.
 
     Parameters
     ----------
     components : sequence of (amplitude, omega, phase)
         rad, rad/s, rad.
+
     """
 
     def __init__(self, components):
@@ -102,7 +118,8 @@ class SumOfSines:
 
 
 def closed_loop(plant, controller, reference, n, observers=None):
-    """Run ``n`` control steps; returns dict of arrays at the sample times.
+    """
+    Run ``n`` control steps; returns dict of arrays at the sample times.
 
     The command for step k is computed from the sample at its start and the
     reference at that time (eq. 17); ``observers`` (name -> observer) see the

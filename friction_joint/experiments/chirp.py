@@ -1,12 +1,30 @@
-"""Dynamic simulation (seed Section V-B, Fig. 5): open-loop chirp torques, measured vs LuGre/GMS."""
+# Copyright 2026 friction_joint maintainers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""
+Dynamic simulation (seed Section V-B, Fig. 5).
+
+Open-loop chirp torques, measured vs LuGre/GMS.
+"""
 
 import numpy as np
 
+from ._common import (check_model, check_scale, COLORS, corr, grid_on, json_key, LABELS, n_steps,
+                      rmse)
 from ..models.joint import Joint
 from ..output import ExperimentResult
 from ..testbed.plant import Plant
-from ._common import (COLORS, LABELS, check_model,
-                      check_scale, corr, grid_on, json_key, n_steps, rmse)
 
 __all__ = ['CHIRP', 'chirp_signal', 'chirp']
 
@@ -28,7 +46,8 @@ def chirp_signal(amplitude, duration, dt, f0, f1):
 
 
 def chirp(model, truth, duration_scale=1.0):
-    """Dynamic simulation with chirp torques (paper Section V-B, Fig. 5).
+    """
+    Dynamic simulation with chirp torques (paper Section V-B, Fig. 5).
 
     Two chirp torque commands (:data:`CHIRP`: 0.1 -> 1.0 Hz over 20 s, 5.5 Nm
     and 6.5 Nm) drive the plant open loop from rest at q = 0 (lever hanging)
@@ -58,6 +77,7 @@ def chirp(model, truth, duration_scale=1.0):
         amplitude ``peak_velocity``, ``rms_velocity`` (rad/s, measured),
         ``stiction_fraction`` (time share with |true velocity| < 1e-3 rad/s),
         ``effort_rmse`` (Nm, measured effort vs command).
+
     """
     scale = check_scale(duration_scale)
     check_model(model, ('lugre', 'gms'))
@@ -110,7 +130,8 @@ def chirp(model, truth, duration_scale=1.0):
             a1.plot(t, meas['qd'], color='k', lw=1.2, label='measured')
             for m in models:
                 a1.plot(t, sims[m].qd, color=COLORS[m], lw=0.8,
-                        label=f'{LABELS[m]} (RMSE {summary["velocity_rmse"][m][json_key(amp)]:.3f} rad/s)')
+                        label=(f'{LABELS[m]} (RMSE '
+                               f'{summary["velocity_rmse"][m][json_key(amp)]:.3f} rad/s)'))
             a1.set_ylabel('velocity (rad/s)')
             a2.plot(t, meas['tau_r'], color='k', lw=1.0, label='true friction (incl. ripple)')
             for m in models:

@@ -1,4 +1,19 @@
-"""The four classic LuGre experiments of Canudas de Wit et al. (1995).
+# Copyright 2026 friction_joint maintainers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""
+The four classic LuGre experiments of Canudas de Wit et al. (1995).
 
 C. Canudas de Wit, H. Olsson, K. J. Astrom and P. Lischinsky, "A new model
 for control of systems with friction", IEEE Trans. Automatic Control 40(3),
@@ -53,7 +68,8 @@ XI = 25.0   # temperature input; the Canudas set has no temperature dependency
 
 
 def canudas_gear(params=None):
-    """The Canudas 1995 parameter set as a validated gear (unit mass, SI units).
+    """
+    Return the Canudas 1995 parameter set as a validated gear (unit mass, SI units).
 
     Parameters
     ----------
@@ -65,6 +81,7 @@ def canudas_gear(params=None):
     GearParams
         LuGre model, linear viscous term (delta_v = 1), Gaussian Stribeck
         curve (delta_s = 2), ``inertia`` = the mass.
+
     """
     p = dict(CANUDAS_1995, **(params or {}))
     data = {'joint_name': 'canudas_1995_mass', 'gear_ratio': 1.0, 'inertia': p['mass'],
@@ -81,7 +98,8 @@ def canudas_gear(params=None):
 
 
 def _midpoints(n, dt):
-    """Step-end times t_k = k dt and midpoints t_k - dt/2 of n steps.
+    """
+    Step-end times t_k = k dt and midpoints t_k - dt/2 of n steps.
 
     Inputs of the core are held over each step, so a continuous input is
     sampled at the step midpoints (second-order accurate).
@@ -100,7 +118,8 @@ def _nsteps(duration, dt):
 # ------------------------------------------------------------ presliding ---
 
 def presliding(amplitude=None, ramp_time=5.0, hold_time=2.0, dt=1e-4, params=None):
-    """Pre-sliding displacement under a force below F_s (Canudas 1995, Fig. 2).
+    """
+    Pre-sliding displacement under a force below F_s (Canudas 1995, Fig. 2).
 
     The resting unit mass is loaded with a piecewise-linear force
     0 -> +A, hold, -> -A, hold, -> +A, hold, -> -A, hold, -> 0, hold
@@ -147,6 +166,7 @@ def presliding(amplitude=None, ramp_time=5.0, hold_time=2.0, dt=1e-4, params=Non
         the second +A hold minus the first), ``x_max_quasistatic``,
         ``x_min_quasistatic`` (m, formulas above).
         ``series``: ``t``, ``force``, ``x``, ``v``, ``friction``.
+
     """
     p = dict(CANUDAS_1995, **(params or {}))
     a = 0.95 * p['fs'] if amplitude is None else float(amplitude)
@@ -200,7 +220,8 @@ def presliding(amplitude=None, ramp_time=5.0, hold_time=2.0, dt=1e-4, params=Non
 # --------------------------------------------------------- frictional lag ---
 
 def _loop_width(v, f, margin=0.05, points=201):
-    """Max friction difference between decelerating and accelerating branch.
+    """
+    Max friction difference between decelerating and accelerating branch.
 
     ``v``, ``f`` cover one period starting at the velocity maximum; the
     branches are compared on a common velocity grid that leaves out
@@ -222,7 +243,8 @@ def _loop_width(v, f, margin=0.05, points=201):
 
 def frictional_lag(omegas=(1.0, 10.0, 25.0), v_mean=1.5e-3, v_amplitude=1e-3, periods=2,
                    samples_per_period=100000, params=None):
-    """Frictional lag: hysteresis in friction vs velocity (Canudas 1995, Fig. 3).
+    """
+    Frictional lag: hysteresis in friction vs velocity (Canudas 1995, Fig. 3).
 
     The velocity imposed on the LuGre model oscillates in the Stribeck
     region, v(t) = v_mean + v_amplitude cos(omega t) (the paper's
@@ -255,6 +277,7 @@ def frictional_lag(omegas=(1.0, 10.0, 25.0), v_mean=1.5e-3, v_amplitude=1e-3, pe
         ``loop_width`` (N per frequency), ``loop_area`` (N m/s per frequency).
         ``series``: ``v`` and ``friction`` (lists of arrays, one period per
         frequency), ``v_static``, ``friction_static`` (the steady-state curve).
+
     """
     if not 0.0 < v_amplitude < v_mean:
         raise FrictionJointError('frictional_lag: need 0 < v_amplitude < v_mean (no reversal)')
@@ -299,7 +322,8 @@ def _first_peak(f, prominence):
 
 def breakaway(rates=(0.1, 0.2, 0.5, 1.0, 2.0, 5.0, 10.0, 20.0, 30.0), f_end=2.0,
               prominence=0.01, params=None):
-    """Varying break-away force under force ramps F = r t (Canudas 1995, Fig. 4).
+    """
+    Varying break-away force under force ramps F = r t (Canudas 1995, Fig. 4).
 
     A force ramp F(t) = r t is applied to the resting unit mass.  Definition
     used (Canudas et al. 1995, Sec. IV: the friction force when the mass
@@ -338,6 +362,7 @@ def breakaway(rates=(0.1, 0.2, 0.5, 1.0, 2.0, 5.0, 10.0, 20.0, 30.0), f_end=2.0,
         ``time_to_breakaway`` (s), ``fs``, ``fc`` (N).
         ``series``: per rate (lists of arrays) ``t``, ``force`` (applied),
         ``friction``, ``v``.
+
     """
     p = dict(CANUDAS_1995, **(params or {}))
     if f_end <= p['fs']:
@@ -372,7 +397,8 @@ def breakaway(rates=(0.1, 0.2, 0.5, 1.0, 2.0, 5.0, 10.0, 20.0, 30.0), f_end=2.0,
 # -------------------------------------------------------------- stick-slip ---
 
 def slip_onsets(t, v, threshold=0.05):
-    """Times at which v first rises through ``threshold`` in each slip (linear interpolation).
+    """
+    Return the times v first rises through ``threshold`` in each slip (linear interpolation).
 
     After an onset the detector re-arms only once v has fallen below half
     the threshold again (the mass is back to sticking), so ripple around the
@@ -395,7 +421,8 @@ def slip_onsets(t, v, threshold=0.05):
 
 
 def stick_slip(k=2.0, vp=0.1, duration=30.0, dt=5e-5, threshold=0.05, params=None):
-    """Stick-slip of the unit mass pulled through a spring (Canudas 1995, Fig. 6).
+    """
+    Stick-slip of the unit mass pulled through a spring (Canudas 1995, Fig. 6).
 
     The spring end moves at constant speed y = vp t; from rest the mass
     obeys m x'' = k (vp t - x) - F_friction.  In the joint's terms the spring
@@ -429,6 +456,7 @@ def stick_slip(k=2.0, vp=0.1, duration=30.0, dt=5e-5, threshold=0.05, params=Non
         difference of the onsets; None with fewer than two), ``v_max`` (m/s),
         ``x_end`` (m).  ``series``: ``t``, ``x``, ``v``, ``friction``,
         ``y`` (spring end).
+
     """
     gear = canudas_gear(params)
     n = _nsteps(duration, dt)

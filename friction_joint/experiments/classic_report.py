@@ -1,4 +1,19 @@
-"""Figures and files of the classic LuGre experiments (:mod:`friction_joint.experiments.classic`).
+# Copyright 2026 friction_joint maintainers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""
+Figures and files of the classic LuGre experiments (:mod:`friction_joint.experiments.classic`).
 
 :func:`write_experiment` takes the result of an experiment function and writes
 ``NAME.png`` and ``NAME.json``.
@@ -116,7 +131,8 @@ def _draw(name, result):
 
 
 def write_experiment(name, result, out_dir):
-    """Write ``out_dir/name.png`` and ``out_dir/name.json`` atomically.
+    """
+    Write ``out_dir/name.png`` and ``out_dir/name.json`` atomically.
 
     Both files are rendered in memory and written to temporary files in
     ``out_dir`` first; only then are they renamed into place (os.replace),
@@ -126,6 +142,7 @@ def write_experiment(name, result, out_dir):
     -------
     tuple of str
         Paths of the PNG and JSON files.
+
     """
     png = render_png(_draw(name, result), (10, 5) if name != 'stick-slip' else (9, 6.5), dpi=110)
     return tuple(write_files(out_dir, [(name + '.png', png),

@@ -1,13 +1,27 @@
+# Copyright 2026 friction_joint maintainers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
 """Friction compensation (seed Section V-C, Fig. 6-7): sine tracking with feed-forward."""
 import math
 
 import numpy as np
 
-from ..control.controller import Controller, SineTrajectory, pd_gains
+from ._common import (check_model, check_scale, closed_loop, COLORS, grid_on, json_key, LABELS,
+                      MODELS, n_steps, rmse)
+from ..control.controller import Controller, pd_gains, SineTrajectory
 from ..output import ExperimentResult
 from ..testbed.plant import Plant
-from ._common import (COLORS, LABELS, MODELS, check_model,
-                      check_scale, closed_loop, grid_on, json_key, n_steps, rmse)
 
 __all__ = ['COMPENSATION', 'compensation']
 
@@ -32,7 +46,8 @@ def _compensation_run(model, truth, kp, kd, kind, xi0, amp, n, ff_velocity):
 
 
 def compensation(model, truth, duration_scale=1.0):
-    """Friction compensation with eq. 17 (paper Section V-C, Fig. 6-7).
+    """
+    Friction compensation with eq. 17 (paper Section V-C, Fig. 6-7).
 
     For each start temperature (27, 35 degC), amplitude (0.4, 2.4 rad) and
     friction feed-forward (none, LuGre, GMS) the plant tracks
@@ -47,6 +62,7 @@ def compensation(model, truth, duration_scale=1.0):
     Parameters
     ----------
     model, truth : GearParams
+        Identified model and simulated hardware.
     duration_scale : float
         Multiplies the settling interval and the evaluation window.
 
@@ -60,6 +76,7 @@ def compensation(model, truth, duration_scale=1.0):
         ``ff_velocity`` (the variant of the main tables) and
         ``ff_velocity_variants[variant]`` with the same tables for the
         others (lugre and gms only).
+
     """
     scale = check_scale(duration_scale)
     check_model(model, ('lugre', 'gms'))

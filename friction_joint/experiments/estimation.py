@@ -1,14 +1,28 @@
+# Copyright 2026 friction_joint maintainers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
 """External torque estimation (seed Section V-D, Fig. 8) with the disturbance observer."""
 
 import numpy as np
 
+from ._common import (check_model, check_scale, closed_loop, COLORS, grid_on, json_key, LABELS,
+                      MODELS, n_steps, rmse, SumOfSines)
+from .compensation import COMPENSATION
 from ..control.controller import Controller, pd_gains
 from ..control.observer import DisturbanceObserver
 from ..output import ExperimentResult
 from ..testbed.plant import Plant
-from .compensation import COMPENSATION
-from ._common import (COLORS, LABELS, MODELS, SumOfSines, check_model,
-                      check_scale, closed_loop, grid_on, json_key, n_steps, rmse)
 
 __all__ = ['ESTIMATION', 'estimation']
 
@@ -28,7 +42,8 @@ ESTIMATION = {
 
 
 def estimation(model, truth, duration_scale=1.0):
-    """External torque estimation with eq. 15 (paper Section V-D, Fig. 8).
+    """
+    External torque estimation with eq. 15 (paper Section V-D, Fig. 8).
 
     The plant follows the sum-of-sines reference of :data:`ESTIMATION`
     (controller eq. 17 with LuGre feed-forward) so that the lever's gravity
@@ -54,6 +69,7 @@ def estimation(model, truth, duration_scale=1.0):
         ``vs_link_sensor`` (the same against the sensor),
         ``link_sensor_rms_error`` (Nm), ``beta``, ``beta_sweep``, ``q_range``,
         ``peak_velocity``.
+
     """
     scale = check_scale(duration_scale)
     check_model(model, ('lugre', 'gms'))
@@ -65,7 +81,8 @@ def estimation(model, truth, duration_scale=1.0):
     n_settle = int(round(c['settle'] * scale / plant.dt))
     n_steps((n - n_settle) * plant.dt, plant.dt, 'estimation evaluation window')
     ctrl = Controller(model, kp, kd, friction=c['controller'], dt=plant.dt)
-    observers = {kind: DisturbanceObserver(model, c['beta'], plant.dt, friction=kind, gravity=False)
+    observers = {kind: DisturbanceObserver(model, c['beta'], plant.dt, friction=kind,
+                                           gravity=False)
                  for kind in MODELS}
     sweep = [b for b in c['beta_sweep'] if b != c['beta']]
     for b in sweep:
@@ -104,8 +121,8 @@ def estimation(model, truth, duration_scale=1.0):
         name = 'lugre' if b == c['beta'] else f'lugre@{b:g}'
         rms, mx = errors(r['estimates'][name], te)
         summary['beta_sweep'][json_key(b)] = {'rms_error': rms, 'max_error': mx,
-                                          'rms_error_pct': 100.0 * rms / load,
-                                          'max_error_pct': 100.0 * mx / load}
+                                              'rms_error_pct': 100.0 * rms / load,
+                                              'max_error_pct': 100.0 * mx / load}
 
     def draw(fig):
         a0, a1, a2 = fig.subplots(3, 1, sharex=True, gridspec_kw={'height_ratios': [3, 2, 1.3]})

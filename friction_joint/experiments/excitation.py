@@ -1,4 +1,19 @@
-"""Identification excitation: the paper's constant-velocity plateaus on the simulated test bed.
+# Copyright 2026 friction_joint maintainers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""
+Identification excitation: the paper's constant-velocity plateaus on the simulated test bed.
 
 The seed paper (Section V-A) identifies the static friction model from
 thirty-four constant-velocity points "covering the considered velocity range
@@ -83,8 +98,8 @@ import numpy as np
 from ..exceptions import FrictionJointError
 from ..testbed.plant import Plant
 
-__all__ = ['EXCITATION', 'BlockPlan', 'plan_block', 'block_temperatures', 'speeds', 'record_segment',
-           'simulate_identification']
+__all__ = ['EXCITATION', 'BlockPlan', 'plan_block', 'block_temperatures', 'speeds',
+           'record_segment', 'simulate_identification']
 
 #: the default identification experiment
 EXCITATION = {
@@ -94,7 +109,7 @@ EXCITATION = {
     'n_temperatures': 4,            # temperature blocks
     'temperature_margin': (1.0, 1.5),   # degC inside the truth's temperature_range (lo, hi)
     'settle': 0.15,                 # s at plateau speed before the measuring window, plus
-    'settle_travel': 2e-3,          #   the time to travel this far (rad): the PD loop's error
+    'settle_travel': 2e-3,          # ... the time to travel this far (rad): the PD loop's error
                                     #   has to build up the friction torque at low speed
     'window': 1.0,                  # s, nominal measuring window (times duration_scale)
     'min_window': 0.3,              # s, shortest measuring window
@@ -118,7 +133,7 @@ EXCITATION = {
 
 
 def speeds(cfg=EXCITATION):
-    """The plateau speeds (rad/s), log-spaced from ``v_min`` to ``v_max``."""
+    """Return the plateau speeds, log-spaced from ``v_min`` to ``v_max`` (rad/s)."""
     return np.geomspace(cfg['v_min'], cfg['v_max'], int(cfg['n_speeds']))
 
 
@@ -134,7 +149,8 @@ def block_temperatures(truth, cfg=EXCITATION):
 
 
 class BlockPlan:
-    """Sampled reference of one temperature block.
+    """
+    Sampled reference of one temperature block.
 
     Attributes
     ----------
@@ -148,6 +164,7 @@ class BlockPlan:
     presliding : list of dict
         Pre-sliding sinusoids: ``t0``, ``t1``, ``amplitude`` (rad), ``frequency`` (Hz),
         ``center`` (rad).
+
     """
 
     def __init__(self, dt):
@@ -230,7 +247,8 @@ def _window(v, gear_ratio, scale, cfg):
 
 
 def plan_block(index, gear_ratio, dt, duration_scale=1.0, cfg=EXCITATION, presliding=True):
-    """Reference of temperature block ``index`` (see the module docstring).
+    """
+    Plan the reference of temperature block ``index`` (see the module docstring).
 
     Parameters
     ----------
@@ -242,12 +260,15 @@ def plan_block(index, gear_ratio, dt, duration_scale=1.0, cfg=EXCITATION, presli
         Sample period (s).
     duration_scale : float
         Multiplies the measuring windows and pre-sliding periods.
+    cfg : dict
+        The excitation settings, all keys of :data:`EXCITATION` (the default).
     presliding : bool
         Append the pre-sliding slide and sinusoids.
 
     Returns
     -------
     BlockPlan
+
     """
     plan = BlockPlan(dt)
     plan.hold(cfg['hold'])
@@ -287,8 +308,12 @@ def plan_block(index, gear_ratio, dt, duration_scale=1.0, cfg=EXCITATION, presli
 
 
 def _interleaved(n):
-    """0, n-1, 1, n-2, ...: fast and slow plateaus alternate, so the housing warms
-    in short bursts and the lagging temperature sensor stays close to the gear."""
+    """
+    Return the plateau order 0, n-1, 1, n-2, ... for n plateaus.
+
+    Fast and slow plateaus alternate, so the housing warms in short bursts and
+    the lagging temperature sensor stays close to the gear.
+    """
     lo, hi = 0, n - 1
     out = []
     while lo <= hi:
@@ -305,7 +330,8 @@ def _gains(inertia, bandwidth):
 
 
 def record_segment(plant, command, q_ref, qd_ref, every, t_off, *, out, temp_t, temp_xi):
-    """Run ``plant`` closed loop over a reference and append the measured record.
+    """
+    Run ``plant`` closed loop over a reference and append the measured record.
 
     ``command(sample, k) -> tau`` is the control law for step k.  Appends to
     ``out`` (lists per key: t, q, qd, effort, tau (link torque), cmd, q_d,
@@ -340,7 +366,8 @@ def record_segment(plant, command, q_ref, qd_ref, every, t_off, *, out, temp_t, 
 
 def simulate_identification(truth, duration_scale=1.0, seed=None, cfg=None, presliding=True,
                             progress=None):
-    """Run the identification excitation on the simulated test bed.
+    """
+    Run the identification excitation on the simulated test bed.
 
     Parameters
     ----------
@@ -365,6 +392,7 @@ def simulate_identification(truth, duration_scale=1.0, seed=None, cfg=None, pres
     summary : dict
         Plan and run facts: block temperatures, planned plateaus (times in the
         recording), pre-sliding segments, duration, gains, velocity range.
+
     """
     conf = dict(EXCITATION)
     if cfg:

@@ -1,7 +1,22 @@
-"""Measured-style recordings with hidden effects, for testing ``friction_joint diagnose``.
+# Copyright 2026 friction_joint maintainers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""
+Measured-style recordings with hidden effects, for testing ``friction_joint diagnose``.
 
 A *truth* gear is a base gear file (e.g. ``config/csd25_base.yaml``) plus one
-or more effects the base model lacks (CONTRACT section 5 names them).
+or more effects the base model lacks (README, Interfaces: diagnose outputs names them).
 :func:`apply_effect` builds such a truth, :func:`draw_effect` draws a
 realistic size of an effect at random, and :func:`simulate_recording` runs the
 truth on the simulated test bed (:class:`~friction_joint.testbed.plant.Plant`, with
@@ -77,16 +92,16 @@ import warnings
 
 import numpy as np
 
+from .excitation import record_segment
 from ..bag import write_recording
 from ..control.controller import Controller, pd_gains
-from .excitation import record_segment
 from ..exceptions import FrictionJointError, GearConfigWarning
 from ..testbed.plant import Plant
 
 __all__ = ['EFFECTS', 'EFFECT_RANGES', 'apply_effect', 'apply_effects', 'draw_effect',
            'segment_temperatures', 'plan_segment', 'simulate_recording']
 
-#: effect names of CONTRACT section 5
+#: effect names of README, Interfaces: diagnose outputs
 EFFECTS = ('thermal', 'load', 'position_ripple', 'nonlinear_viscous', 'stribeck',
            'presliding', 'inertia', 'asymmetry')
 
@@ -139,7 +154,11 @@ def _span(base, temperatures=None):
 
 
 def draw_effect(rng, effect):
-    """A random realistic size of ``effect`` (a dict of the parameters of :data:`EFFECT_RANGES`)."""
+    """
+    Draw a random realistic size of ``effect``.
+
+    The size is a dict of the parameters of :data:`EFFECT_RANGES`.
+    """
     if effect not in EFFECT_RANGES:
         raise FrictionJointError(f'unknown effect {effect!r}; effects: {", ".join(EFFECTS)}')
     out = {}
@@ -177,11 +196,13 @@ def _size(effect, size):
 
 
 def apply_effect(base_gear, effect, size=None, temperatures=None):
-    """The truth gear: ``base_gear`` plus ``effect`` of ``size``.
+    """
+    Return the truth gear: ``base_gear`` plus ``effect`` of ``size``.
 
     Parameters
     ----------
     base_gear : GearParams
+        The base gear the effect is added to.
     effect : str
         One of :data:`EFFECTS`.
     size : dict or float, optional
@@ -194,6 +215,7 @@ def apply_effect(base_gear, effect, size=None, temperatures=None):
     Returns
     -------
     GearParams
+
     """
     if effect not in EFFECTS:
         raise FrictionJointError(f'unknown effect {effect!r}; effects: {", ".join(EFFECTS)}')
@@ -266,7 +288,8 @@ def segment_temperatures(base, n_segments=None, cfg=SEGMENT):
 
 
 def plan_segment(rng, gear_ratio, dt, duration, q0=0.0, cfg=SEGMENT):
-    """Reference ``(q, qd, qdd)`` of one temperature segment of about ``duration`` s.
+    """
+    Plan the reference ``(q, qd, qdd)`` of one temperature segment of about ``duration`` s.
 
     Plateau pairs, pre-sliding sinusoids and a multi-sine sweep (module docstring);
     the sweep fills whatever time the other parts leave.
@@ -344,7 +367,8 @@ def plan_segment(rng, gear_ratio, dt, duration, q0=0.0, cfg=SEGMENT):
 def simulate_recording(truth_gear, path=None, *, duration=90.0, seed=0, base_gear=None,
                        n_segments=None, link_torque=True, command=True, compress=False,
                        cfg=None):
-    """Run ``truth_gear`` on the simulated test bed under the rich excitation; write a recording.
+    """
+    Run ``truth_gear`` on the simulated test bed under the rich excitation; write a recording.
 
     Parameters
     ----------
@@ -378,6 +402,7 @@ def simulate_recording(truth_gear, path=None, *, duration=90.0, seed=0, base_gea
     summary : dict
         ``temperatures`` (segment set-points), ``segments`` (t0, t1, xi_start, xi_end),
         ``duration_s``, ``samples``, ``gains``, ``seed``, ``wall_time_s``.
+
     """
     wall = time.perf_counter()
     conf = dict(SEGMENT)

@@ -1,4 +1,19 @@
-"""The paper's evaluation experiments on the simulated test bed (seed Section V B-D).
+# Copyright 2026 friction_joint maintainers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""
+The paper's evaluation experiments on the simulated test bed (seed Section V B-D).
 
 Each experiment runs the simulated hardware (:class:`~friction_joint.testbed.plant.Plant`
 with the **truth** gear file) and the identified **model** gear file the way
@@ -41,13 +56,13 @@ for ``friction_joint identify``.
 import os
 import time
 
-from ..exceptions import ExperimentError
-from ..gear import load_gear
-from ..output import write_results
-from ._common import Experiment, check_scale
+from ._common import check_scale, Experiment
 from .chirp import chirp
 from .compensation import compensation
 from .estimation import estimation
+from ..exceptions import ExperimentError
+from ..gear import load_gear
+from ..output import write_results
 
 __all__ = ['EXPERIMENTS', 'identification', 'run_experiment']
 
@@ -55,7 +70,8 @@ __all__ = ['EXPERIMENTS', 'identification', 'run_experiment']
 # --------------------------------------------------------- identification ---
 
 def identification(model, truth, duration_scale=1.0, progress=None):
-    """Identification excitation (paper Section V-A): a recording for ``friction_joint identify``.
+    """
+    Identification excitation (paper Section V-A): a recording for ``friction_joint identify``.
 
     Constant-velocity plateaus 0.01..3.5 rad/s in both directions at four
     temperatures across the truth's range, the lever at different angles,
@@ -69,6 +85,7 @@ def identification(model, truth, duration_scale=1.0, progress=None):
         Contract topics, the input of :func:`friction_joint.bag.write_recording`.
     summary : dict
         Plan and run facts (block temperatures, planned plateaus, duration).
+
     """
     from .excitation import simulate_identification
     return simulate_identification(truth, check_scale(duration_scale), progress=progress)
@@ -76,7 +93,8 @@ def identification(model, truth, duration_scale=1.0, progress=None):
 
 #: command-line name -> experiment
 EXPERIMENTS = {
-    'chirp': Experiment(chirp, 'open-loop chirp torques, measured vs LuGre/GMS simulation (Fig. 5)'),
+    'chirp': Experiment(chirp, 'open-loop chirp torques, measured vs LuGre/GMS simulation '
+                               '(Fig. 5)'),
     'compensation': Experiment(compensation, 'sine tracking with friction feed-forward '
                                              'none/LuGre/GMS at 27 and 35 degC (Fig. 6-7)'),
     'estimation': Experiment(estimation, 'external torque estimation with the disturbance '
@@ -90,7 +108,8 @@ EXPERIMENTS = {
 
 
 def run_experiment(name, model_path, truth_path, out_dir, duration_scale=1.0, progress=None):
-    """Load the gear files, run experiment ``name`` and write its results.
+    """
+    Load the gear files, run experiment ``name`` and write its results.
 
     ``model_path`` may be None for experiments that do not use a model
     (``identification``).  Experiments with ``output == 'recording'`` write a
@@ -101,6 +120,7 @@ def run_experiment(name, model_path, truth_path, out_dir, duration_scale=1.0, pr
     -------
     list of str
         The paths written (figures, then ``summary.json``; or the recording).
+
     """
     if name not in EXPERIMENTS:
         raise ExperimentError(f'unknown experiment {name!r}; choose from {", ".join(EXPERIMENTS)}')

@@ -1,4 +1,19 @@
-"""Bounded generalized pattern search in log space, evaluating a batch of points per poll.
+# Copyright 2026 friction_joint maintainers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""
+Bounded generalized pattern search in log space, evaluating a batch of points per poll.
 
 Used by step 3 of the identification (:mod:`friction_joint.identification.presliding`):
 scipy has no derivative-free bounded search that evaluates the poll points as
@@ -14,7 +29,8 @@ __all__ = ['PatternSearchResult', 'pattern_search']
 
 @dataclasses.dataclass
 class PatternSearchResult:
-    """Result of :func:`pattern_search`.
+    """
+    Result of :func:`pattern_search`.
 
     Attributes
     ----------
@@ -34,6 +50,7 @@ class PatternSearchResult:
         True when the step fell below ``min_step``; False when an evaluation
         or iteration limit stopped the search.
     message : str
+
     """
 
     x: np.ndarray
@@ -48,7 +65,8 @@ class PatternSearchResult:
 
 def pattern_search(fun, x0, lower, upper, *, step=0.5, min_step=1e-3, max_step=None,
                    expand=2.0, contract=0.5, scale=None, max_iter=1000, max_evals=20000):
-    """Minimise ``fun`` over a box by generalized (compass) pattern search.
+    """
+    Minimise ``fun`` over a box by generalized (compass) pattern search.
 
     Parameters
     ----------
@@ -84,6 +102,7 @@ def pattern_search(fun, x0, lower, upper, *, step=0.5, min_step=1e-3, max_step=N
     more than one point).  Poll points outside the box are projected onto it
     and dropped when the projection is the current point, so every point
     evaluated is feasible.
+
     """
     x = np.asarray(x0, dtype=float).ravel()
     n = x.size

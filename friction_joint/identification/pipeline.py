@@ -1,4 +1,19 @@
-"""The ``identify`` command: recordings -> identified gear file + report (seed Section V-A).
+# Copyright 2026 friction_joint maintainers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""
+The ``identify`` command: recordings -> identified gear file + report (seed Section V-A).
 
     friction_joint identify RECORDING [RECORDING ...] --model STRUCTURE.yaml --out GEAR.yaml
                             [--orders auto] [--report DIR] [--presliding auto|skip|require]
@@ -43,13 +58,13 @@ import warnings
 import numpy as np
 import yaml
 
+from .plateaus import find_plateaus, Plateaus
+from .static_fit import StaticIdentifier
 from ..bag import read_recording
 from ..exceptions import (ExcitationError, FrictionJointError, GearConfigWarning,
-                         RecordingError)
+                          RecordingError)
 from ..gear import load_gear, save_gear
 from ..output import ExperimentResult, write_results
-from .static_fit import StaticIdentifier
-from .plateaus import Plateaus, find_plateaus
 
 __all__ = ['IdentificationRun', 'identify_recordings', 'run_identify',
            'MAX_PRESLIDING_ERROR']
@@ -60,7 +75,8 @@ MAX_PRESLIDING_ERROR = 0.10
 
 
 class IdentificationRun:
-    """Everything one identification produced.
+    """
+    Everything one identification produced.
 
     Attributes
     ----------
@@ -75,6 +91,7 @@ class IdentificationRun:
         per model ``params``, ``stderr``, ``rel_stderr``, ``report``.
     timings : dict
         Seconds per stage.
+
     """
 
     def __init__(self, identifier, gear, recordings, plateaus, presliding, timings):
@@ -128,7 +145,7 @@ def _read(path, joint_name):
 
 
 def _read_joint(path, joint_name, structure):
-    """The recording's joint ``joint_name``, else the structure's joint, else its first joint."""
+    """Return the recording's joint ``joint_name``, else the structure's, else its first joint."""
     if joint_name is not None:
         return _read(path, joint_name)
     try:
@@ -175,8 +192,8 @@ def _step3(gear, recordings, mode, progress):
         return gear, {'status': 'skipped', 'reason': 'the structure has no friction.lugre or '
                                                      'friction.gms section'}
     if importlib.util.find_spec('friction_joint.identification.presliding') is None:
-        reason = ('friction_joint.identification.presliding is not available: the pre-sliding parameters are '
-                  'kept from the structure file')
+        reason = ('friction_joint.identification.presliding is not available: the pre-sliding '
+                  'parameters are kept from the structure file')
         if mode == 'require':
             raise FrictionJointError(f'step 3: {reason}')
         return gear, {'status': 'skipped', 'reason': reason}
@@ -239,8 +256,8 @@ def _step3(gear, recordings, mode, progress):
                     'k': list(old.k if 'k_total' in kept else sec.k),
                     'c': old.c if 'c' in kept else sec.c}}})
             result['models'][model] = {
-                'status': 'done', 'params': fit.params, 'initial': fit.initial, 'stderr': fit.stderr,
-                'rel_stderr': fit.rel_stderr, 'segments': len(cols['t']),
+                'status': 'done', 'params': fit.params, 'initial': fit.initial,
+                'stderr': fit.stderr, 'rel_stderr': fit.rel_stderr, 'segments': len(cols['t']),
                 'kept_from_structure': kept, 'report': fit.report,
                 'time_s': time.perf_counter() - t0}
             if progress and fit.report.get('warnings'):
@@ -263,7 +280,8 @@ def _step3(gear, recordings, mode, progress):
 
 def identify_recordings(paths, structure, *, orders=None, joint_name=None, detection=None,
                         presliding='auto', progress=None):
-    """Identify a gear from recordings (steps 1-3); the engine of the command.
+    """
+    Identify a gear from recordings (steps 1-3); the engine of the command.
 
     Parameters
     ----------
@@ -281,13 +299,15 @@ def identify_recordings(paths, structure, *, orders=None, joint_name=None, detec
     presliding : {'auto', 'skip', 'require'}
         Step 3 policy (see the module docstring).
     progress : callable, optional
+        Called with progress messages.
 
     Returns
     -------
     IdentificationRun
+
     """
     if presliding not in ('auto', 'skip', 'require'):
-        raise FrictionJointError(f"presliding must be auto, skip or require, got {presliding!r}")
+        raise FrictionJointError(f'presliding must be auto, skip or require, got {presliding!r}')
     timings = {}
     fixed = ()
     if isinstance(structure, str):
@@ -311,7 +331,8 @@ def identify_recordings(paths, structure, *, orders=None, joint_name=None, detec
     plateaus = Plateaus.concatenate(parts)
     timings['time_read_and_plateaus_s'] = time.perf_counter() - t0
     t0 = time.perf_counter()
-    ident = StaticIdentifier(structure, orders=orders, fixed=fixed, progress=progress).fit(plateaus)
+    ident = StaticIdentifier(structure, orders=orders, fixed=fixed,
+                             progress=progress).fit(plateaus)
     timings['time_steps_1_2_s'] = time.perf_counter() - t0
     if progress:
         progress(f'steps 1-2: RMS residual {ident.rms:.4f} Nm over {len(plateaus)} plateaus '
@@ -340,7 +361,8 @@ def _header(run, paths, structure_path):
         f'tau_L {p.load.min():.2f}..{p.load.max():.2f} Nm',
         f'structure: {os.path.abspath(structure_path)} ({ident.structure.describe()}); '
         'other sections kept from it',
-        f'steps 1-2 (static curve, eq. 6-7, least squares eq. 16): RMS residual {ident.rms:.4f} Nm',
+        f'steps 1-2 (static curve, eq. 6-7, least squares eq. 16): RMS residual '
+        f'{ident.rms:.4f} Nm',
         'friction.temperature_range = the recorded temperature range (polynomials are not '
         'extrapolated)',
         'coefficients +- standard error (powers of xi; load: powers 1.. of tau_L):',
@@ -369,12 +391,14 @@ def _header(run, paths, structure_path):
 
 def run_identify(paths, model_path, out, *, orders=None, report_dir=None, presliding='auto',
                  joint_name=None, progress=None):
-    """Run the identification and write the report directory and GEAR.yaml.
+    """
+    Run the identification and write the report directory and GEAR.yaml.
 
     Returns
     -------
     list of str
         The paths written (report files, then the gear file).
+
     """
     start = time.perf_counter()
     out = os.fspath(out)

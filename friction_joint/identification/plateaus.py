@@ -1,4 +1,19 @@
-"""Constant-velocity plateaus of a recording: the data points of the static friction fit.
+# Copyright 2026 friction_joint maintainers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""
+Constant-velocity plateaus of a recording: the data points of the static friction fit.
 
 The seed paper identifies the static friction curve from "constant velocity
 points" at constant temperatures (Section V-A).  :func:`find_plateaus` finds
@@ -29,8 +44,8 @@ Per plateau
 -----------
 * ``qd``: outlier-robust mean velocity (samples further than
   ``clip_mad`` median absolute deviations from the median are left out).
-* ``tau_r``: friction torque tau_r = effort - tau_ext - J qdd (CONTRACT
-  section 1), same robust mean.  tau_ext is the ``/link_torque`` sensor when
+* ``tau_r``: friction torque tau_r = effort - tau_ext - J qdd (README,
+  Interfaces: sign convention), same robust mean.  tau_ext is the ``/link_torque`` sensor when
   the recording has it, else the lever gravity m g l sin q of the STRUCTURE
   gear file (no contact torque); J is the structure's inertia and qdd the
   derivative of the measured velocity.
@@ -76,7 +91,8 @@ _FIELDS = ('qd', 'qd_se', 'tau_r', 'tau_r_se', 'xi', 'xi_se', 'xi_spread', 'load
 
 @dataclasses.dataclass(frozen=True)
 class Plateaus:
-    """Constant-velocity plateaus, one entry per plateau in each array.
+    """
+    Constant-velocity plateaus, one entry per plateau in each array.
 
     Attributes
     ----------
@@ -104,6 +120,7 @@ class Plateaus:
         The recordings the plateaus come from.
     torque_source : tuple of str
         Per source: ``'link_torque'`` or ``'lever_model'`` (where tau_ext came from).
+
     """
 
     qd: np.ndarray
@@ -132,11 +149,13 @@ class Plateaus:
     @classmethod
     def empty(cls, sources=(), torque_source=()):
         return cls(**{f: np.zeros(0, dtype=int if f in ('n', 'source') else float)
-                      for f in _FIELDS}, sources=tuple(sources), torque_source=tuple(torque_source))
+                      for f in _FIELDS}, sources=tuple(sources),
+                   torque_source=tuple(torque_source))
 
     @classmethod
     def from_arrays(cls, qd, tau_r, xi, load=0.0, **extra):
-        """Plateaus from plain arrays (e.g. hand-made or from another tool).
+        """
+        Plateaus from plain arrays (e.g. hand-made or from another tool).
 
         ``qd``, ``tau_r``, ``xi`` and ``load`` (tau_L, default 0) broadcast to one
         length; other fields default to 0 (``load2``/``load3`` to load^2, load^3).
@@ -162,7 +181,7 @@ class Plateaus:
                    sources=tuple(sources), torque_source=tuple(torque_source), **data)
 
     def select(self, mask):
-        """The plateaus where ``mask`` (bool array or indices) is set."""
+        """Return the plateaus where ``mask`` (bool array or indices) is set."""
         return dataclasses.replace(self, **{f: getattr(self, f)[mask] for f in _FIELDS})
 
     @staticmethod
@@ -211,7 +230,7 @@ def _robust_mean(x, clip):
 
 
 def _batch_se(x, batches):
-    """Standard error of the mean of x by batch means."""
+    """Return the standard error of the mean of x by batch means."""
     k = int(min(batches, len(x) // 10))
     if k < 2:
         return float(np.std(x) / math.sqrt(max(len(x), 1)))
@@ -273,7 +292,8 @@ def _segments(t, qd, tau_r, opt):
 
 def plateaus_from_arrays(t, q, qd, effort, xi, tau_ext, *, inertia, options=None, source='arrays',
                          torque_source='given'):
-    """Find plateaus in sampled arrays (the engine of :func:`find_plateaus`).
+    """
+    Find plateaus in sampled arrays (the engine of :func:`find_plateaus`).
 
     Parameters
     ----------
@@ -282,15 +302,21 @@ def plateaus_from_arrays(t, q, qd, effort, xi, tau_ext, *, inertia, options=None
     xi : array_like
         Housing temperature at the sample times (degC).
     tau_ext : array_like
-        External torque at the sample times (Nm), signed as in CONTRACT section 1.
+        External torque at the sample times (Nm), signed as in README, Interfaces: sign convention.
     inertia : float
         J (kg m^2) for the J qdd term.
     options : dict, optional
         Overrides of :data:`DETECTION`.
+    source : str
+        Name of the data in error messages and in the plateaus' ``sources``.
+    torque_source : str
+        Where tau_ext came from (e.g. ``'link_torque'`` or ``'lever_model'``), kept as
+        the plateaus' ``torque_source``.
 
     Returns
     -------
     Plateaus
+
     """
     opt = dict(DETECTION)
     if options:
@@ -343,7 +369,8 @@ def plateaus_from_arrays(t, q, qd, effort, xi, tau_ext, *, inertia, options=None
 
 
 def find_plateaus(recording, structure, options=None):
-    """Constant-velocity plateaus of one recording.
+    """
+    Constant-velocity plateaus of one recording.
 
     Parameters
     ----------
@@ -358,13 +385,14 @@ def find_plateaus(recording, structure, options=None):
     Returns
     -------
     Plateaus
-        Possibly empty; :class:`~friction_joint.identification.static_fit.StaticIdentifier` says what is
-        missing.
+        Possibly empty; :class:`~friction_joint.identification.static_fit.StaticIdentifier`
+        says what is missing.
 
     Raises
     ------
     RecordingError
         The recording has no temperature samples.
+
     """
     js = recording.joint_states
     if recording.temperature is None or len(recording.temperature) == 0:
@@ -379,4 +407,5 @@ def find_plateaus(recording, structure, options=None):
         tau_ext = structure.mgl * np.sin(js.q)
         tsrc = 'lever_model'
     return plateaus_from_arrays(js.t, js.q, js.qd, js.effort, xi, tau_ext,
-                                inertia=structure.inertia, options=options, source=recording.path, torque_source=tsrc)
+                                inertia=structure.inertia, options=options,
+                                source=recording.path, torque_source=tsrc)

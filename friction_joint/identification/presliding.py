@@ -1,4 +1,19 @@
-"""Identification step 3: pre-sliding parameters of LuGre and GMS (seed Section V-A).
+# Copyright 2026 friction_joint maintainers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""
+Identification step 3: pre-sliding parameters of LuGre and GMS (seed Section V-A).
 
 With the static curve g + s of steps 1-2 fixed, the dynamic parameters are
 fitted to low-velocity experiments with velocity reversals ("mainly
@@ -94,11 +109,11 @@ import warnings
 
 import numpy as np
 
-from ..exceptions import ExcitationError, FrictionJointError, GearConfigWarning
 from .pattern_search import pattern_search
-from .presliding_data import (EXPERIMENT_ADVICE, PARAMETERS, BatchData, batch_frictions,
-                              check_presliding_excitation, gear_with, initial_params,
+from .presliding_data import (batch_frictions, BatchData, check_presliding_excitation,
+                              EXPERIMENT_ADVICE, gear_with, initial_params, PARAMETERS,
                               prepare_batch)
+from ..exceptions import ExcitationError, FrictionJointError, GearConfigWarning
 
 __all__ = ['PreslidingFit', 'fit_presliding', 'presliding_rmse', 'DEFAULT_BOUNDS', 'ZERO_START']
 
@@ -113,7 +128,8 @@ ZERO_START = {'sigma1': 0.1}
 
 @dataclasses.dataclass
 class PreslidingFit:
-    """Result of :func:`fit_presliding`.
+    """
+    Result of :func:`fit_presliding`.
 
     Attributes
     ----------
@@ -146,6 +162,7 @@ class PreslidingFit:
         the data do not fix them; their value is only the search's end),
         ``bounds``, ``autocorrelation_time`` (samples), ``warnings``
         (e.g. a fitted sigma1 above the passivity bound; also emitted).
+
     """
 
     model: str
@@ -220,7 +237,7 @@ def _hessian(f, x, h):
 
 
 def _covariance(hess, scale):
-    """scale * inverse of hess, with infinite variance along non-positive curvature."""
+    """Return scale * inverse of hess, with infinite variance along non-positive curvature."""
     w, v = np.linalg.eigh(hess)
     tol = 1e-12 * max(float(np.max(np.abs(w))), 1e-300)
     good = w > tol
@@ -241,7 +258,8 @@ def _interval(value, se_log):
 def fit_presliding(t, qd, tau_r, xi, tau_l, gear, *, model='lugre', segments=None, q=None,
                    free=None, bounds=None, init='sliding', burn_in=0.0, v_max=None, step=0.5,
                    min_step=2e-3, max_evals=4000, fd_step=0.05):
-    """Fit the pre-sliding parameters of LuGre or GMS with the static curve fixed.
+    """
+    Fit the pre-sliding parameters of LuGre or GMS with the static curve fixed.
 
     Parameters
     ----------
@@ -256,6 +274,7 @@ def fit_presliding(t, qd, tau_r, xi, tau_l, gear, *, model='lugre', segments=Non
         Starting gear: its static curve is kept; its LuGre/GMS section gives
         the starting values and (GMS) the stiffness structure.
     model : {'lugre', 'gms'}
+        The pre-sliding model to fit.
     segments : list of Segment or slice, optional
         With whole-recording arrays: the parts to fit (e.g. from
         :func:`presliding_segments`).  Default: the whole arrays as one
@@ -296,6 +315,7 @@ def fit_presliding(t, qd, tau_r, xi, tau_l, gear, *, model='lugre', segments=Non
         pre-sliding regime; the message names the experiment to run.
     PreslidingDataError
         Malformed arrays.
+
     """
     t0 = time.perf_counter()
     if model not in PARAMETERS:
@@ -306,8 +326,10 @@ def fit_presliding(t, qd, tau_r, xi, tau_l, gear, *, model='lugre', segments=Non
     names = tuple(PARAMETERS[model] if free is None else free)
     unknown = [nm for nm in names if nm not in PARAMETERS[model]]
     if unknown or not names:
-        raise FrictionJointError(f'free parameters of {model} are {PARAMETERS[model]}, got {names}')
-    prepared, dt, segs = prepare_batch(t, qd, tau_r, xi, tau_l, segments, init=init, gear=gear, q=q)
+        raise FrictionJointError(f'free parameters of {model} are {PARAMETERS[model]}, '
+                                 f'got {names}')
+    prepared, dt, segs = prepare_batch(t, qd, tau_r, xi, tau_l, segments, init=init, gear=gear,
+                                       q=q)
     check_presliding_excitation(prepared, gear, v_max)
     data = BatchData(prepared, dt, burn_in)
     if data.n < 10 * len(names):
@@ -372,7 +394,8 @@ def fit_presliding(t, qd, tau_r, xi, tau_l, gear, *, model='lugre', segments=Non
 
 def presliding_rmse(gear, t, qd, tau_r, xi, tau_l, *, model='lugre', segments=None, q=None,
                     init='sliding', burn_in=0.0):
-    """RMS torque error (Nm) of a gear's LuGre or GMS model on (held-out) data.
+    """
+    RMS torque error (Nm) of a gear's LuGre or GMS model on (held-out) data.
 
     Same data conventions as :func:`fit_presliding` (``q`` removes the
     gear's position ripple); no excitation check.

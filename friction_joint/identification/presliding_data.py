@@ -1,4 +1,19 @@
-"""Pre-sliding data: reversal segments, their checks, and the batched model simulation.
+# Copyright 2026 friction_joint maintainers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""
+Pre-sliding data: reversal segments, their checks, and the batched model simulation.
 
 Step 3 of the identification (:mod:`friction_joint.identification.presliding`)
 fits only the samples near velocity reversals; :func:`presliding_segments`
@@ -30,7 +45,6 @@ EXPERIMENT_ADVICE = ('run slow motions with velocity reversals: a slow slide of 
                      'of a mrad to a few mrad), or a slow position sine of a few mrad so that '
                      'each reversal passes through pre-sliding')
 
-#: relative search bounds around the starting value (factor down, factor up)
 
 def _check_series(name, a, n=None):
     a = np.asarray(a, dtype=float)
@@ -45,7 +59,7 @@ def _check_series(name, a, n=None):
 
 
 def _series(name, a, n):
-    """A per-sample series: scalars are broadcast."""
+    """Return a per-sample series: scalars are broadcast."""
     if np.ndim(a) == 0:
         v = float(a)
         if not math.isfinite(v):
@@ -71,7 +85,8 @@ def _sample_time(t):
 def _noise_level(qd):
     """Robust velocity noise: MAD of qd minus its 31-sample moving average."""
     k = min(31, qd.size)
-    smooth = np.convolve(np.pad(qd, (k // 2, k - 1 - k // 2), mode='edge'), np.ones(k) / k, 'valid')
+    smooth = np.convolve(np.pad(qd, (k // 2, k - 1 - k // 2), mode='edge'), np.ones(k) / k,
+                         'valid')
     r = qd - smooth
     return 1.4826 * float(np.median(np.abs(r - np.median(r))))
 
@@ -90,7 +105,8 @@ def default_v_max(gear, xi):
 
 
 def default_settle(gear, model, xi):
-    """Slide (rad) after which every candidate's state is the sliding one.
+    """
+    Slide (rad) after which every candidate's state is the sliding one.
 
     LuGre: 10 F_s / sigma0 (the bristle memory decays as exp(-sigma0 dq / g)).
     GMS: 3 x the largest break-away travel alpha_i F_s / k_i (covers an
@@ -111,7 +127,8 @@ def default_settle(gear, model, xi):
 
 @dataclasses.dataclass(frozen=True)
 class Segment:
-    """A stretch of a recording used by the fit.
+    """
+    A stretch of a recording used by the fit.
 
     Attributes
     ----------
@@ -121,6 +138,7 @@ class Segment:
         Model state at ``start`` (see the module docstring).
     reversals : int
         Velocity reversals inside.
+
     """
 
     start: int
@@ -129,7 +147,7 @@ class Segment:
     reversals: int = 0
 
     @property
-    def slice(self):
+    def slice(self):  # noqa: A003
         return slice(self.start, self.stop)
 
     def __len__(self):
@@ -138,7 +156,8 @@ class Segment:
 
 def presliding_segments(t, qd, *, gear=None, model='lugre', xi=None, v_max=None, v_noise=None,
                         settle=None, min_samples=30, from_rest=False, split=True):
-    """Windows around slow velocity reversals, each starting in a known state.
+    """
+    Windows around slow velocity reversals, each starting in a known state.
 
     Parameters
     ----------
@@ -178,6 +197,7 @@ def presliding_segments(t, qd, *, gear=None, model='lugre', xi=None, v_max=None,
         The joint never moves, never reverses, reverses only fast, or no slow
         reversal is preceded by a settled slide; the message says which
         experiment is missing.
+
     """
     t = _check_series('t', t)
     qd = _check_series('qd', qd, t.size)
@@ -246,7 +266,8 @@ def presliding_segments(t, qd, *, gear=None, model='lugre', xi=None, v_max=None,
 
 
 def _slow_reversals(qd, v_max, v_noise, min_samples):
-    """Reversal indices, the slow windows (|qd| < v_max) that hold one, directions.
+    """
+    Reversal indices, the slow windows (|qd| < v_max) that hold one, directions.
 
     A reversal is the first sample of a new direction run; the direction d
     (+1, -1, 0 before the first motion) is the sign of the last sample with
@@ -293,17 +314,19 @@ def initial_params(gear, model):
 
 
 def batch_frictions(gear, model, params):
-    """FrictionParams for each row of ``params`` (dicts of full parameter values)."""
+    """Return FrictionParams for each row of ``params`` (dicts of full parameter values)."""
     f = gear.friction
     out = []
     for p in params:
         if model == 'lugre':
-            lug = dataclasses.replace(f.lugre, sigma0=float(p['sigma0']), sigma1=float(p['sigma1']))
+            lug = dataclasses.replace(f.lugre, sigma0=float(p['sigma0']),
+                                      sigma1=float(p['sigma1']))
             out.append(dataclasses.replace(f, lugre=lug))
         else:
             k0 = np.asarray(f.gms.k, dtype=float)
             k = tuple(float(v) for v in k0 * (p['k_total'] / k0.sum()))
-            out.append(dataclasses.replace(f, gms=dataclasses.replace(f.gms, k=k, c=float(p['c']))))
+            out.append(dataclasses.replace(f, gms=dataclasses.replace(f.gms, k=k,
+                                                                      c=float(p['c']))))
     return out
 
 
@@ -327,9 +350,10 @@ class BatchData:
             k0 = min(max(int(round(burn_in / dt)), 0), u.size)
             moving = np.flatnonzero(np.abs(qd) > 0)
             direction = float(np.sign(qd[moving[0]])) if moving.size else 0.0
-            self.items.append(dict(u=u, xi=xi[1:], tl=np.abs(tl[1:]), y=tau[1:], k0=k0, init=init,
-                                   v0=qd[0] if qd[0] != 0 else direction * 1e-12,
-                                   xi0=xi[0], tl0=abs(tl[0])))
+            self.items.append({'u': u, 'xi': xi[1:], 'tl': np.abs(tl[1:]), 'y': tau[1:],
+                               'k0': k0, 'init': init,
+                               'v0': qd[0] if qd[0] != 0 else direction * 1e-12,
+                               'xi0': xi[0], 'tl0': abs(tl[0])})
         self.n = sum(it['u'].size - it['k0'] for it in self.items)
 
     def simulate(self, frictions, model):
@@ -381,14 +405,15 @@ def _ripple(rp, q):
 
 
 def _as_list(x):
-    """The segments of a list of arrays; None for a single array (or a list of numbers)."""
+    """Return the segments of a list of arrays; None for a single array (or a list of numbers)."""
     if isinstance(x, (list, tuple)) and len(x) and np.ndim(x[0]) >= 1:
         return list(x)
     return [] if isinstance(x, (list, tuple)) and not len(x) else None
 
 
 def prepare_batch(t, qd, tau_r, xi, tau_l, segments, *, init, gear=None, q=None):
-    """Per-segment arrays (qd, tau_r, xi, tau_l, init) and the sample time.
+    """
+    Per-segment arrays (qd, tau_r, xi, tau_l, init) and the sample time.
 
     With ``q`` and a gear with ``position_ripple`` the ripple torque is
     removed from tau_r.
@@ -397,7 +422,8 @@ def prepare_batch(t, qd, tau_r, xi, tau_l, segments, *, init, gear=None, q=None)
     lists = [_as_list(a) for a in (t, qd, tau_r)]
     if any(v is not None for v in lists):
         if not all(v is not None for v in lists):
-            raise PreslidingDataError('t, qd and tau_r must all be lists of segments or all arrays')
+            raise PreslidingDataError('t, qd and tau_r must all be lists of segments or all '
+                                      'arrays')
         if segments is not None:
             raise PreslidingDataError('give either lists of segment arrays or segments, not both')
         nseg = len(lists[0])
@@ -438,8 +464,8 @@ def prepare_batch(t, qd, tau_r, xi, tau_l, segments, *, init, gear=None, q=None)
         s = s if isinstance(s, Segment) else Segment(s.start or 0, s.stop if s.stop is not None
                                                      else t.size, init)
         if not 0 <= s.start < s.stop - 1 < t.size:
-            raise PreslidingDataError(f'segment [{s.start}, {s.stop}) is not a range of at least 2 '
-                                      f'of the {t.size} samples')
+            raise PreslidingDataError(f'segment [{s.start}, {s.stop}) is not a range of at '
+                                      f'least 2 of the {t.size} samples')
         segs.append(s)
     return ([(qd[s.slice], tau_r[s.slice], xi[s.slice], tau_l[s.slice], s.init) for s in segs],
             dt, segs)

@@ -1,4 +1,19 @@
-"""Figures of an identification, after the seed paper's Fig. 3 and Fig. 4.
+# Copyright 2026 friction_joint maintainers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""
+Figures of an identification, after the seed paper's Fig. 3 and Fig. 4.
 
 :func:`identification_figures` returns ``{file name: (draw, size)}`` for
 :func:`friction_joint.experiments.paper.write_results`:
@@ -61,7 +76,8 @@ def _group_masks(ident):
 
 
 def identification_figures(ident, recordings=(), presliding=None):
-    """Figures of a fitted :class:`~friction_joint.identification.static_fit.StaticIdentifier`.
+    """
+    Figures of a fitted :class:`~friction_joint.identification.static_fit.StaticIdentifier`.
 
     Parameters
     ----------
@@ -76,6 +92,7 @@ def identification_figures(ident, recordings=(), presliding=None):
     -------
     dict
         ``{file name: (draw(fig), (width, height))}``.
+
     """
     p = ident.plateaus
     y0 = _zero_load_data(ident)
@@ -86,7 +103,7 @@ def identification_figures(ident, recordings=(), presliding=None):
     sf = StaticFriction(ident.gear.friction)
 
     def group_curve(g):
-        """Static curve of one group's own order-0 fit, zero load."""
+        """Return the static curve of one group's own order-0 fit, zero load."""
         f = ident.gear.friction
         vals = g['values']
         fs = vals.get('fs')

@@ -1,4 +1,19 @@
-"""Identification of the static friction model from constant-velocity plateaus (seed V-A).
+# Copyright 2026 friction_joint maintainers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""
+Identification of the static friction model from constant-velocity plateaus (seed V-A).
 
 The paper identifies its model in three steps; this module does the first
 two (the third, pre-sliding parameters, lives in
@@ -51,18 +66,20 @@ import time
 
 import numpy as np
 
+from .static_problem import (block_folds, CoefficientLayout, covariance, fit_structure,
+                             load_reference, Problem, single_init, temperature_range,
+                             theta_from_values)
+from .static_structure import (check_excitation, distinct_levels, group_table, PARAMS,
+                               StaticStructure, UNITS)
 from ..exceptions import ExcitationError, GearConfigError
 from ..models.static import StaticFriction
-from .static_problem import (CoefficientLayout, Problem, block_folds, covariance, fit_structure,
-                             load_reference, single_init, temperature_range, theta_from_values)
-from .static_structure import (PARAMS, UNITS, StaticStructure, check_excitation, distinct_levels,
-                               group_table)
 
 __all__ = ['StaticIdentifier', 'cross_validate_orders', 'select_orders']
 
 
 def cross_validate_orders(plateaus, structure, folds=5, theta_full=None, seed=0):
-    """Held-out RMS (Nm) of a structure by k-fold cross-validation over plateaus.
+    """
+    Held-out RMS (Nm) of a structure by k-fold cross-validation over plateaus.
 
     Each fold is left out in turn, the structure refitted (all coefficients at
     once, started from ``theta_full`` when given) on the rest, and the left-out
@@ -71,6 +88,7 @@ def cross_validate_orders(plateaus, structure, folds=5, theta_full=None, seed=0)
     Returns
     -------
     float
+
     """
     t_range, load_ref = temperature_range(plateaus), load_reference(plateaus)
     if theta_full is None:
@@ -81,10 +99,10 @@ def cross_validate_orders(plateaus, structure, folds=5, theta_full=None, seed=0)
         train = np.ones(n, dtype=bool)
         train[test] = False
         _, th, _, _ = fit_structure(structure, plateaus.select(train), t_range, load_ref,
-                           theta0=theta_full, stepwise=False)
+                                    theta0=theta_full, stepwise=False)
         held = plateaus.select(test)
-        r = CoefficientLayout(structure, t_range, load_ref).torque(th, held.qd, held.xi, held.load)[0] \
-            - held.tau_r
+        layout = CoefficientLayout(structure, t_range, load_ref)
+        r = layout.torque(th, held.qd, held.xi, held.load)[0] - held.tau_r
         sq += float(r @ r)
         count += len(r)
     return math.sqrt(sq / max(count, 1))
@@ -92,7 +110,8 @@ def cross_validate_orders(plateaus, structure, folds=5, theta_full=None, seed=0)
 
 def select_orders(plateaus, structure, *, max_order=2, max_load_order=2, threshold=0.05, folds=5,
                   progress=None):
-    """Choose per-parameter polynomial orders by held-out error (``--orders auto``).
+    """
+    Choose per-parameter polynomial orders by held-out error (``--orders auto``).
 
     Greedy forward selection: start with every parameter constant in temperature
     and no load terms; in each round raise, one at a time, the temperature order
@@ -110,9 +129,10 @@ def select_orders(plateaus, structure, *, max_order=2, max_load_order=2, thresho
         The chosen orders.
     trace : list of dict
         Every candidate tried: ``orders``, ``load_orders``, ``cv_rms``, ``accepted``.
+
     """
-    cur = structure.with_orders({p: 0 for p in structure.params},
-                                {p: 0 for p in PARAMS})
+    cur = structure.with_orders(dict.fromkeys(structure.params, 0),
+                                dict.fromkeys(PARAMS, 0))
     check_excitation(plateaus, cur)
     t_range, load_ref = temperature_range(plateaus), load_reference(plateaus)
     _, th, _, _ = fit_structure(cur, plateaus, t_range, load_ref, stepwise=False)
@@ -180,7 +200,8 @@ def select_orders(plateaus, structure, *, max_order=2, max_load_order=2, thresho
 # ---------------------------------------------------------------- identifier ---
 
 class StaticIdentifier:
-    """Identify the static friction model (steps 1 and 2 of seed Section V-A).
+    """
+    Identify the static friction model (steps 1 and 2 of seed Section V-A).
 
     Parameters
     ----------
@@ -211,6 +232,7 @@ class StaticIdentifier:
         Order-0 fits per temperature group (markers of Fig. 3 b).
     info : dict
         Steps, iterations, timings, node values, order selection trace.
+
     """
 
     def __init__(self, structure, orders=None, fixed=(), progress=None):
@@ -239,19 +261,21 @@ class StaticIdentifier:
         return self.base
 
     def fit(self, plateaus):
-        """Fit the plateaus (a :class:`~friction_joint.identification.plateaus.Plateaus`); returns self.
+        """
+        Fit plateaus (a :class:`~friction_joint.identification.plateaus.Plateaus`); returns self.
 
         Raises
         ------
         ExcitationError
             The plateaus cannot determine a coefficient of the structure.
+
         """
         t_start = time.perf_counter()
         self.info = {}
         t0 = time.perf_counter()
         if self.orders == 'auto':
-            check_excitation(plateaus, self.base.with_orders({p: 0 for p in self.base.params},
-                                                             {p: 0 for p in PARAMS}))
+            check_excitation(plateaus, self.base.with_orders(dict.fromkeys(self.base.params, 0),
+                                                             dict.fromkeys(PARAMS, 0)))
         s = self._structure(plateaus)
         self.info['time_order_selection_s'] = time.perf_counter() - t0
         check_excitation(plateaus, s)
@@ -264,7 +288,7 @@ class StaticIdentifier:
         t0 = time.perf_counter()
         theta0 = self._initial(s, plateaus, t_range, load_ref)
         layout, theta, prob, info = fit_structure(s, plateaus, t_range, load_ref, theta0=theta0,
-                                         progress=self.progress)
+                                                  progress=self.progress)
         self.info['time_fit_s'] = time.perf_counter() - t0
         self.info.update(info)
         self.layout, self.theta = layout, theta
@@ -300,12 +324,12 @@ class StaticIdentifier:
         pooled = single_init(s, plateaus)
         labels, groups = group_table(plateaus)
         vals = []
-        single = s.with_orders({p: 0 for p in s.params}, {p: 0 for p in PARAMS})
+        single = s.with_orders(dict.fromkeys(s.params, 0), dict.fromkeys(PARAMS, 0))
         for g in range(labels.max() + 1):
             m = labels == g
             sub = plateaus.select(m)
             if m.sum() < 8 or distinct_levels(sub.qd) < 4 or min(np.sum(sub.qd > 0),
-                                                                   np.sum(sub.qd < 0)) < 1:
+                                                                 np.sum(sub.qd < 0)) < 1:
                 continue
             lay1 = CoefficientLayout(single, temperature_range(sub), 1.0)
             th = theta_from_values(lay1, pooled)
@@ -346,12 +370,12 @@ class StaticIdentifier:
         """Order-0 fits per temperature group with the identified load terms (Fig. 3 b)."""
         labels, _ = group_table(plateaus)
         out = []
-        single = self.structure.with_orders({p: 0 for p in self.structure.params})
+        single = self.structure.with_orders(dict.fromkeys(self.structure.params, 0))
         for g in range(labels.max() + 1 if len(labels) else 0):
             m = labels == g
             sub = plateaus.select(m)
             if m.sum() < 8 or distinct_levels(sub.qd) < 4 or min(np.sum(sub.qd > 0),
-                                                                   np.sum(sub.qd < 0)) < 1:
+                                                                 np.sum(sub.qd < 0)) < 1:
                 continue
             lay = CoefficientLayout(single, temperature_range(sub), load_ref)
             th = np.zeros(lay.size)
@@ -383,12 +407,12 @@ class StaticIdentifier:
             raise RuntimeError('call fit() first')
 
     def predict(self, qd, xi, tau_l=0.0):
-        """Static friction torque (Nm) of the identified model (xi clipped to its range)."""
+        """Return the identified model's static friction torque, Nm (xi clipped to its range)."""
         self._need_fit()
         return StaticFriction(self.gear.friction).torque(qd, xi, tau_l)
 
     def predict_parameters(self, xi, tau_l=0.0):
-        """Evaluated curve parameters (fc, fs, fv, vs, delta_v) at xi, tau_l."""
+        """Return the evaluated curve parameters (fc, fs, fv, vs, delta_v) at xi, tau_l."""
         self._need_fit()
         return StaticFriction(self.gear.friction).parameters(np.atleast_1d(xi), tau_l)
 
@@ -414,7 +438,7 @@ class StaticIdentifier:
         return rows
 
     def results_table(self):
-        """The :attr:`results` as aligned text."""
+        """Return the :attr:`results` as aligned text."""
         lines = [f'{"parameter":<14}{"power":<9}{"value":>14}{"std. error":>14}  unit']
         for r in self.results:
             se = '(fixed)' if r['se'] is None else f'{r["se"]:.4g}'
@@ -430,7 +454,7 @@ class StaticIdentifier:
             step_rms[str(st['step'])] = math.sqrt(st['cost'] / len(self.plateaus))
         return {
             'structure': {'orders': self.structure.orders,
-                          'load_orders': {p: o for p, o in self.structure.load_orders.items()},
+                          'load_orders': dict(self.structure.load_orders.items()),
                           'fixed': self.structure.fixed, 'stribeck': self.structure.stribeck,
                           'delta_s': self.structure.delta_s,
                           'velocity_scale': self.structure.velocity_scale},

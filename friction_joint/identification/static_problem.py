@@ -1,4 +1,19 @@
-"""The least-squares problem of identification steps 1-2 and its solution.
+# Copyright 2026 friction_joint maintainers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""
+The least-squares problem of identification steps 1-2 and its solution.
 
 Temperature polynomials are parametrised by their values at Chebyshev-Lobatto
 nodes over the recorded temperature range (:class:`CoefficientLayout`); :class:`Problem`
@@ -13,8 +28,8 @@ import time
 import numpy as np
 from scipy.optimize import least_squares, nnls
 
-from ..models.static import PackedStatic, StaticFriction
 from .static_structure import LOWER, PARAMS, UPPER
+from ..models.static import PackedStatic, StaticFriction
 
 __all__ = ['CoefficientLayout', 'Problem', 'single_init', 'theta_from_values', 'fit_structure',
            'covariance', 'temperature_range', 'load_reference', 'block_folds']
@@ -83,7 +98,7 @@ class CoefficientLayout:
         return a
 
     def packed(self, thetas):
-        """PackedStatic of a batch of parameter vectors (B, size)."""
+        """Return the PackedStatic of a batch of parameter vectors (B, size)."""
         thetas = np.atleast_2d(thetas)
         b = thetas.shape[0]
         temp = np.zeros((b, 5, self.nt))
@@ -126,7 +141,8 @@ class Problem:
         return self.layout.torque(thetas, self.qd, self.xi, self.load) - self.y
 
     def solve(self, theta0, free, max_nfev=200):
-        """Minimise over the entries of theta marked ``free``.
+        """
+        Minimise over the entries of theta marked ``free``.
 
         Returns ``(theta, result of scipy.optimize.least_squares)``.
         """
@@ -176,7 +192,8 @@ class Problem:
 # ---------------------------------------------------- initial single-temperature fit ---
 
 def single_init(structure, plateaus, load_part=None):
-    """Order-0 curve (fc, fs, fv, vs, delta_v) of pooled plateaus by variable projection.
+    """
+    Order-0 curve (fc, fs, fv, vs, delta_v) of pooled plateaus by variable projection.
 
     For each (vs, delta_v) on a grid the curve is linear in (fc, fs, fv): those come
     from non-negative least squares; the best grid point is returned.
@@ -209,7 +226,7 @@ def single_init(structure, plateaus, load_part=None):
 
 
 def theta_from_values(layout, values, load=None):
-    """theta with every temperature node of parameter p at values[p] (scalar or callable)."""
+    """Return theta with each temperature node of parameter p at values[p] (scalar or callable)."""
     theta = np.zeros(layout.size)
     for name, kind, sl in layout.blocks:
         if kind == 'temp':
@@ -224,8 +241,8 @@ def theta_from_values(layout, values, load=None):
 
 # ------------------------------------------------------------------ fitting ---
 
-def fit_structure(structure, plateaus, t_range, load_ref, *, theta0=None, stepwise=True, progress=None,
-         max_iterations=4, tol=1e-3):
+def fit_structure(structure, plateaus, t_range, load_ref, *, theta0=None, stepwise=True,
+                  progress=None, max_iterations=4, tol=1e-3):
     """Fit one structure; returns (layout, theta, info)."""
     layout = CoefficientLayout(structure, t_range, load_ref)
     prob = Problem(layout, plateaus)

@@ -1,7 +1,22 @@
-"""The structure of a static friction model and the checks that data can determine it.
+# Copyright 2026 friction_joint maintainers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""
+The structure of a static friction model and the checks that data can determine it.
 
 A :class:`StaticStructure` says which coefficients a static model has (the
-list lengths of a gear file, CONTRACT section 4); :func:`check_excitation`
+list lengths of a gear file, README, Interfaces: gear parameter files); :func:`check_excitation`
 names what to record when plateaus cannot determine one of them.
 """
 import dataclasses
@@ -33,7 +48,10 @@ SPEED_TOL = 0.05
 
 @dataclasses.dataclass(frozen=True)
 class StaticStructure:
-    """Which coefficients a static model has (the model structure, CONTRACT section 4).
+    """
+    Which coefficients a static model has (the model structure).
+
+    See the README, *Interfaces*, gear parameter files.
 
     Attributes
     ----------
@@ -49,6 +67,7 @@ class StaticStructure:
         The model has F_s and v_s.
     delta_s, velocity_scale : float
         Kept from the structure file.
+
     """
 
     orders: dict
@@ -60,14 +79,17 @@ class StaticStructure:
 
     @classmethod
     def from_gear(cls, gear, fixed=()):
-        """The structure of a gear file.
+        """
+        Return the structure of a gear file.
 
         Parameters
         ----------
         gear : GearParams
+            The gear file (loaded).
         fixed : iterable of str
             Parameters of :data:`PARAMS` kept at the file's values (e.g. ``delta_v``
             when the file has no ``delta_v`` key: linear viscous friction).
+
         """
         f = gear.friction
         stribeck = f.fs is not None
@@ -88,7 +110,7 @@ class StaticStructure:
         return cls(orders, load, fix, stribeck, f.delta_s, f.velocity_scale)
 
     def with_orders(self, orders=None, load_orders=None):
-        """A copy with some orders changed."""
+        """Return a copy with some orders changed."""
         o = dict(self.orders)
         o.update(orders or {})
         lo = dict(self.load_orders)
@@ -131,7 +153,11 @@ def temperature_groups(xi, width=GROUP_WIDTH):
 
 
 def distinct_levels(x, rel=SPEED_TOL, absolute=0.0):
-    """Number of distinct values of x (sorted values closer than rel |x| + absolute merge)."""
+    """
+    Return the number of distinct values of x.
+
+    Sorted values closer than rel |x| + absolute merge.
+    """
     x = np.sort(np.abs(np.asarray(x, dtype=float)))
     if len(x) == 0:
         return 0
@@ -154,7 +180,8 @@ def group_table(plateaus):
 
 
 def check_excitation(plateaus, structure):
-    """Raise :class:`ExcitationError` if the plateaus cannot determine the structure's coefficients.
+    """
+    Raise :class:`ExcitationError` if the plateaus cannot determine the structure's coefficients.
 
     Checks: plateaus exist; both directions; enough plateaus for the number of
     coefficients; distinct temperatures for each temperature order; low-speed
@@ -212,7 +239,7 @@ def check_excitation(plateaus, structure):
         levels = distinct_levels(loads, rel=0.0, absolute=max(0.5, 0.1 * span))
         if span < 1.0 or levels < m + 1:
             raise ExcitationError(
-                f'the plateaus\' loads span tau_L = {loads.min():.2f}..{loads.max():.2f} Nm '
+                f"the plateaus' loads span tau_L = {loads.min():.2f}..{loads.max():.2f} Nm "
                 f'({levels} distinct levels): the load polynomial of order {m} for {p}_load '
                 f'needs plateaus at >= {m + 1} clearly different loads (at least 1 Nm apart, '
                 'e.g. the lever at different angles); record with varying load or use '

@@ -1,4 +1,19 @@
-"""One friction model instance for a sampled-data loop: ``step(qd, xi, tau_l, dt, q) -> tau_r``.
+# Copyright 2026 friction_joint maintainers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""
+One friction model instance for a sampled-data loop: ``step(qd, xi, tau_l, dt, q) -> tau_r``.
 
 Used by the controller feed-forward (eq. 17) and the observer (eq. 15), which
 run a *model* gear alongside the plant.  ``kind`` is one of ``'lugre'``,
@@ -8,10 +23,10 @@ included, as in the simulated joint.
 """
 import math
 
-from ..exceptions import GearConfigError
 from .gms import GMS
 from .lugre import LuGre
 from .static import StaticFriction
+from ..exceptions import GearConfigError
 
 __all__ = ['FRICTION_KINDS', 'friction_model']
 
@@ -57,19 +72,24 @@ class _NoFriction:
 
 
 def friction_model(gear, kind):
-    """Build a stateful single-gear friction model.
+    """
+    Build a stateful single-gear friction model.
 
     Parameters
     ----------
     gear : GearParams
+        The gear whose ``friction`` section parametrizes the model.
     kind : {'lugre', 'gms', 'static', 'none'}
+        The friction model.
 
     Returns
     -------
     object with ``step(qd, xi, tau_l, dt, q=0.0) -> float`` and ``reset()``
+
     """
     if kind not in FRICTION_KINDS:
-        raise GearConfigError(f'friction model must be one of {", ".join(FRICTION_KINDS)}; got {kind!r}')
+        raise GearConfigError(f'friction model must be one of {", ".join(FRICTION_KINDS)}; '
+                              f'got {kind!r}')
     if kind == 'none':
         return _NoFriction()
     model = {'lugre': LuGre, 'gms': GMS, 'static': _Static}[kind](gear.friction)

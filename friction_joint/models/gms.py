@@ -1,4 +1,19 @@
-"""Modified Generalized Maxwell-Slip (GMS) friction model (seed eq. 11-13).
+# Copyright 2026 friction_joint maintainers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""
+Modified Generalized Maxwell-Slip (GMS) friction model (seed eq. 11-13).
 
 N elasto-slide elements in parallel plus the viscous term:
 
@@ -37,10 +52,10 @@ import math
 
 import numpy as np
 
-from .._jit import njit
-from ..exceptions import GearConfigError
 from ._sampled import SampledFrictionModel
 from .static import curve_params, g_abs, s_visc, sign
+from .._jit import njit
+from ..exceptions import GearConfigError
 
 __all__ = ['GMS', 'gms_update', 'pack_gms']
 
@@ -49,7 +64,8 @@ G_MIN = 1e-12
 
 @njit(inline='always')
 def gms_update(state, elements, v, h, gabs):
-    """Advance the N element states in place over a step of constant velocity v.
+    """
+    Advance the N element states in place over a step of constant velocity v.
 
     ``state`` is ``(z, stick, slipdir)``: deflections (rad), 1/0, +1/-1;
     ``elements`` is ``(k, alpha, c)``: stiffnesses, torque shares, attraction
@@ -116,12 +132,14 @@ def pack_gms(flist):
 
 
 class GMS(SampledFrictionModel):
-    """Modified GMS model for one gear or a batch of B gears.
+    """
+    Modified GMS model for one gear or a batch of B gears.
 
     Parameters
     ----------
     frictions : FrictionParams or sequence of FrictionParams
         Each must have a ``gms`` section (k, alpha, c).
+
     """
 
     def __init__(self, frictions):
@@ -145,7 +163,11 @@ class GMS(SampledFrictionModel):
                  self.z, self.stick, self.slipdir, out)
 
     def simulate(self, qd, xi, tau_l, dt, reset=False):
-        """Friction torque for a sampled velocity sequence (see :class:`~friction_joint.models.lugre.LuGre`)."""
+        """
+        Friction torque for a sampled velocity sequence.
+
+        See :class:`~friction_joint.models.lugre.LuGre`.
+        """
         if reset:
             self.reset()
         return self._simulate(qd, xi, tau_l, dt)

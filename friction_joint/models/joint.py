@@ -1,4 +1,19 @@
-"""Rigid single joint with friction: J qdd = tau - tau_r - tau_ext (CONTRACT section 1).
+# Copyright 2026 friction_joint maintainers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""
+Rigid single joint with friction: J qdd = tau - tau_r - tau_ext (README, *Interfaces*).
 
 tau is the drive torque, tau_r the friction torque (static, LuGre or GMS),
 tau_ext everything from the link side: an input profile plus a linear spring
@@ -41,11 +56,11 @@ import math
 
 import numpy as np
 
-from .._jit import njit
-from ..exceptions import GearConfigError
 from .gms import gms_update, pack_gms
 from .lugre import G_MIN, lugre_torque
 from .static import broadcast_batch, curve_params, g_abs, pack_static, s_visc, sign
+from .._jit import njit
+from ..exceptions import GearConfigError
 
 __all__ = ['Joint', 'JointTrajectory']
 
@@ -81,7 +96,8 @@ def _phi_cplx(x, y):
 
 @njit
 def _affine2_step(a11, a12, a21, a22, b1, b2, x1, x2, h):
-    """Exact solution of x' = A x + b (2x2, constant) over h.
+    """
+    Exact solution of x' = A x + b (2x2, constant) over h.
 
     Returns ``(x1(h), x2(h), int_0^h x1, int_0^h x2)``.  Uses
     x(h) = x0 + h phi1(hA)(A x0 + b) and int x = h x0 + h^2 phi2(hA)(A x0 + b);
@@ -180,7 +196,8 @@ def _chord(fv, dv, kap, v0, v1, s0):
 
 @njit
 def _implicit_visc(m, r, c, dv, vguess):
-    """Root of m v + c sign(v)|v|^dv = r (m > 0, c >= 0); unique, sign(v) = sign(r).
+    """
+    Root of m v + c sign(v)|v|^dv = r (m > 0, c >= 0); unique, sign(v) = sign(r).
 
     Newton on the convex increasing function of w = |v|^dv (dv < 1) or
     u = |v| (dv >= 1): after its first step it approaches the root from
@@ -233,7 +250,7 @@ def _lugre_joint_step(q, v, z, f, jj, sg0, sg1, fc, fs, fv, vs, dv, ds, kap, h):
     a = sg0 * abs(vm) / max(g_abs(fc, fs, vs, ds, kap, vm), G_MIN)
     c, sc = _chord(fv, dv, kap, v, vn, s0)
     zn, vn, _, dq = _affine2_step(-a, 1.0, -(sg0 - sg1 * a) / jj, -(sg1 + c) / jj,
-                                 0.0, (f - sc) / jj, z, v, h)
+                                  0.0, (f - sc) / jj, z, v, h)
     tau_r = lugre_torque(zn, vn, sg0, sg1, g_abs(fc, fs, vs, ds, kap, vn),
                          s_visc(fv, dv, kap, vn))
     return q + dq, vn, zn, tau_r
@@ -241,7 +258,7 @@ def _lugre_joint_step(q, v, z, f, jj, sg0, sg1, fc, fs, fv, vs, dv, ds, kap, h):
 
 @njit
 def _gms_joint_step(q, v, z, stick, slipdir, k, alpha, cc, f, jj,
-                   fc, fs, fv, vs, dv, ds, kap, h):
+                    fc, fs, fv, vs, dv, ds, kap, h):
     """One coupled step of joint + GMS (element arrays updated in place)."""
     sv = sign(v)
     kst = 0.0
@@ -254,7 +271,7 @@ def _gms_joint_step(q, v, z, stick, slipdir, k, alpha, cc, f, jj,
     vn = _implicit_euler_v(0.0, 1.0, -kst / jj, 0.0, 0.0, (f - ftot - s0) / jj, 0.0, v, h)
     c, sc = _chord(fv, dv, kap, v, vn, s0)
     dn, vn, _, _ = _affine2_step(0.0, 1.0, -kst / jj, -c / jj, 0.0, (f - ftot - sc) / jj,
-                                0.0, v, h)
+                                 0.0, v, h)
     vbar = dn / h
     ga = g_abs(fc, fs, vs, ds, kap, vbar)
     tot = gms_update((z, stick, slipdir), (k, alpha, cc), vbar, h, ga)
@@ -263,7 +280,8 @@ def _gms_joint_step(q, v, z, stick, slipdir, k, alpha, cc, f, jj,
 
 @njit
 def _static_joint_step(q, v, f, jj, fc, fs, fv, vs, dv, ds, kap, h):
-    """One step of joint + static friction with a Karnopp stick zone.
+    """
+    One step of joint + static friction with a Karnopp stick zone.
 
     When the velocity would reach zero inside the step the joint sticks if the
     net torque is within the break-away torque F_s, and otherwise moves on in
@@ -287,7 +305,8 @@ def _static_joint_step(q, v, f, jj, fc, fs, fv, vs, dv, ds, kap, h):
 
 @njit(inline='always')
 def _inputs(temp, load, t_lo, t_hi, kext, mgl, rip_a, rip_p, rip_c, rip_o, b, q, te_in, xi):
-    """External torque, ripple torque and curve parameters for set b at position q.
+    """
+    External torque, ripple torque and curve parameters for set b at position q.
 
     Called with the half-step position q + h qd / 2: together with the
     trapezoidal position update this makes the position-dependent torques
@@ -320,8 +339,8 @@ def _run_lugre(temp, load, delta_s, kappa, t_lo, t_hi, rip_a, rip_p, rip_c, rip_
 
 
 @njit
-def _run_gms(temp, load, delta_s, kappa, t_lo, t_hi, rip_a, rip_p, rip_c, rip_o, k_el, alpha, cc, jj,
-             mgl, kext, tau, tau_ext_in, xi, h, q, v, z, stick, slipdir,
+def _run_gms(temp, load, delta_s, kappa, t_lo, t_hi, rip_a, rip_p, rip_c, rip_o, k_el, alpha, cc,
+             jj, mgl, kext, tau, tau_ext_in, xi, h, q, v, z, stick, slipdir,
              out_q, out_v, out_tr, out_te):
     nb, nt = tau.shape
     for b in range(nb):
@@ -348,7 +367,7 @@ def _run_static(temp, load, delta_s, kappa, t_lo, t_hi, rip_a, rip_p, rip_c, rip
                                                   rip_c, rip_o, b, q[b] + 0.5 * h * v[b],
                                                   tau_ext_in[b, k], xi[b, k])
             q[b], v[b], tr = _static_joint_step(q[b], v[b], tau[b, k] - te - rip, jj[b],
-                                               fc, fs, fv, vs, dv, delta_s[b], kappa[b], h)
+                                                fc, fs, fv, vs, dv, delta_s[b], kappa[b], h)
             out_q[b, k] = q[b]
             out_v[b, k] = v[b]
             out_tr[b, k] = tr + rip
@@ -371,7 +390,8 @@ def pack_ripple(flist):
 
 
 class JointTrajectory:
-    """Result of :meth:`Joint.simulate`: arrays (T,) or (B, T) at the end of each step.
+    """
+    Result of :meth:`Joint.simulate`: arrays (T,) or (B, T) at the end of each step.
 
     Attributes: ``t`` (s), ``q`` (rad), ``qd`` (rad/s), ``tau_r`` friction
     torque (Nm), ``tau_ext`` external torque used in the step (Nm).
@@ -382,7 +402,8 @@ class JointTrajectory:
 
 
 class Joint:
-    """Rigid joint with friction for one gear or a batch of B gears.
+    """
+    Rigid joint with friction for one gear or a batch of B gears.
 
     Parameters
     ----------
@@ -397,6 +418,7 @@ class Joint:
         Link-side spring (Nm/rad): tau_ext includes k_ext q.
     inertia : float or array_like (B,), optional
         Overrides the gears' inertia.
+
     """
 
     def __init__(self, gears, model=None, mgl=0.0, k_ext=0.0, inertia=None):
@@ -411,7 +433,8 @@ class Joint:
         self.ripple = pack_ripple(flist)
         n = len(glist)
         self.inertia = np.broadcast_to(
-            np.asarray([g.inertia for g in glist] if inertia is None else inertia, float), (n,)).copy()
+            np.asarray([g.inertia for g in glist] if inertia is None else inertia, float),
+            (n,)).copy()
         self.mgl = np.broadcast_to(np.asarray(mgl, float), (n,)).copy()
         self.k_ext = np.broadcast_to(np.asarray(k_ext, float), (n,)).copy()
         if self.model == 'lugre':
@@ -441,7 +464,8 @@ class Joint:
             self.slipdir = np.zeros(self.k_el.shape)
 
     def simulate(self, tau, dt, xi=25.0, tau_ext=0.0):
-        """Integrate from the current state over sampled inputs.
+        """
+        Integrate from the current state over sampled inputs.
 
         Parameters
         ----------
@@ -457,6 +481,7 @@ class Joint:
         Returns
         -------
         JointTrajectory
+
         """
         if not (np.isfinite(dt) and dt > 0):
             raise ValueError(f'dt must be a positive number, got {dt}')
@@ -482,11 +507,13 @@ class Joint:
         return JointTrajectory(t, *outs)
 
     def step(self, tau, dt, xi, tau_ext=0.0):
-        """Advance a single gear by one step; low-overhead path for real-time loops.
+        """
+        Advance a single gear by one step; low-overhead path for real-time loops.
 
         Returns
         -------
         (q, qd, tau_r, tau_ext) : floats at the end of the step
+
         """
         if self.batch != 1:
             raise ValueError('step() is for a single gear; use simulate() for a batch')
@@ -504,7 +531,8 @@ class Joint:
             self._step_args = (p + pars + (self.inertia, self.mgl, self.k_ext,
                                self._inp[0], self._inp[1], self._inp[2], float(dt)) + state
                                + tuple(self._out))
-            self._step_fn = {'lugre': _run_lugre, 'gms': _run_gms, 'static': _run_static}[self.model]
+            self._step_fn = {'lugre': _run_lugre, 'gms': _run_gms,
+                             'static': _run_static}[self.model]
             self._step_dt = dt
         self._inp[0, 0, 0] = tau
         self._inp[1, 0, 0] = tau_ext

@@ -1,4 +1,19 @@
-"""Modified LuGre friction model with thermal and load dependency (seed eq. 10).
+# Copyright 2026 friction_joint maintainers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""
+Modified LuGre friction model with thermal and load dependency (seed eq. 10).
 
     tau_rd = sigma0 z + sigma1 dz/dt + s(qd, xi, tau_L)
     dz/dt  = qd - sigma0 |qd| / |g(qd, xi, tau_L)| * z                      (10)
@@ -25,10 +40,10 @@ import math
 
 import numpy as np
 
+from ._sampled import SampledFrictionModel
+from .static import curve_params, g_abs, s_visc, StaticFriction
 from .._jit import njit
 from ..exceptions import GearConfigError
-from ._sampled import SampledFrictionModel
-from .static import StaticFriction, curve_params, g_abs, s_visc
 
 __all__ = ['LuGre', 'lugre_update', 'lugre_torque', 'G_MIN']
 
@@ -70,7 +85,8 @@ def _lugre_run(temp, load, delta_s, kappa, t_lo, t_hi, sigma0, sigma1,
 
 
 class LuGre(SampledFrictionModel):
-    """Modified LuGre model for one gear or a batch of B gears.
+    """
+    Modified LuGre model for one gear or a batch of B gears.
 
     Parameters
     ----------
@@ -82,6 +98,7 @@ class LuGre(SampledFrictionModel):
     :meth:`simulate` runs a whole velocity sequence (fast, numba);
     :meth:`step` advances the internal state by one sample for real-time
     loops.  Both use the exact update of the module docstring.
+
     """
 
     def __init__(self, frictions):
@@ -110,7 +127,8 @@ class LuGre(SampledFrictionModel):
         _lugre_run(*self.packed.args(), self.sigma0, self.sigma1, qd, xi, tl, dt, self.z, out)
 
     def simulate(self, qd, xi, tau_l, dt, z0=None):
-        """Friction torque for a sampled velocity sequence.
+        """
+        Friction torque for a sampled velocity sequence.
 
         Parameters
         ----------
@@ -125,6 +143,7 @@ class LuGre(SampledFrictionModel):
         -------
         tau : ndarray, (T,) or (B, T)
             Friction torque after each step.
+
         """
         if z0 is not None:
             self.reset(z0)

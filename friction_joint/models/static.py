@@ -1,4 +1,19 @@
-"""Static friction curve with temperature and load dependency (seed eq. 1, 5-7).
+# Copyright 2026 friction_joint maintainers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""
+Static friction curve with temperature and load dependency (seed eq. 1, 5-7).
 
 The steady-state (gross-sliding) friction torque is
 
@@ -42,7 +57,8 @@ DV_MIN = 0.05
 
 
 class PackedStatic:
-    """Static-curve coefficients of a batch of B parameter sets as arrays.
+    """
+    Static-curve coefficients of a batch of B parameter sets as arrays.
 
     Attributes
     ----------
@@ -51,6 +67,7 @@ class PackedStatic:
     load : ndarray, shape (B, 5, nL)
         Load coefficients (powers 1..nL).
     delta_s, velocity_scale, t_lo, t_hi, offset : ndarray, shape (B,)
+
     """
 
     __slots__ = ('temp', 'load', 'delta_s', 'velocity_scale', 't_lo', 't_hi', 'offset')
@@ -69,21 +86,24 @@ class PackedStatic:
         return self.temp.shape[0]
 
     def args(self):
-        """The arrays in the order the kernels take them."""
+        """Return the arrays in the order the kernels take them."""
         return (self.temp, self.load, self.delta_s, self.velocity_scale,
                 self.t_lo, self.t_hi)
 
 
 def pack_static(frictions):
-    """Pack one or more :class:`~friction_joint.gear.FrictionParams`.
+    """
+    Pack one or more :class:`~friction_joint.gear.FrictionParams`.
 
     Parameters
     ----------
     frictions : FrictionParams or sequence of FrictionParams
+        One parameter set, or B of them.
 
     Returns
     -------
     PackedStatic
+
     """
     if not isinstance(frictions, (list, tuple)):
         frictions = [frictions]
@@ -130,7 +150,8 @@ def _poly(temp, load, b, p, x, tl):
 
 @njit(inline='always')
 def curve_params(temp, load, t_range, b, xi, tl):
-    """(F_c, F_s, F_v, v_s, delta_v) of set b at temperature xi, load tl.
+    """
+    (F_c, F_s, F_v, v_s, delta_v) of set b at temperature xi, load tl.
 
     ``t_range`` is ``(t_lo, t_hi)``, the arrays of the sets' temperature ranges.
     """
@@ -218,12 +239,14 @@ def broadcast_batch(batch, *arrays):
 
 
 class StaticFriction:
-    """The static friction map tau_rs(qd, xi, tau_L) of eq. 6 for a batch of gears.
+    """
+    The static friction map tau_rs(qd, xi, tau_L) of eq. 6 for a batch of gears.
 
     Parameters
     ----------
     frictions : FrictionParams or sequence of FrictionParams
         One parameter set, or B of them (batch dimension first in results).
+
     """
 
     def __init__(self, frictions):
@@ -232,7 +255,7 @@ class StaticFriction:
 
     @classmethod
     def from_packed(cls, packed):
-        """A batch model over already packed coefficients (results keep the batch axis)."""
+        """Return a batch model over already packed coefficients (results keep the batch axis)."""
         obj = cls.__new__(cls)
         obj.single = False
         obj.packed = packed
@@ -252,13 +275,17 @@ class StaticFriction:
         return self._out(g), self._out(s)
 
     def torque(self, qd, xi, tau_l=0.0):
-        """Static friction torque tau_rs (Nm) at velocity qd (rad/s), plus ``friction.offset``."""
+        """
+        Return the static friction torque tau_rs (Nm) at velocity qd (rad/s).
+
+        The torque includes ``friction.offset``.
+        """
         g, s = self.components(qd, xi, tau_l)
         off = self.packed.offset[0] if self.single else self.packed.offset[:, None]
         return g + s + off
 
     def parameters(self, xi, tau_l=0.0):
-        """Evaluated curve parameters as a dict of arrays, keys :data:`PARAMETERS`."""
+        """Return the evaluated curve parameters as a dict of arrays, keys :data:`PARAMETERS`."""
         xi, tl = broadcast_batch(self.packed.batch, xi, tau_l)
         out = np.empty((5,) + xi.shape)
         p = self.packed

@@ -1,4 +1,19 @@
-"""The simulated test bed: joint, lever, thermal model and sensors at a fixed rate.
+# Copyright 2026 friction_joint maintainers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""
+The simulated test bed: joint, lever, thermal model and sensors at a fixed rate.
 
 This is the "hardware" of the experiments: it runs the **truth** gear file.
 Controllers and observers only see its :class:`Sample` measurements and run
@@ -8,16 +23,17 @@ import math
 
 import numpy as np
 
-from ..exceptions import SimulationError
-from ..models.joint import Joint
 from .sensors import CurrentLoop, Encoder, TemperatureSensor, VelocityEstimator
 from .thermal import ThermalModel
+from ..exceptions import SimulationError
+from ..models.joint import Joint
 
 __all__ = ['Plant', 'Sample']
 
 
 class Sample:
-    """One step of the test bed.
+    """
+    One step of the test bed.
 
     Measured (what a node publishes): ``t``, ``q``, ``qd``, ``effort`` (applied
     drive torque as measured), ``xi`` (housing temperature sensor),
@@ -35,7 +51,8 @@ class Sample:
 
 
 class Plant:
-    """Simulated Harmonic Drive test bed.
+    """
+    Simulated Harmonic Drive test bed.
 
     Parameters
     ----------
@@ -52,6 +69,7 @@ class Plant:
         Initial position (rad).
     ideal_sensors : bool
         Bypass quantisation, filtering, lags and noise (for tests).
+
     """
 
     def __init__(self, gear, model=None, xi0=None, seed=None, q0=0.0, ideal_sensors=False):
@@ -82,7 +100,7 @@ class Plant:
 
     @property
     def state(self):
-        """True (q, qd, xi)."""
+        """Return the true (q, qd, xi)."""
         return float(self.joint.q[0]), float(self.joint.qd[0]), self.thermal.xi
 
     def _sample(self, q, qd, tau_app, tau_r, tau_ext, effort_noise, xi_new):
@@ -100,11 +118,13 @@ class Plant:
                       xi_true=xi)
 
     def step(self, tau_cmd, tau_contact=0.0):
-        """Apply ``tau_cmd`` for one step (plus a contact torque) and measure.
+        """
+        Apply ``tau_cmd`` for one step, plus a contact torque, and measure.
 
         Returns
         -------
         Sample
+
         """
         tau_app = self.current(tau_cmd) if not self.ideal else float(tau_cmd)
         q, qd, tau_r, tau_ext = self.joint.step(tau_app, self.dt, self.thermal.xi, tau_contact)
@@ -119,7 +139,8 @@ class Plant:
             _, xi_new = self.temperature(self.thermal.xi)
         self.k += 1
         self.t = self.k * self.dt
-        noise = self.effort_noise * self.rng.standard_normal() if (self.effort_noise and not self.ideal) else 0.0
+        noise = (self.effort_noise * self.rng.standard_normal()
+                 if (self.effort_noise and not self.ideal) else 0.0)
         self.last = self._sample(q, qd, tau_app, tau_r, tau_ext, noise, xi_new)
         return self.last
 

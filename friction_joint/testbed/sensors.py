@@ -1,4 +1,19 @@
-"""Sensor models of the simulated test bed.
+# Copyright 2026 friction_joint maintainers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""
+Sensor models of the simulated test bed.
 
 * output encoder: quantisation to 2 pi / 2^bits (25 bit as in the paper);
 * velocity: backward difference of the encoder position, low-pass filtered
@@ -25,7 +40,8 @@ def quantize(x, step):
 
 
 class StreamingSOS:
-    """Apply a scipy second-order-sections filter one sample at a time.
+    """
+    Apply a scipy second-order-sections filter one sample at a time.
 
     Same result as ``scipy.signal.sosfilt`` (transposed direct form II), at a
     per-sample cost small enough for a 3 kHz loop.
@@ -65,7 +81,8 @@ class VelocityEstimator:
 
     def __init__(self, cutoff_hz, rate_hz):
         if not 0 < cutoff_hz < rate_hz / 2:
-            raise ValueError(f'velocity cut-off {cutoff_hz} Hz must be below Nyquist ({rate_hz / 2} Hz)')
+            raise ValueError(f'velocity cut-off {cutoff_hz} Hz must be below Nyquist '
+                             f'({rate_hz / 2} Hz)')
         self.filter = StreamingSOS(signal.butter(2, cutoff_hz, fs=rate_hz, output='sos'))
         self.rate = float(rate_hz)
         self.q_prev = None

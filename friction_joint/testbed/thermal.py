@@ -1,4 +1,19 @@
-"""Lumped thermal model of the gear: the housing temperature as a signal.
+# Copyright 2026 friction_joint maintainers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""
+Lumped thermal model of the gear: the housing temperature as a signal.
 
     C dxi/dt = P - (xi - xi_amb) / R,      P = |tau_r qd|   (friction losses)
 
@@ -17,7 +32,8 @@ __all__ = ['ThermalModel']
 
 
 class ThermalModel:
-    """First-order thermal model.
+    """
+    First-order thermal model.
 
     Parameters
     ----------
@@ -29,6 +45,7 @@ class ThermalModel:
         Ambient temperature, degC.
     initial : float, optional
         Initial temperature, degC (default ambient).
+
     """
 
     def __init__(self, capacity, resistance, ambient, initial=None):

@@ -1,15 +1,28 @@
+# Copyright 2026 friction_joint maintainers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
 """Reading and writing recordings (friction_joint.bag.reader): offline, no ROS processes."""
 import os
-import shutil
 from pathlib import Path
-
-import numpy as np
-import pytest
+import shutil
 
 from friction_joint.bag import _cdr as bagmod
-from friction_joint.bag import (JointStates, Recording, iter_messages, read_recording,
+from friction_joint.bag import (iter_messages, JointStates, read_recording, Recording,
                                 recording_topics, write_recording, zero_order_hold)
 from friction_joint.exceptions import FrictionJointError, RecordingError
+import numpy as np
+import pytest
 
 
 def _topics(n=2000, rate=1000.0, t0=5.0, seed=0):
@@ -17,14 +30,14 @@ def _topics(n=2000, rate=1000.0, t0=5.0, seed=0):
     t = t0 + np.arange(n) / rate
     nt = max(2, int(n / rate) + 1)
     return {
-        '/joint_states': dict(t=t, q=rng.normal(size=n), qd=rng.normal(size=n),
-                              effort=rng.normal(size=n), t_recv=t + 2e-4),
-        '/joint_temperature': dict(t=t0 + np.arange(nt), xi=25.0 + 0.5 * np.arange(nt),
-                                   variance=0.01),
-        '/link_torque': dict(t=t, tau=np.sin(t)),
-        '/joint_command': dict(t=t, effort=np.cos(t), q_d=np.sin(t)),
-        '/external_torque': dict(t=t[::2], effort=rng.normal(size=len(t[::2]))),
-        '/clock': dict(t=t),
+        '/joint_states': {'t': t, 'q': rng.normal(size=n), 'qd': rng.normal(size=n),
+                          'effort': rng.normal(size=n), 't_recv': t + 2e-4},
+        '/joint_temperature': {'t': t0 + np.arange(nt), 'xi': 25.0 + 0.5 * np.arange(nt),
+                               'variance': 0.01},
+        '/link_torque': {'t': t, 'tau': np.sin(t)},
+        '/joint_command': {'t': t, 'effort': np.cos(t), 'q_d': np.sin(t)},
+        '/external_torque': {'t': t[::2], 'effort': rng.normal(size=len(t[::2]))},
+        '/clock': {'t': t},
     }
 
 
@@ -155,9 +168,9 @@ def test_joint_picked_by_name_among_several(tmp_path):
     t = np.arange(n) * 1e-3
     q = np.stack([t, 10 + t, 20 + t], axis=1)
     write_recording(tmp_path / 'rec', {
-        '/joint_states': dict(t=t, q=q, qd=-q, effort=2 * q, name=['a', 'joint', 'b']),
-        '/joint_temperature': dict(t=[0.0], xi=[30.0]),
-        '/external_torque': dict(t=t, effort=q[:, ::-1], name=['b', 'joint', 'a'])})
+        '/joint_states': {'t': t, 'q': q, 'qd': -q, 'effort': 2 * q, 'name': ['a', 'joint', 'b']},
+        '/joint_temperature': {'t': [0.0], 'xi': [30.0]},
+        '/external_torque': {'t': t, 'effort': q[:, ::-1], 'name': ['b', 'joint', 'a']}})
     rec = read_recording(tmp_path / 'rec', joint_name='joint')
     np.testing.assert_array_equal(rec.joint_states.q, q[:, 1])
     np.testing.assert_array_equal(rec.joint_states.qd, -q[:, 1])
@@ -215,8 +228,8 @@ def test_zero_order_hold():
 def test_temperature_on_joint_state_times(tmp_path):
     t = np.arange(0, 3, 0.25)
     write_recording(tmp_path / 'rec', {
-        '/joint_states': dict(t=t + 10, q=t, qd=t, effort=t),
-        '/joint_temperature': dict(t=[10.5, 11.5, 12.5], xi=[20.0, 21.0, 22.0])})
+        '/joint_states': {'t': t + 10, 'q': t, 'qd': t, 'effort': t},
+        '/joint_temperature': {'t': [10.5, 11.5, 12.5], 'xi': [20.0, 21.0, 22.0]}})
     rec = read_recording(tmp_path / 'rec')
     np.testing.assert_array_equal(rec.temperature_at(),
                                   [20, 20, 20, 20, 20, 20, 21, 21, 21, 21, 22, 22])
@@ -277,7 +290,7 @@ def test_missing_required_topics(tmp_path):
     assert '/joint_states' in msg                  # lists what is there
     write_recording(tmp_path / 'b', {'/joint_temperature': topics['/joint_temperature']})
     _bad(tmp_path / 'b', 'no /joint_states topic')
-    empty = dict(topics, **{'/joint_temperature': dict(t=[], xi=[])})
+    empty = dict(topics, **{'/joint_temperature': {'t': [], 'xi': []}})
     write_recording(tmp_path / 'c', empty)
     _bad(tmp_path / 'c', '/joint_temperature has no messages')
 
@@ -331,14 +344,15 @@ def test_write_errors_and_atomicity(tmp_path, monkeypatch):
     with pytest.raises(RecordingError, match='not contract topics'):
         write_recording(tmp_path / 'x', {'/foo': {'t': [0.0]}})
     with pytest.raises(RecordingError, match='unknown field.*position'):
-        write_recording(tmp_path / 'x', {'/joint_states': dict(t=[0.0], position=[1.0])})
+        write_recording(tmp_path / 'x', {'/joint_states': {'t': [0.0], 'position': [1.0]}})
     with pytest.raises(RecordingError, match='missing field.*qd'):
-        write_recording(tmp_path / 'x', {'/joint_states': dict(t=[0.0], q=[1.0], effort=[1])})
+        write_recording(tmp_path / 'x', {'/joint_states': {'t': [0.0], 'q': [1.0],
+                                                           'effort': [1]}})
     with pytest.raises(RecordingError, match='q has shape'):
-        write_recording(tmp_path / 'x', {'/joint_states': dict(t=[0.0, 1.0], q=[1.0], qd=[1, 2],
-                                                               effort=[1, 2])})
+        write_recording(tmp_path / 'x', {'/joint_states': {'t': [0.0, 1.0], 'q': [1.0],
+                                                           'qd': [1, 2], 'effort': [1, 2]}})
     with pytest.raises(RecordingError, match='finite times'):
-        write_recording(tmp_path / 'x', {'/joint_temperature': dict(t=[-1.0], xi=[1.0])})
+        write_recording(tmp_path / 'x', {'/joint_temperature': {'t': [-1.0], 'xi': [1.0]}})
     # a failure half way leaves neither the target nor a temporary directory
     from rosbags.rosbag2 import Writer
     calls = []
@@ -358,7 +372,7 @@ def test_dataclass_input(tmp_path):
     t = np.arange(10) * 0.1
     js = JointStates(t=t, t_recv=t, q=t, qd=t, effort=t)
     write_recording(tmp_path / 'rec', {'/joint_states': js,
-                                       '/joint_temperature': dict(t=[0.0], xi=[1.0])},
+                                       '/joint_temperature': {'t': [0.0], 'xi': [1.0]}},
                     joint_name='j2')
     rec = read_recording(tmp_path / 'rec')
     assert isinstance(rec, Recording) and rec.joint_name == 'j2'

@@ -1,4 +1,19 @@
-"""``friction_joint diagnose`` finds an effect hidden in simulated measured-style data.
+# Copyright 2026 friction_joint maintainers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""
+``friction_joint diagnose`` finds an effect hidden in simulated measured-style data.
 
 Each case draws WHICH effect (or pair, or none), its SIZE within the realistic
 ranges of :data:`friction_joint.experiments.hidden.EFFECT_RANGES` and the recording SEED
@@ -12,19 +27,19 @@ message.
 import json
 import math
 import os
+from pathlib import Path
 import shutil
 import subprocess
 import sys
 import warnings
-from pathlib import Path
-
-import numpy as np
-import pytest
 
 import friction_joint
 from friction_joint.bag import write_recording
 from friction_joint.exceptions import GearConfigWarning
-from friction_joint.experiments.hidden import EFFECTS, apply_effects, draw_effect, simulate_recording
+from friction_joint.experiments.hidden import (apply_effects, draw_effect, EFFECTS,
+                                               simulate_recording)
+import numpy as np
+import pytest
 
 ROOT = Path(__file__).resolve().parents[2]
 BASE = ROOT / 'config' / 'csd25_base.yaml'
@@ -77,6 +92,7 @@ def _check_report(report, what):
         assert name in EFFECTS, f'{what}: unknown effect name {name!r}'
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize('case', sorted(DRAWS))
 def test_diagnose_names_the_hidden_effect(case, tmp_path_factory):
     effects, seed = DRAWS[case]

@@ -1,4 +1,19 @@
-"""The classic LuGre experiments (friction_joint.experiments.classic) against independent references.
+# Copyright 2026 friction_joint maintainers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""
+The classic LuGre experiments (friction_joint.experiments.classic) against independent references.
 
 The references integrate the original LuGre equations (seed eq. 10 with the
 linear viscous term, Canudas de Wit et al. 1995) with scipy's Radau; their
@@ -10,14 +25,13 @@ import math
 import os
 import warnings
 
+from friction_joint.cli import main
+from friction_joint.exceptions import GearConfigWarning
+from friction_joint.experiments import classic, classic_report
+from friction_joint.gear import passivity_bound
 import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
-
-from friction_joint.experiments import classic, classic_report
-from friction_joint.cli import main
-from friction_joint.exceptions import GearConfigWarning
-from friction_joint.gear import passivity_bound
 
 # Table I of Canudas de Wit et al. (1995), unit mass
 S0, S1, S2 = 1e5, math.sqrt(1e5), 0.4
@@ -25,7 +39,8 @@ FC, FS, VS, M = 1.0, 1.5, 1e-3, 1.0
 
 
 def lugre_rhs(applied):
-    """Right-hand side and Jacobian of m x'' = applied(t, x) - F, eq. 10.
+    """
+    Right-hand side and Jacobian of m x'' = applied(t, x) - F, eq. 10.
 
     State y = (x, v, z);  g(v) = Fc + (Fs - Fc) exp(-(v/vs)^2),
     z' = v - sigma0 |v| z / g(v),  F = sigma0 z + sigma1 z' + sigma2 v.

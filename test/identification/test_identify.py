@@ -1,4 +1,19 @@
-"""Identification of the static friction model (seed Section V-A, steps 1-2).
+# Copyright 2026 friction_joint maintainers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""
+Identification of the static friction model (seed Section V-A, steps 1-2).
 
 Random "hardware" around the CSD-25 values (Table I polynomials scaled,
 delta_v shifted, a random linear load coefficient; sensors, ripple and lever of
@@ -9,18 +24,17 @@ truth.  Bad recordings must fail with a message naming the missing experiment.
 import json
 import os
 
-import numpy as np
-import pytest
-
 from friction_joint.bag import read_recording, write_recording
 from friction_joint.cli import main
 from friction_joint.exceptions import ExcitationError
 from friction_joint.experiments.excitation import simulate_identification
 from friction_joint.gear import load_gear, save_gear
-from friction_joint.identification.static_fit import StaticIdentifier
 from friction_joint.identification.pipeline import identify_recordings
-from friction_joint.identification.plateaus import Plateaus, find_plateaus
+from friction_joint.identification.plateaus import find_plateaus, Plateaus
+from friction_joint.identification.static_fit import StaticIdentifier
 from friction_joint.models.static import StaticFriction
+import numpy as np
+import pytest
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 STRUCTURE = os.path.join(ROOT, 'config', 'csd25.yaml')
@@ -41,8 +55,12 @@ LISTS = ('fc', 'fs', 'fv', 'vs', 'delta_v', 'fc_load', 'fv_load', 'fs_load', 'vs
 
 
 def draw_truth(seed):
-    """CSD-25 hardware with perturbed friction: each Table I polynomial scaled by
-    1 + N(0, 6 %), delta_v shifted by N(0, 0.02), fc_load ~ U(0.01, 0.03) Nm/Nm."""
+    """
+    CSD-25 hardware with perturbed friction.
+
+    Each Table I polynomial scaled by 1 + N(0, 6 %), delta_v shifted by N(0, 0.02),
+    fc_load ~ U(0.01, 0.03) Nm/Nm.
+    """
     base = load_gear(BASE_TRUTH)
     rng = np.random.default_rng(seed)
     f = base.friction
@@ -97,7 +115,7 @@ def cli_run(tmp_path_factory):
 
 @pytest.fixture(scope='module')
 def api_runs(tmp_path_factory):
-    """The API path: smaller experiment, recording written and read back."""
+    """Return the API path runs: smaller experiment, recording written and read back."""
     runs = []
     for seed in API_SEEDS:
         d = tmp_path_factory.mktemp(f'api{seed}')
@@ -110,6 +128,7 @@ def api_runs(tmp_path_factory):
 
 # ------------------------------------------------------------------ accuracy ---
 
+@pytest.mark.slow
 def test_cli_identification_accuracy(cli_run):
     gear = load_gear(cli_run['out'])
     rep = cli_run['report']
@@ -123,6 +142,7 @@ def test_cli_identification_accuracy(cli_run):
     assert load_err < 0.10
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize('k', range(len(API_SEEDS)))
 def test_api_identification_accuracy(api_runs, k):
     seed, truth, run = api_runs[k]
@@ -217,8 +237,12 @@ def test_orders_auto(api_runs):
 
 def synthetic_recording(path, speeds, xi=(30.0, 30.4), temperature=True, link=True, noise=0.0,
                         gear=None, seed=0):
-    """Velocity plateaus (0.1 s ramps, 1 s hold, 0.2 s rest) with effort = static friction
-    of ``gear`` (default the structure) + lever gravity; 1 kHz, temperature at 4 Hz."""
+    """
+    Velocity plateaus (0.1 s ramps, 1 s hold, 0.2 s rest).
+
+    With effort = static friction of ``gear`` (default the structure) + lever gravity;
+    1 kHz, temperature at 4 Hz.
+    """
     gear = gear or load_gear(STRUCTURE)
     dt = 1e-3
     prof = []
@@ -293,8 +317,11 @@ def test_error_no_load_variation(tmp_path):
 
 
 def test_synthetic_exact_without_link_torque(tmp_path):
-    """Noise-free static data, tau_ext from the structure's lever (no /link_torque):
-    the single-temperature structure is recovered."""
+    """
+    Noise-free static data, tau_ext from the structure's lever (no /link_torque).
+
+    The single-temperature structure is recovered.
+    """
     structure = load_gear(STRUCTURE).replace({'friction': {
         'fc': [2.2], 'fv': [0.41], 'fs': [4.5], 'vs': [4.9], 'delta_v': [0.4],
         'fc_load': [0.02], 'temperature_range': [20.0, 40.0]}})

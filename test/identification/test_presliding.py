@@ -1,4 +1,19 @@
-"""Identification step 3: pattern search and pre-sliding fits (friction_joint.identification.presliding).
+# Copyright 2026 friction_joint maintainers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""
+Identification step 3: pattern search, pre-sliding fits (friction_joint.identification.presliding).
 
 Recovery tests run the simulated test bed (:class:`~friction_joint.testbed.plant.Plant`,
 realistic sensors) with a truth whose pre-sliding parameters are drawn at
@@ -13,17 +28,16 @@ import math
 import pathlib
 import warnings
 
-import numpy as np
-import pytest
-
+from friction_joint._filters import zero_phase_derivatives
 from friction_joint.control.controller import Controller, pd_gains
 from friction_joint.exceptions import ExcitationError, GearConfigWarning
-from friction_joint.gear import load_gear
-from friction_joint.testbed.plant import Plant
-from friction_joint._signal import zero_phase_derivatives
 from friction_joint.exceptions import PreslidingDataError
+from friction_joint.gear import load_gear
 from friction_joint.identification import (EXPERIMENT_ADVICE, fit_presliding, pattern_search,
                                            presliding_rmse, presliding_segments)
+from friction_joint.testbed.plant import Plant
+import numpy as np
+import pytest
 
 CONFIG = pathlib.Path(__file__).resolve().parents[2] / 'config'
 MODEL = load_gear(CONFIG / 'csd25.yaml')
@@ -75,7 +89,8 @@ def _log_uniform(rng, lo, hi, stratum):
 
 
 def _draw(model, seed, stratum):
-    """Truth with random pre-sliding parameters and the start gear (the model file's values).
+    """
+    Truth with random pre-sliding parameters and the start gear (the model file's values).
 
     Stratified so the two draws per model cover the range: draw 0 takes the
     first parameter from the lower half (log scale) and the second from the
@@ -109,7 +124,8 @@ def _held_out_rmse(rec, gears, model):
     """RMSE of each gear on the held-out run's segments (found with the first gear)."""
     segs = presliding_segments(rec['t'], rec['qd_zp'], gear=gears[0], model=model, xi=rec['xi'])
     return [presliding_rmse(g, rec['t'], rec['qd_zp'], rec['tau_r'], rec['xi'],
-                            rec['tau_link'], model=model, segments=segs, q=rec['q']) for g in gears]
+                            rec['tau_link'], model=model, segments=segs, q=rec['q'])
+            for g in gears]
 
 
 def _summary(model, true, fit, rmse):

@@ -1,4 +1,19 @@
-"""GMS pre-sliding memory: reversal stiffness, Masing rule, non-local memory (seed eq. 11-13).
+# Copyright 2026 friction_joint maintainers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""
+GMS pre-sliding memory: reversal stiffness, Masing rule, non-local memory (seed eq. 11-13).
 
 The displacement path is imposed through the velocity input of
 :meth:`GMS.simulate`: every step moves by exactly +-V0*DT, so all paths sit
@@ -11,10 +26,9 @@ exactly.  Tolerances are therefore round-off level; the only difference
 between two paths to the same state is the order of floating-point
 additions (~1e-15 N here), so 1e-9 relative is a wide margin.
 """
+from friction_joint import gear_from_dict, GMS, StaticFriction
 import numpy as np
 import pytest
-
-from friction_joint import GMS, StaticFriction, gear_from_dict
 
 K = np.array([3e4, 2e4, 1e4, 5e3])      # element stiffnesses (N/m)
 ALPHA = np.full(4, 0.25)                 # the paper's mu = 1/N (default)

@@ -1,10 +1,23 @@
+# Copyright 2026 friction_joint maintainers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
 """Friction models against known behaviour: steady state, exact update, stiffness, batching."""
 import math
 
+from friction_joint import GMS, Joint, load_gear, LuGre, StaticFriction
 import numpy as np
 import pytest
-
-from friction_joint import GMS, Joint, LuGre, StaticFriction, load_gear
 
 DT = 1.0 / 3000.0
 
@@ -93,7 +106,8 @@ def _reversing_torque(n, amp=9.0):
 def test_coupled_joint_stays_bounded_for_stiff_friction(gear, model, stiffness):
     """No divergence for sigma0 (or sum k_i) up to 1e7 Nm/rad at 3 kHz."""
     g = gear.replace({'friction': {'lugre': {'sigma0': stiffness, 'sigma1': 0.0},
-                                   'gms': {'k': [0.6 * stiffness, 0.3 * stiffness, 0.1 * stiffness]}}})
+                                   'gms': {'k': [0.6 * stiffness, 0.3 * stiffness,
+                                                 0.1 * stiffness]}}})
     j = Joint(g, model=model, mgl=5.0)
     tr = j.simulate(_reversing_torque(9000), DT, xi=30.0)
     assert np.all(np.isfinite(tr.q)) and np.all(np.isfinite(tr.tau_r))
@@ -141,5 +155,5 @@ def test_offset_is_part_of_every_model(gear, offset):
     j = Joint(g, model='static')
     up = j.simulate(np.full(24000, 6.0), DT, xi=30.0)
     assert up.tau_r[-1] == pytest.approx(6.0, rel=1e-5)
-    assert StaticFriction(gear.friction).torque(up.qd[-1], 30.0)[0] == pytest.approx(6.0 - offset,
-                                                                                    rel=1e-5)
+    assert StaticFriction(gear.friction).torque(up.qd[-1], 30.0)[0] == pytest.approx(
+        6.0 - offset, rel=1e-5)

@@ -1,3 +1,17 @@
+# Copyright 2026 friction_joint maintainers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
 """Shared fixtures: isolated ROS 2 domains and process handling (see ``roshelpers.py``)."""
 import os
 import sys
@@ -21,7 +35,11 @@ def ros_env(monkeypatch):
 
 @pytest.fixture
 def spawn(ros_env):
-    """``spawn(cmd, env=None)`` -> :class:`roshelpers.Proc`, stopped at the end of the test."""
+    """
+    Yield a callable ``(cmd, env=None)`` -> :class:`roshelpers.Proc`.
+
+    Used as ``spawn(cmd, env=None)``; each Proc is stopped at the end of the test.
+    """
     procs = []
 
     def start(cmd, env=None, cwd=None):
@@ -36,6 +54,6 @@ def spawn(ros_env):
 
 @pytest.fixture
 def ros_node(ros_env):
-    """An in-test :class:`roshelpers.TestNode` in the test's domain."""
+    """Yield an in-test :class:`roshelpers.TestNode` in the test's domain."""
     with roshelpers.ros_node('test_node', ros_env['ROS_DOMAIN_ID']) as node:
         yield node

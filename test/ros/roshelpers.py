@@ -1,4 +1,19 @@
-"""Helpers for tests that run ROS 2 processes: isolated domains, spawning, teardown.
+# Copyright 2026 friction_joint maintainers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""
+Helpers for tests that run ROS 2 processes: isolated domains, spawning, teardown.
 
 Isolation (see ``ROS2-NOTES.md``): every test gets its own ``ROS_DOMAIN_ID``
 and ``ROS_AUTOMATIC_DISCOVERY_RANGE=LOCALHOST``; processes start in their own
@@ -31,7 +46,8 @@ _FIRST, _COUNT = 10, 220          # domain ids 10..229 (Fast DDS ports stay belo
 
 
 def domain_id():
-    """A ``ROS_DOMAIN_ID`` for one test, from the pid and a counter (10..229).
+    """
+    Return a ``ROS_DOMAIN_ID`` for one test, from the pid and a counter (10..229).
 
     Different pytest processes running at the same time start at different ids.
     """
@@ -49,13 +65,15 @@ def ros_environ(domain=None, base=None):
 
 
 class Proc:
-    """A started process whose stdout and stderr are collected by reader threads.
+    """
+    A started process whose stdout and stderr are collected by reader threads.
 
     Attributes
     ----------
     popen : subprocess.Popen
     stdout, stderr : str
         Output so far (complete after :meth:`stop` or :meth:`wait`).
+
     """
 
     def __init__(self, cmd, env, cwd=None):
@@ -140,7 +158,8 @@ def spawn(cmd, env, cwd=None):
 
 
 def reliable_qos(depth=1000):
-    """Reliable, volatile, keep-last ``depth``; ``depth=None``: keep-all.
+    """
+    Reliable, volatile, keep-last ``depth``; ``depth=None``: keep-all.
 
     A keep-last publisher drops a sample a reader has not acknowledged once ``depth``
     newer ones are queued; a keep-all one keeps it until it is repaired.
@@ -189,7 +208,8 @@ class TestNode:
 
 @contextlib.contextmanager
 def ros_node(name, domain):
-    """A :class:`TestNode` on its own rclpy context in ``domain`` (no signal handlers).
+    """
+    Yield a :class:`TestNode` on its own rclpy context in ``domain`` (no signal handlers).
 
     ``ROS_AUTOMATIC_DISCOVERY_RANGE`` is read from ``os.environ`` at init.
     """

@@ -1,16 +1,31 @@
+# Copyright 2026 friction_joint maintainers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
 """Nodes as separate processes: lockstep equals offline, replay equals live, robustness."""
 import math
 import os
 import sys
 
+from friction_joint import load_gear
+from friction_joint.bag import read_recording
+from friction_joint.control.controller import Controller, pd_gains, SineTrajectory
+from friction_joint.control.observer import DisturbanceObserver
+from friction_joint.testbed.plant import Plant
 import numpy as np
 import pytest
 
-from friction_joint import load_gear
-from friction_joint.bag import read_recording
-from friction_joint.control.controller import Controller, SineTrajectory, pd_gains
-from friction_joint.control.observer import DisturbanceObserver
-from friction_joint.testbed.plant import Plant
+pytestmark = pytest.mark.ros
 
 PY = sys.executable
 MODEL = 'config/csd25.yaml'
@@ -27,7 +42,7 @@ def node_cmd(node, gear, **params):
 
 
 def offline_loop(n):
-    """The same closed loop in one process: plant, eq. 17 controller, observer."""
+    """Run the same closed loop in one process: plant, eq. 17 controller, observer."""
     model, truth = load_gear(MODEL), load_gear(TRUTH)
     plant = Plant(truth, xi0=XI0)
     ctrl = Controller(model, *pd_gains(model.inertia, 0.04, 0.06), 'lugre', plant.dt, 'measured')
@@ -46,7 +61,7 @@ def offline_loop(n):
 
 @pytest.fixture(scope='module')
 def lockstep_bag(tmp_path_factory):
-    """A lockstep bringup run recorded to a bag (sim, controller, estimator, recorder)."""
+    """Record a lockstep bringup run to a bag (sim, controller, estimator, recorder)."""
     import roshelpers
     env = roshelpers.ros_environ()
     out = tmp_path_factory.mktemp('bringup') / 'run'
@@ -89,7 +104,8 @@ def test_replay_into_estimator_equals_live(lockstep_bag, spawn, ros_node):
     from sensor_msgs.msg import JointState
     import roshelpers
     rec = read_recording(lockstep_bag)
-    live = {int(round(t * 3000)): e for t, e in zip(rec.external_torque.t, rec.external_torque.effort)}
+    live = {int(round(t * 3000)): e
+            for t, e in zip(rec.external_torque.t, rec.external_torque.effort)}
     got = {}
     sub = ros_node.node.create_subscription(
         JointState, '/external_torque',
@@ -120,7 +136,7 @@ def test_topics_types_and_rates(spawn, ros_node):
     ros_node.spin_for(1.0)
     n0 = len(count)
     ros_node.spin_for(2.0)
-    assert (len(count) - n0) / 2.0 > 50                   # streaming; the benchmark measures the rate
+    assert (len(count) - n0) / 2.0 > 50   # streaming; the benchmark measures the rate
     types = dict(ros_node.node.get_topic_names_and_types())
     assert types['/joint_states'] == ['sensor_msgs/msg/JointState']
     assert types['/joint_temperature'] == ['sensor_msgs/msg/Temperature']
@@ -191,7 +207,8 @@ def test_nodes_survive_garbage_and_reject_bad_parameters(spawn, ros_node):
 
 def test_bad_gear_parameters_exit_with_a_clear_error(spawn, tmp_path):
     bad = tmp_path / 'bad.yaml'
-    bad.write_text(open(MODEL).read().replace('    inertia: 0.22', '    inertia: 0.22\n    intertia: 0.2'))
+    bad.write_text(open(MODEL).read().replace('    inertia: 0.22',
+                                              '    inertia: 0.22\n    intertia: 0.2'))
     p = spawn(node_cmd('controller', str(bad)))
     assert p.wait(timeout=60) == 2
     assert 'unknown parameter intertia' in p.stderr

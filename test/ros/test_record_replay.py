@@ -1,12 +1,27 @@
+# Copyright 2026 friction_joint maintainers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
 """``friction_joint record`` / ``replay`` as processes on an isolated ROS 2 domain."""
 import re
 import time
 
+from friction_joint.bag import read_recording, write_recording
 import numpy as np
 import pytest
-
-from friction_joint.bag import read_recording, write_recording
 from roshelpers import PYTHON, reliable_qos
+
+pytestmark = pytest.mark.ros
 
 pytest.importorskip('rclpy')
 
@@ -115,10 +130,10 @@ def test_record_refuses_existing_output(spawn, tmp_path):
 def _replay_bag(path, n=300):
     t = 10.0 + np.arange(n) * 1e-3
     write_recording(path, {
-        '/joint_states': dict(t=t, q=np.arange(n, dtype=float), qd=np.zeros(n),
-                              effort=np.ones(n)),
-        '/joint_temperature': dict(t=[10.0, 10.2], xi=[25.0, 26.0]),
-        '/clock': dict(t=t + 1000.0)})              # the bag's own clock, to be skipped
+        '/joint_states': {'t': t, 'q': np.arange(n, dtype=float), 'qd': np.zeros(n),
+                          'effort': np.ones(n)},
+        '/joint_temperature': {'t': [10.0, 10.2], 'xi': [25.0, 26.0]},
+        '/clock': {'t': t + 1000.0}})              # the bag's own clock, to be skipped
     return t
 
 
@@ -164,8 +179,8 @@ def test_replay_single_mcap_fast_without_clock(ros_node, spawn, tmp_path):
     n = 300
     _replay_bag(tmp_path / 'one.mcap', n)
     col = _Collector(ros_node.node, ['/joint_states', '/clock'])
-    rep = spawn(CLI + ['replay', tmp_path / 'one.mcap', '--rate', '0', '--no-clock', '--wait', '60',
-                       '--topics', '/joint_states', '/clock'])
+    rep = spawn(CLI + ['replay', tmp_path / 'one.mcap', '--rate', '0', '--no-clock', '--wait',
+                       '60', '--topics', '/joint_states', '/clock'])
     ros_node.spin_until(lambda: rep.popen.poll() is not None, timeout=40)
     ros_node.spin_until(lambda: len(col.got['/clock']) >= n, timeout=5)
     assert rep.wait() == 0, rep.describe()

@@ -1,9 +1,19 @@
+# Copyright 2026 friction_joint maintainers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
 """Test bed sanity: energy, thermal balance, sensors, gain design, observer response."""
 import math
-
-import numpy as np
-import pytest
-from scipy import signal
 
 from friction_joint import FrictionJointError, gear_from_dict, load_gear
 from friction_joint.control.controller import Controller, pd_gains, step_metrics
@@ -11,6 +21,9 @@ from friction_joint.control.observer import DisturbanceObserver
 from friction_joint.testbed.plant import Plant
 from friction_joint.testbed.sensors import StreamingSOS
 from friction_joint.testbed.thermal import ThermalModel
+import numpy as np
+import pytest
+from scipy import signal
 
 
 def frictionless(inertia=0.2, mgl=11.0):
@@ -95,7 +108,8 @@ def test_sensors():
     assert np.allclose(out['q'] / res, np.round(out['q'] / res))
     assert np.max(np.abs(out['q'] - out['q_true'])) <= res / 2 + 1e-15
     # filtered velocity follows the truth with a small lag
-    assert np.sqrt(np.mean((out['qd'] - out['qd_true']) ** 2)) < 0.02 * np.max(np.abs(out['qd_true']))
+    assert (np.sqrt(np.mean((out['qd'] - out['qd_true']) ** 2))
+            < 0.02 * np.max(np.abs(out['qd_true'])))
     noise = out['tau_link'] - out['tau_ext']
     assert 0.02 < np.std(noise) < 0.04
     sos = signal.butter(2, 250.0, fs=3000.0, output='sos')
@@ -171,7 +185,8 @@ def test_observer_recovers_contact_torque_step(seed):
 
 def test_observer_with_exact_friction_model_sees_only_the_contact():
     truth = load_gear('config/csd25.yaml').replace({'friction': {
-        'offset': 0.2, 'position_ripple': {'cycles_per_rev': 160.0, 'amplitude': [0.1], 'phase': [0.5]}}})
+        'offset': 0.2,
+        'position_ripple': {'cycles_per_rev': 160.0, 'amplitude': [0.1], 'phase': [0.5]}}})
     p = Plant(truth, ideal_sensors=True, xi0=30.0)
     c = Controller(truth, *pd_gains(truth.inertia), friction='lugre', dt=p.dt)
     with_f = DisturbanceObserver(truth, beta=60.0, dt=p.dt, friction='lugre', gravity=True)
@@ -182,7 +197,8 @@ def test_observer_with_exact_friction_model_sees_only_the_contact():
         t = k * p.dt
         contact = 3.0 if 1.0 <= t < 3.0 else 0.0
         qd_ = 0.8 * math.sin(1.5 * t)
-        s = p.step(c(s.q, s.qd, s.xi, qd_, 1.2 * math.cos(1.5 * t), -1.8 * math.sin(1.5 * t)), contact)
+        s = p.step(c(s.q, s.qd, s.xi, qd_, 1.2 * math.cos(1.5 * t), -1.8 * math.sin(1.5 * t)),
+                   contact)
         e1, e2 = with_f(s.effort, s.q, s.qd, s.xi), without(s.effort, s.q, s.qd, s.xi)
         if t > 0.3:
             err_with.append(e1 - s.tau_ext + truth.mgl * math.sin(s.q_true))
