@@ -21,7 +21,7 @@ into place (:func:`os.replace`), in the order given (put the JSON summary
 last: its presence means the files before it belong to it).  An error leaves
 no partial result behind.
 """
-import collections
+import dataclasses
 import io
 import json
 import math
@@ -35,8 +35,28 @@ from .exceptions import FrictionJointError
 __all__ = ['json_clean', 'json_bytes', 'render_png', 'write_files', 'ExperimentResult',
            'write_results']
 
-#: ``summary``: dict of plain numbers (for JSON); ``figures``: {file name: (draw(fig), size)}
-ExperimentResult = collections.namedtuple('ExperimentResult', ['summary', 'figures'])
+
+@dataclasses.dataclass
+class ExperimentResult:
+    """
+    Numbers and figures of one experiment run.
+
+    Attributes
+    ----------
+    summary : dict
+        Plain numbers (written as JSON).
+    figures : dict
+        File name -> ``(draw(fig), (width, height))``: the figures drawn from
+        the run, rendered by :func:`write_results` (or :func:`render_png`).
+
+    """
+
+    summary: dict
+    figures: dict = dataclasses.field(default_factory=dict)
+
+    def to_dict(self):
+        """Return the summary as plain JSON types."""
+        return json_clean(self.summary)
 
 
 def json_clean(obj):

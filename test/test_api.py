@@ -99,3 +99,21 @@ def test_one_public_class_per_name():
                     dup.append(f'{node.name}: {seen[node.name]} and {module}')
                 seen.setdefault(node.name, module)
     assert not dup, '\n'.join(dup)
+
+
+def test_result_objects_give_plain_json():
+    """Result objects return plain JSON types from ``to_dict()`` (python-control's pattern)."""
+    import json
+
+    import numpy as np
+
+    from friction_joint.identification import pattern_search
+    from friction_joint.output import ExperimentResult
+
+    res = pattern_search(lambda x: np.sum((x - 0.25) ** 2, axis=1), [1.0], [-2.0], [2.0],
+                         min_step=1e-4)
+    doc = json.loads(json.dumps(res.to_dict(), allow_nan=False))
+    assert doc['x'] == [pytest.approx(0.25, abs=1e-3)] and doc['success'] is True
+    summary = {'rmse': np.float64(0.5), 'bad': float('nan'), 'n': np.int64(3)}
+    assert json.dumps(ExperimentResult(summary).to_dict(), allow_nan=False) == \
+        '{"rmse": 0.5, "bad": null, "n": 3}'

@@ -74,6 +74,7 @@ from . import structures as dm
 from .data import load_data
 from ..exceptions import ExcitationError, GearConfigError, GearConfigWarning
 from ..gear import gear_from_dict, GMSParams, LuGreParams, passivity_bound, RippleParams
+from ..output import json_clean
 
 __all__ = ['EFFECTS', 'ALPHA', 'MIN_GAIN', 'WINDOW', 'Diagnosis', 'diagnose',
            'base_structure', 'extend']
@@ -415,6 +416,10 @@ class Diagnosis:
     base_cv: object
     final_cv: object
     velocity: dict
+
+    def to_dict(self):
+        """Return the report (``report.json`` content, plain JSON types)."""
+        return json_clean(self.report)
 
 
 def _fold_gears(base, cv, ctx, data):

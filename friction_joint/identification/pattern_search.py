@@ -24,6 +24,8 @@ import dataclasses
 
 import numpy as np
 
+from ..output import json_clean
+
 __all__ = ['PatternSearchResult', 'pattern_search']
 
 
@@ -61,6 +63,10 @@ class PatternSearchResult:
     step: float
     success: bool
     message: str
+
+    def to_dict(self):
+        """Return the result as plain JSON types."""
+        return json_clean(dataclasses.asdict(self))
 
 
 def pattern_search(fun, x0, lower, upper, *, step=0.5, min_step=1e-3, max_step=None,

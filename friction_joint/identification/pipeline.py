@@ -64,7 +64,7 @@ from ..bag import read_recording
 from ..exceptions import (ExcitationError, FrictionJointError, GearConfigWarning,
                           RecordingError)
 from ..gear import load_gear, save_gear
-from ..output import ExperimentResult, write_results
+from ..output import ExperimentResult, json_clean, write_results
 
 __all__ = ['IdentificationRun', 'identify_recordings', 'run_identify',
            'MAX_PRESLIDING_ERROR']
@@ -101,6 +101,10 @@ class IdentificationRun:
         self.plateaus = plateaus
         self.presliding = presliding
         self.timings = timings
+
+    def to_dict(self):
+        """Return :meth:`report` (plain JSON types)."""
+        return json_clean(self.report())
 
     def report(self):
         """``identification.json`` content."""

@@ -114,6 +114,7 @@ from .presliding_data import (batch_frictions, BatchData, check_presliding_excit
                               EXPERIMENT_ADVICE, gear_with, initial_params, PARAMETERS,
                               prepare_batch)
 from ..exceptions import ExcitationError, FrictionJointError, GearConfigWarning
+from ..output import json_clean
 
 __all__ = ['PreslidingFit', 'fit_presliding', 'presliding_rmse', 'DEFAULT_BOUNDS', 'ZERO_START']
 
@@ -175,6 +176,13 @@ class PreslidingFit:
     gear: object
     segments: list
     report: dict
+
+    def to_dict(self):
+        """Return the fit's numbers as plain JSON types (not the gear and segments)."""
+        return json_clean({'model': self.model, 'params': self.params, 'initial': self.initial,
+                           'stderr': self.stderr, 'rel_stderr': self.rel_stderr,
+                           'interval': self.interval, 'correlation': self.correlation,
+                           'n_segments': len(self.segments), 'report': self.report})
 
 
 def _bounds(names, start, bounds):
