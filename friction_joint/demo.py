@@ -24,6 +24,12 @@
    experiments;
 
 and collects figures and key numbers in ``DIR/report.md``.
+
+DIR is one output (:class:`~friction_joint.output.OutputSet`): checked before
+anything runs (an existing non-empty DIR is an error unless ``force``; one
+containing the model or truth file always), built in a temporary sibling
+directory and swapped in as a whole at the end, so a failure leaves the old
+DIR untouched and no file of an earlier run remains.
 """
 import json
 import os
@@ -34,6 +40,7 @@ from .experiments.classic import EXPERIMENTS as CLASSIC_EXPERIMENTS
 from .experiments.classic_report import write_experiment
 from .experiments.runner import run_experiment
 from .identification.pipeline import run_identify
+from .output import OutputSet
 
 __all__ = ['run_demo']
 
@@ -55,11 +62,22 @@ def _figures(d):
     return sorted(f for f in os.listdir(d) if f.endswith('.png'))
 
 
-def run_demo(out, model=None, truth=None, duration_scale=1.0):
+def run_demo(out, model=None, truth=None, duration_scale=1.0, *, force=False):
     """Run all experiments into ``out`` and write ``out/report.md``; returns its path."""
     model = model or _config('csd25.yaml')
     truth = truth or _config('csd25_truth.yaml')
-    os.makedirs(out, exist_ok=True)
+    with OutputSet(force=force, inputs=[('--model', model), ('--truth', truth)]) as outputs:
+        outputs.add_directory(out)
+        outputs.check()
+        stage = outputs.staging_path(out)
+        os.mkdir(stage)
+        _run_all(stage, model, truth, duration_scale, outputs.final_path)
+        outputs.publish()
+    return os.path.join(out, 'report.md')
+
+
+def _run_all(out, model, truth, duration_scale, relocate):
+    """Run everything into the (staged) directory ``out``."""
     lines = ['# friction_joint demo report', '',
              f'Model gear: `{model}`  ', f'Truth (simulated hardware): `{truth}`', '']
     lines += _ros_run(out, model, truth, max(0.5, 3.0 * duration_scale))
@@ -85,28 +103,21 @@ def run_demo(out, model=None, truth=None, duration_scale=1.0):
         lines += [f'### {name} ({time.perf_counter() - t0:.1f} s)', '']
         lines += [f'![{f}]({name}/{f})' for f in _figures(d)]
         lines += ['', '```json', json.dumps(summary, indent=1), '```', '']
-    lines += _identification(out, model, truth, duration_scale)
-    path = os.path.join(out, 'report.md')
-    tmp = path + '.tmp'
-    with open(tmp, 'w', encoding='utf-8') as fh:
+    lines += _identification(out, model, truth, duration_scale, relocate=relocate)
+    with open(os.path.join(out, 'report.md'), 'w', encoding='utf-8') as fh:
         fh.write('\n'.join(lines))
-    os.replace(tmp, path)
-    return path
 
 
-def _identification(out, model, truth, duration_scale):
+def _identification(out, model, truth, duration_scale, *, relocate=None):
     """Record the paper's identification excitation on the simulator and identify."""
-    import shutil
     d = os.path.join(out, 'identification')
     bag = os.path.join(d, 'excitation')
-    if os.path.exists(d):
-        shutil.rmtree(d)
     t0 = time.perf_counter()
     run_experiment('identification', None, truth, bag, duration_scale=0.25 * duration_scale)
     t1 = time.perf_counter()
     gear = os.path.join(d, 'identified.yaml')
     report = os.path.join(d, 'report')
-    run_identify([bag], model, gear, report_dir=report)
+    run_identify([bag], model, gear, report_dir=report, relocate=relocate)
     t2 = time.perf_counter()
     with open(gear, encoding='utf-8') as fh:
         header = [ln[2:].rstrip() for ln in fh if ln.startswith('# ')]
@@ -122,8 +133,6 @@ def _identification(out, model, truth, duration_scale):
 
 def _ros_run(out, model, truth, duration):
     """Bring the nodes up, record, and plot the recording; returns report lines."""
-    import shutil
-
     import matplotlib
     matplotlib.use('Agg')
     import matplotlib.pyplot as plt
@@ -133,8 +142,6 @@ def _ros_run(out, model, truth, duration):
     from .ros.bringup import bringup
 
     bag = os.path.join(out, 'bag')
-    if os.path.exists(bag):
-        shutil.rmtree(bag)
     t0 = time.perf_counter()
     bringup(model, truth, duration, record=bag, mode='lockstep', friction='lugre',
             amplitude=0.4, xi0=27.0, log_dir=os.path.join(out, 'logs'))

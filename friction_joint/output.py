@@ -13,27 +13,49 @@
 # limitations under the License.
 
 """
-Writing results: figures rendered in memory, files replaced atomically.
+Writing results: rendered in memory, staged next to their destination, swapped in whole.
 
-Every command that writes results renders them completely first, writes them
-to temporary files next to their destination, and only then renames them
-into place (:func:`os.replace`), in the order given (put the JSON summary
-last: its presence means the files before it belong to it).  An error leaves
-no partial result behind.
+Every command that writes results declares them in an :class:`OutputSet`
+before it starts working, so that a refused output costs nothing:
+
+* an output that exists already -- a file, a symlink (never followed), a FIFO
+  or other special file, a non-empty directory -- is an error naming it unless
+  ``force=True``; an empty directory counts as absent;
+* with ``force`` the old output is replaced as a whole: nothing of it remains
+  (no stale figure of an earlier run next to a new report);
+* a directory where a file is to be written, a non-directory where a
+  directory is to be written, an output that is, contains or lies inside an
+  input (or another output of the set), and a directory output that contains
+  the current directory are errors even with ``force``.
+
+The new outputs are built in temporary sibling directories
+(``.NAME.XXXXXXXX.tmp`` next to each output), then published with renames:
+each old output is moved into its staging directory and the new one renamed
+into place, in the order declared; if any step fails, the outputs already
+swapped are swapped back, so an error leaves either every old output
+untouched or every new one complete.  Files are written with mode
+``0o666`` and directories with ``0o777``, less the umask.  Errors are one-line
+``error`` exceptions (default :class:`~friction_joint.exceptions.FrictionJointError`)
+naming the path.
 """
 import dataclasses
 import io
 import json
 import math
 import os
-import secrets
+import shutil
+import stat
+import tempfile
 
 import numpy as np
 
 from .exceptions import FrictionJointError
 
-__all__ = ['json_clean', 'json_bytes', 'render_png', 'write_files', 'ExperimentResult',
-           'write_results']
+__all__ = ['json_clean', 'json_bytes', 'render_png', 'ExperimentResult', 'result_files',
+           'OutputSet', 'publish_outputs']
+
+_FILE = 'file'
+_DIRECTORY = 'directory'
 
 
 @dataclasses.dataclass
@@ -47,7 +69,7 @@ class ExperimentResult:
         Plain numbers (written as JSON).
     figures : dict
         File name -> ``(draw(fig), (width, height))``: the figures drawn from
-        the run, rendered by :func:`write_results` (or :func:`render_png`).
+        the run, rendered by :func:`result_files` (or :func:`render_png`).
 
     """
 
@@ -90,65 +112,404 @@ def render_png(draw, size, dpi=100):
     return buf.getvalue()
 
 
-def write_files(out_dir, targets, error=FrictionJointError):
+def result_files(result, json_name='summary.json'):
     """
-    Write ``[(file name, bytes), ...]`` into ``out_dir`` atomically, in order.
+    Render the figures of ``result`` and its JSON summary: ``[(file name, bytes), ...]``.
 
-    ``out_dir`` is created if missing.  Files get the usual permissions (the
-    umask applies).  Raises ``error`` naming the directory if it cannot be
-    written; no partial file is left.
+    Parameters
+    ----------
+    result : ExperimentResult
+        Or anything with ``summary`` and ``figures``.
+    json_name : str
+        Name of the JSON file, which comes last.
 
     Returns
     -------
-    list of str
-        The paths written.
+    list of tuple
+        ``(name, PNG bytes)`` per figure, then ``(json_name, JSON bytes)``.
 
     """
+    files = [(name, render_png(draw, size)) for name, (draw, size) in result.figures.items()]
+    files.append((json_name, json_bytes(result.summary)))
+    return files
+
+
+@dataclasses.dataclass
+class _Target:
+    """One output of an :class:`OutputSet` and its publishing state."""
+
+    path: str
+    abspath: str
+    kind: str
+    label: str
+    stage: str = None
+    written: list = None
+    old: str = None
+    swapped: bool = False
+    keep: bool = False
+
+    @property
+    def staged(self):
+        """Return where the new output is built (inside the staging directory)."""
+        return os.path.join(self.stage, os.path.basename(self.abspath))
+
+    def named(self):
+        """Return ``label path`` for messages."""
+        return f'{self.label} {self.path}'
+
+
+def _existing(path, error):
+    """Return what is at ``path``: None, 'a file', 'a symlink', ..., 'empty', 'directory'."""
     try:
-        os.makedirs(out_dir, exist_ok=True)
+        mode = os.lstat(path).st_mode
+    except (FileNotFoundError, NotADirectoryError):
+        return None
     except OSError as exc:
-        raise error(f'cannot create output directory {out_dir}: {exc.strerror}') from None
-    temps = []
+        raise error(f'cannot check {path}: {_why(exc)}') from None
+    if stat.S_ISLNK(mode):
+        return 'a symlink'
+    if stat.S_ISDIR(mode):
+        try:
+            return 'directory' if os.listdir(path) else 'empty'
+        except OSError as exc:
+            raise error(f'cannot list {path}: {_why(exc)}') from None
+    if stat.S_ISREG(mode):
+        return 'a file'
+    if stat.S_ISFIFO(mode):
+        return 'a FIFO'
+    return 'a special file'
+
+
+def _relation(a, b):
+    """Return how ``a`` relates to ``b``: 'is', 'contains', 'is inside' or None."""
+    for x, y in ((os.path.abspath(a), os.path.abspath(b)),
+                 (os.path.realpath(a), os.path.realpath(b))):
+        if x == y:
+            return 'is'
+        if y.startswith(x.rstrip(os.sep) + os.sep):
+            return 'contains'
+        if x.startswith(y.rstrip(os.sep) + os.sep):
+            return 'is inside'
     try:
-        for name, data in targets:
-            tmp = os.path.join(out_dir, f'.{name}-{os.getpid()}-{secrets.token_hex(4)}.tmp')
-            fd = os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o666)
-            temps.append(tmp)
+        if os.path.samefile(a, b):
+            return 'is'
+    except OSError:
+        pass
+    return None
+
+
+def _why(exc):
+    """Return the reason of an ``OSError`` for a message."""
+    return exc.strerror or str(exc)
+
+
+def _remove(path):
+    """Remove a file, symlink or directory tree; errors are ignored."""
+    try:
+        if os.path.isdir(path) and not os.path.islink(path):
+            shutil.rmtree(path, ignore_errors=True)
+        else:
+            os.unlink(path)
+    except OSError:
+        pass
+
+
+class OutputSet:
+    """
+    The outputs of one command, checked up front and published together or not at all.
+
+    Use it as a context manager (an error, or leaving the block unpublished,
+    removes everything staged)::
+
+        with OutputSet(force=force, inputs=[('--model', model)]) as outputs:
+            outputs.add_directory(report_dir, label='--report')
+            outputs.add_file(gear_path, label='--out')
+            outputs.check()                  # before the work: refusals cost nothing
+            ...                              # compute
+            outputs.write_directory(report_dir, [('report.json', data), ...])
+            outputs.write_file(gear_path, text)
+            written = outputs.publish()
+
+    Parameters
+    ----------
+    force : bool
+        Replace existing outputs (as a whole) instead of refusing them.
+    inputs : iterable
+        The command's inputs: paths, or ``(label, path)`` pairs (``None`` paths are
+        ignored).  No output may be, contain or lie inside one of them.
+    error : type
+        Exception class raised (one-line message naming the path).
+
+    """
+
+    def __init__(self, *, force=False, inputs=(), error=FrictionJointError):
+        self.force = bool(force)
+        self.error = error
+        self.inputs = []
+        for item in inputs:
+            label, path = item if isinstance(item, tuple) else ('input', item)
+            if path is not None:
+                self.inputs.append((label, os.fspath(path)))
+        self._targets = []
+        self._made = []
+        self._published = False
+
+    def __enter__(self):
+        """Return the set."""
+        return self
+
+    def __exit__(self, *exc_info):
+        """Remove whatever was staged and not published."""
+        self.discard()
+        return False
+
+    # ---------------------------------------------------------------- declare ---
+
+    def add_file(self, path, *, label='--out'):
+        """Declare a file output; returns its absolute path."""
+        return self._add(path, _FILE, label)
+
+    def add_directory(self, path, *, label='--out'):
+        """Declare a directory output (replaced as a whole); returns its absolute path."""
+        return self._add(path, _DIRECTORY, label)
+
+    def _add(self, path, kind, label):
+        if self._published:
+            raise self.error('outputs already published')
+        path = os.fspath(path)
+        target = _Target(path, os.path.abspath(path), kind, label)
+        if os.path.basename(target.abspath) in ('', '.', '..'):
+            raise self.error(f'{label} {path} cannot be an output')
+        self._targets.append(target)
+        return target.abspath
+
+    def _target(self, path):
+        full = os.path.abspath(os.fspath(path))
+        for t in self._targets:
+            if t.abspath == full:
+                return t
+        raise self.error(f'{path} is not a declared output')
+
+    def check(self):
+        """
+        Check every declared output; raise ``error`` naming the problem.
+
+        Refuses (even with ``force``) a wrong kind, an overlap with an input or
+        another output, a directory containing the current directory, an
+        existing non-directory above an output; refuses existing outputs
+        unless ``force`` (all of them named in one message).
+        """
+        existing = []
+        for i, t in enumerate(self._targets):
+            for label, path in self.inputs:
+                rel = _relation(t.abspath, path)
+                if rel:
+                    raise self.error(f'{t.named()} {rel} {"an" if rel == "is" else "the"} '
+                                     f'input ({label} {path}); choose another path')
+            for other in self._targets[:i]:
+                if _relation(t.abspath, other.abspath):
+                    raise self.error(f'{t.named()} and {other.named()} overlap; choose '
+                                     'separate paths')
+            found = _existing(t.abspath, self.error)
+            if t.kind == _DIRECTORY and _relation(t.abspath, os.getcwd()) in ('is', 'contains'):
+                raise self.error(f'{t.named()} contains the current directory; it cannot be '
+                                 'replaced')
+            if t.kind == _FILE and found in ('empty', 'directory'):
+                raise self.error(f'{t.named()} is a directory; give the file to write')
+            if t.kind == _DIRECTORY and found in ('a file', 'a FIFO', 'a special file'):
+                raise self.error(f'{t.named()} exists and is not a directory ({found[2:]})')
+            if found is not None and found != 'empty':
+                existing.append((t, 'a non-empty directory' if found == 'directory' else found))
+            self._check_parent(t)
+        if existing and not self.force:
+            names = ', '.join(f'{t.named()} ({what})' for t, what in existing)
+            it = 'it' if len(existing) == 1 else 'them'
+            raise self.error(f'{names} exist{"s" if len(existing) == 1 else ""} already; give '
+                             f'--force to replace {it}')
+
+    def _check_parent(self, target):
+        parent = os.path.dirname(target.abspath)
+        probe = parent
+        while not os.path.lexists(probe):
+            probe = os.path.dirname(probe)
+        if not os.path.isdir(probe):
+            raise self.error(f'cannot create output directory {parent}: {probe} is not a '
+                             'directory')
+
+    # ------------------------------------------------------------------ stage ---
+
+    def _stage(self, target):
+        if target.stage is None:
+            parent = os.path.dirname(target.abspath)
+            missing = []
+            probe = parent
+            while not os.path.lexists(probe):
+                missing.append(probe)
+                probe = os.path.dirname(probe)
+            try:
+                os.makedirs(parent, exist_ok=True)
+            except OSError as exc:
+                raise self.error(f'cannot create output directory {parent}: '
+                                 f'{_why(exc)}') from None
+            self._made.extend(missing)
+            try:
+                target.stage = tempfile.mkdtemp(
+                    prefix=f'.{os.path.basename(target.abspath)}.', suffix='.tmp', dir=parent)
+            except OSError as exc:
+                raise self.error(f'cannot write to {parent}: {_why(exc)}') from None
+        return target
+
+    def staging_path(self, path):
+        """
+        Return where to build output ``path``: a path in its staging directory, not yet existing.
+
+        For commands that produce an output on disk themselves (a recording, a
+        whole result tree); :meth:`publish` moves it into place.
+        """
+        return self._stage(self._target(path)).staged
+
+    def final_path(self, path):
+        """Return where ``path`` (inside a staged output) will be once published; else ``path``."""
+        full = os.path.abspath(os.fspath(path))
+        for t in self._targets:
+            if t.stage is not None and (full == t.staged or full.startswith(t.staged + os.sep)):
+                return t.abspath + full[len(t.staged):]
+        return os.fspath(path)
+
+    def _write(self, path, data, shown):
+        try:
+            fd = os.open(path, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o666)
             with os.fdopen(fd, 'wb') as fh:
                 fh.write(data)
-        paths = []
-        for (name, _), tmp in zip(targets, temps):
-            path = os.path.join(out_dir, name)
-            os.replace(tmp, path)
-            paths.append(path)
-    except OSError as exc:
-        raise error(f'cannot write to {out_dir}: {exc.strerror}') from None
-    finally:
-        for tmp in temps:
-            if os.path.exists(tmp):
-                os.unlink(tmp)
-    return paths
+        except OSError as exc:
+            raise self.error(f'cannot write {shown}: {_why(exc)}') from None
+
+    def write_file(self, path, data):
+        """Stage the content (bytes or str) of file output ``path``."""
+        t = self._stage(self._target(path))
+        if t.kind != _FILE:
+            raise self.error(f'{t.named()} is a directory output, not a file')
+        self._write(t.staged, data.encode('utf-8') if isinstance(data, str) else data, t.path)
+
+    def write_directory(self, path, files):
+        """Stage directory output ``path`` with ``[(file name, bytes), ...]``."""
+        t = self._stage(self._target(path))
+        if t.kind != _DIRECTORY:
+            raise self.error(f'{t.named()} is a file output, not a directory')
+        try:
+            os.mkdir(t.staged)
+        except OSError as exc:
+            raise self.error(f'cannot write {t.path}: {_why(exc)}') from None
+        t.written = []
+        for name, data in files:
+            if not name or name != os.path.basename(name) or name in ('.', '..'):
+                raise self.error(f'bad file name {name!r} for {t.named()}')
+            self._write(os.path.join(t.staged, name), data, os.path.join(t.path, name))
+            t.written.append(os.path.join(t.path, name))
+
+    # ---------------------------------------------------------------- publish ---
+
+    def publish(self):
+        """
+        Move every staged output into place (old ones replaced), all or nothing.
+
+        Returns
+        -------
+        list of str
+            The paths written, as given: a file output's path; the files of a
+            directory written with :meth:`write_directory`, else its path.
+
+        """
+        self.check()
+        for t in self._targets:
+            if t.stage is None or not os.path.lexists(t.staged):
+                raise self.error(f'nothing was written for {t.named()}')
+        current = None
+        try:
+            for t in self._targets:
+                current = t
+                if os.path.lexists(t.abspath):
+                    t.old = t.staged + '.old'
+                    os.rename(t.abspath, t.old)
+                os.rename(t.staged, t.abspath)
+                t.swapped = True
+        except BaseException as exc:         # an interrupt too: never half swapped
+            kept = self._rollback()
+            if not isinstance(exc, OSError):
+                raise
+            note = (f'; the old output is kept in {", ".join(kept)}' if kept else
+                    '; nothing was changed')
+            raise self.error(f'cannot write {current.named()}: {_why(exc)}{note}') from None
+        self._published = True
+        self.discard()
+        out = []
+        for t in self._targets:
+            out.extend(t.written if t.written is not None else [t.path])
+        return out
+
+    def _rollback(self):
+        """Swap published outputs back; return where old outputs are kept if that failed."""
+        kept = []
+        for t in reversed(self._targets):
+            try:
+                if t.swapped:
+                    os.rename(t.abspath, t.staged)
+                    t.swapped = False
+                if t.old is not None:
+                    os.rename(t.old, t.abspath)
+                    t.old = None
+            except OSError:
+                t.keep = True
+                kept.append(t.old or t.abspath)
+        return kept
+
+    def discard(self):
+        """Remove the staging directories (old outputs replaced by publishing with them)."""
+        for t in self._targets:
+            if t.stage is not None and not t.keep:
+                _remove(t.stage)
+                t.stage = None
+        if not self._published:
+            for d in self._made:                 # deepest first
+                try:
+                    os.rmdir(d)
+                except OSError:
+                    pass
+        self._made = []
 
 
-def write_results(result, out_dir, json_name='summary.json', error=FrictionJointError):
+def publish_outputs(targets, *, force=False, inputs=(), error=FrictionJointError):
     """
-    Write the figures and ``summary.json`` of ``result`` into ``out_dir`` atomically.
+    Write a set of outputs together or not at all (see :class:`OutputSet`).
 
-    ``result`` is an :class:`ExperimentResult` (or anything with ``summary`` and
-    ``figures``); ``json_name`` names the JSON file (default ``summary.json``);
-    ``error`` is the exception class raised when writing fails.
-
-    Everything is rendered in memory, written to temporary files in
-    ``out_dir`` (created if missing), then renamed into place with
-    :func:`os.replace`, ``summary.json`` last: a ``summary.json`` present
-    means the figures next to it belong to it.
+    Parameters
+    ----------
+    targets : sequence
+        ``(path, bytes)`` for a file, ``(path, [(file name, bytes), ...])`` for a
+        directory (replaced as a whole).
+    force : bool
+        Replace existing outputs.
+    inputs : iterable
+        Paths or ``(label, path)`` pairs no output may overlap.
+    error : type
+        Exception class raised on a refused or failed output.
 
     Returns
     -------
     list of str
-        The paths written.
+        The paths written (:meth:`OutputSet.publish`).
 
     """
-    targets = [(name, render_png(draw, size)) for name, (draw, size) in result.figures.items()]
-    targets.append((json_name, json_bytes(result.summary)))
-    return write_files(out_dir, targets, error)
+    with OutputSet(force=force, inputs=inputs, error=error) as outputs:
+        for path, content in targets:
+            if isinstance(content, (bytes, bytearray, str)):
+                outputs.add_file(path)
+            else:
+                outputs.add_directory(path)
+        outputs.check()
+        for path, content in targets:
+            if isinstance(content, (bytes, bytearray, str)):
+                outputs.write_file(path, content)
+            else:
+                outputs.write_directory(path, content)
+        return outputs.publish()

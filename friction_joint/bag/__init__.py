@@ -18,8 +18,14 @@ Recordings (rosbag2 / MCAP) as numpy arrays, without ROS.
 * :mod:`~friction_joint.bag.topics`: the contract topics and their array classes
   (:class:`Recording`, :class:`JointStates`, ...);
 * :mod:`~friction_joint.bag.reader`: :func:`read_recording`, :func:`iter_messages`;
-* :mod:`~friction_joint.bag.writer`: :func:`write_recording`.
+* :mod:`~friction_joint.bag.writer`: :func:`write_recording`;
+* :mod:`~friction_joint.bag.checksums`: :func:`seal_recording` (CRCs into what rosbags
+  wrote), :func:`verify_checksums`;
+* :mod:`~friction_joint.bag.stamps`: the header-stamp rules of reading;
+* :mod:`~friction_joint.bag.plausible`: :func:`check_values`, absurd samples.
 """
+from .checksums import seal_recording, verify_checksums
+from .plausible import check_samples, check_values
 from .reader import iter_messages, read_recording, recording_topics
 from .topics import (CONTRACT_TYPES, ExternalTorque, JointCommand, JointStates, LinkTorque,
                      Recording, REQUIRED_TOPICS, Temperature, zero_order_hold)
@@ -27,4 +33,5 @@ from .writer import write_recording
 
 __all__ = ['CONTRACT_TYPES', 'REQUIRED_TOPICS', 'JointStates', 'Temperature', 'LinkTorque',
            'JointCommand', 'ExternalTorque', 'Recording', 'read_recording', 'write_recording',
-           'zero_order_hold', 'recording_topics', 'iter_messages']
+           'zero_order_hold', 'recording_topics', 'iter_messages', 'seal_recording',
+           'verify_checksums', 'check_values', 'check_samples']

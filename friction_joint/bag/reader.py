@@ -15,7 +15,11 @@
 """
 Reading recordings (rosbag2 directory or single ``.mcap`` file) into numpy arrays.
 
-See :mod:`friction_joint.bag.topics` for the topics and fields.
+See :mod:`friction_joint.bag.topics` for the topics and fields.  What is checked on
+reading: the file's checksums (:mod:`~friction_joint.bag.checksums`), the message
+types, NaN/inf, the header stamps of every topic
+(:mod:`~friction_joint.bag.stamps`) and absurd values
+(:mod:`~friction_joint.bag.plausible`).
 """
 import os
 from pathlib import Path
@@ -24,6 +28,9 @@ import struct
 import numpy as np
 
 from ._cdr import f64_columns, layout_groups, stamps_ns, walk_joint_state
+from .checksums import mcap_files, verify_checksums
+from .plausible import check_values
+from .stamps import stamp_order
 from .topics import (CONTRACT_TYPES, ExternalTorque, JointCommand, JointStates, LinkTorque, NS,
                      Recording, REQUIRED_TOPICS, Temperature)
 from ..exceptions import RecordingError
@@ -33,17 +40,20 @@ __all__ = ['read_recording', 'recording_topics', 'iter_messages']
 
 def _decode_joint_state(raws, topic, joint, required):
     """
-    Stamps (ns), column dict and skipped count of ``joint`` in JointState messages.
+    Stamps (ns), columns, kept-message mask and joint names seen, of ``joint``.
 
-    ``required`` names the fields that must be present; others are NaN where absent.
+    ``topic`` names the recording and topic in errors.  ``required`` names the fields
+    that must be present; others are NaN where absent.
     """
     n = len(raws)
     stamp = np.zeros(n, dtype=np.int64)
     keep = np.zeros(n, dtype=bool)
     cols = {k: np.full(n, np.nan) for k in ('position', 'velocity', 'effort')}
     missing = dict.fromkeys(required, 0)
+    seen = {}
     for idx, layout, block in layout_groups(raws, 'sensor_msgs/msg/JointState', topic):
         names = layout.names
+        seen.update(dict.fromkeys(names))
         if joint in names:
             j = names.index(joint)
         elif not names and all(c <= 1 for _, c in layout.fields.values()):
@@ -64,7 +74,7 @@ def _decode_joint_state(raws, topic, joint, required):
     for name, k in missing.items():
         if k:
             raise RecordingError(f'{topic}: {k} messages have no {name} for joint {joint!r}')
-    return stamp, cols, keep
+    return stamp, cols, keep, list(seen)
 
 
 def _decode_fixed(raws, topic, msgtype, picks):
@@ -89,14 +99,42 @@ def _check_finite(topic, cols):
         raise RecordingError(f'{topic}: {total} NaN/inf values ({detail})')
 
 
-def _sorted(stamp, recv, cols):
-    """Sort by stamp; returns t, t_recv, columns and the number of backward steps."""
-    back = int(np.count_nonzero(np.diff(stamp) < 0))
-    order = np.argsort(stamp, kind='stable')
-    return (stamp[order] / NS, recv[order] / NS, {k: v[order] for k, v in cols.items()}, back)
+def _ordered(stamp, recv, cols, check):
+    """
+    Put one topic in stamp order; return t, t_recv, columns, late and duplicate counts.
+
+    ``check``: ``(label, same(i, j), message indices)`` for :func:`stamp_order`; None
+    only sorts (counting the backward steps as late).
+    """
+    if check is None:
+        order = np.argsort(stamp, kind='stable')
+        late, dups = int(np.count_nonzero(np.diff(stamp) < 0)), 0
+    else:
+        label, same, index = check
+        order, late, dups = stamp_order(stamp, same, index, label)
+    return (stamp[order] / NS, recv[order] / NS, {k: v[order] for k, v in cols.items()},
+            late, dups)
 
 
-def _open_reader(path):
+def _verify(path):
+    """Check the checksums of the recording's MCAP files (CRC 0: none recorded)."""
+    for f in mcap_files(path):
+        try:
+            verify_checksums(f, label=path)
+        except OSError as exc:
+            raise RecordingError(f'{path}: cannot read {f.name}: {exc}') from None
+
+
+def _corrupt(path, exc):
+    """Return the RecordingError for an exception rosbags raised while reading messages."""
+    text = f'{type(exc).__name__}: {exc}'
+    if 'checksum' in str(exc).lower():
+        return RecordingError(f'{path}: truncated or corrupt recording: a chunk fails its '
+                              f'checksum, the file changed after it was written ({text})')
+    return RecordingError(f'{path}: truncated or corrupt recording ({text})')
+
+
+def _open_reader(path, verify=False):
     try:
         from rosbags.rosbag2 import Reader
     except ImportError as exc:                    # pragma: no cover - packaging problem
@@ -111,6 +149,8 @@ def _open_reader(path):
     elif p.suffix not in ('.mcap', '.db3'):
         raise RecordingError(f'{path} is not a recording: expected a rosbag2 directory or '
                              'a .mcap file')
+    if verify:
+        _verify(path)
     try:
         reader = Reader(p)
         reader.open()
@@ -141,7 +181,7 @@ def _close(reader):
 
 def _read_raw(path, wanted):
     """Open ``path``; return ``{topic: (type, count)}`` and ``{topic: (raws, recv_ns)}``."""
-    reader = _open_reader(path)
+    reader = _open_reader(path, verify=True)
     try:
         topics = _topic_table(reader, path)
         for topic, (msgtype, _) in topics.items():
@@ -163,8 +203,7 @@ def _read_raw(path, wanted):
         except RecordingError:
             raise
         except Exception as exc:
-            raise RecordingError(f'{path}: truncated or corrupt recording '
-                                 f'({type(exc).__name__}: {exc})') from None
+            raise _corrupt(path, exc) from None
         for topic, (raws, recv) in data.items():
             topics[topic] = (topics[topic][0], len(raws))
         return topics, {k: (v[0], np.asarray(v[1], dtype=np.int64)) for k, v in data.items()}
@@ -213,7 +252,7 @@ def iter_messages(path, topics=None):
 
     """
     path = os.fspath(path)
-    reader = _open_reader(path)
+    reader = _open_reader(path, verify=True)
     try:
         conns = reader.connections
         if topics is not None:
@@ -231,14 +270,13 @@ def iter_messages(path, topics=None):
             except StopIteration:
                 return
             except Exception as exc:
-                raise RecordingError(f'{path}: truncated or corrupt recording '
-                                     f'({type(exc).__name__}: {exc})') from None
+                raise _corrupt(path, exc) from None
             yield con.topic, con.msgtype, stamp, bytes(raw)
     finally:
         _close(reader)
 
 
-def read_recording(path, joint_name=None):
+def read_recording(path, joint_name=None, *, check=True):
     """
     Read a recording into arrays.
 
@@ -249,7 +287,11 @@ def read_recording(path, joint_name=None):
     joint_name : str, optional
         Joint to pick from the JointState topics; default: the first name of the first
         ``/joint_states`` message.  Messages that do not name the joint are skipped and
-        counted (``skipped``).
+        counted (``skipped``); messages without names (one anonymous joint) are taken.
+    check : bool
+        Check the header stamps of every topic (:mod:`~friction_joint.bag.stamps`) and
+        the values for absurd samples (:mod:`~friction_joint.bag.plausible`).  ``False``
+        reads a broken recording for inspection: messages are only sorted by stamp.
 
     Returns
     -------
@@ -258,10 +300,13 @@ def read_recording(path, joint_name=None):
     Raises
     ------
     RecordingError
-        The path is missing or not a recording, the file is truncated or corrupt, a
-        required topic (``/joint_states``, ``/joint_temperature``) is missing or empty, a
-        contract topic has the wrong message type, no message names the joint, or data
-        are NaN/inf.  The message names the topic and the problem.
+        The path is missing or not a recording, the file is truncated or corrupt or fails
+        its checksums, a required topic (``/joint_states``, ``/joint_temperature``) is
+        missing or empty, a contract topic has the wrong message type, no message names
+        the joint (the message lists the joints the recording has), data are NaN/inf,
+        header stamps go backwards (a reversed stretch, overlapping runs, a message too
+        late), two different messages have the same stamp, or a value is absurd.  The
+        message names the file, the topic and where.
 
     """
     path = os.fspath(path)
@@ -276,40 +321,51 @@ def read_recording(path, joint_name=None):
         try:
             names = walk_joint_state(js_raws[0]).names
         except (ValueError, struct.error) as exc:
-            raise RecordingError(f'/joint_states: message 0 is not a valid '
+            raise RecordingError(f'{path}: /joint_states: message 0 is not a valid '
                                  f'sensor_msgs/msg/JointState: {exc}') from None
         joint_name = names[0] if names else ''
 
-    unordered = {}
+    unordered, duplicates = {}, {}
+
+    def order(topic, raws, keep, stamp, recv, cols):
+        idx = np.flatnonzero(keep) if keep is not None else np.arange(len(raws))
+        spec = None
+        if check:
+            spec = (f'{path}: {topic}', lambda a, b: raws[idx[a]] == raws[idx[b]], idx)
+        t, t_recv, cols, late, dups = _ordered(stamp[idx], recv[idx],
+                                               {k: v[idx] for k, v in cols.items()}, spec)
+        if late:
+            unordered[topic] = late
+        if dups:
+            duplicates[topic] = dups
+        return t, t_recv, cols
 
     def joint_topic(topic, required, rename):
         raws, recv = data[topic]
-        stamp, cols, keep = _decode_joint_state(raws, topic, joint_name, required)
+        label = f'{path}: {topic}'
+        stamp, cols, keep, seen = _decode_joint_state(raws, label, joint_name, required)
         skipped = int(len(raws) - np.count_nonzero(keep))
-        cols = {rename[k]: v[keep] for k, v in cols.items() if k in rename}
-        _check_finite(topic, {k: v for k, v in cols.items()
+        cols = {rename[k]: v for k, v in cols.items() if k in rename}
+        _check_finite(label, {k: v[keep] for k, v in cols.items()
                               if k in {rename[r] for r in required}})
-        t, t_recv, cols, back = _sorted(stamp[keep], recv[keep], cols)
-        if back:
-            unordered[topic] = back
-        return t, t_recv, cols, skipped
+        t, t_recv, cols = order(topic, raws, keep, stamp, recv, cols)
+        return t, t_recv, cols, skipped, seen
 
-    t, t_recv, c, skipped = joint_topic('/joint_states', ('position', 'velocity', 'effort'),
-                                        {'position': 'q', 'velocity': 'qd', 'effort': 'effort'})
+    t, t_recv, c, skipped, seen = joint_topic(
+        '/joint_states', ('position', 'velocity', 'effort'),
+        {'position': 'q', 'velocity': 'qd', 'effort': 'effort'})
     if len(t) == 0:
-        seen = sorted(set(walk_joint_state(js_raws[0]).names))
-        raise RecordingError(f'{path}: no /joint_states message names joint {joint_name!r} '
-                             f'(first message names: {", ".join(seen) or "none"})')
+        have = ', '.join(map(repr, seen))
+        raise RecordingError(f'{path}: no /joint_states message names joint {joint_name!r}; '
+                             f'the recording has joint(s) {have} (pass one as the joint name, '
+                             '--joint on the command line)')
     joint_states = JointStates(t, t_recv, c['q'], c['qd'], c['effort'], skipped)
 
     def fixed_topic(topic, picks):
         raws, recv = data[topic]
-        stamp, cols = _decode_fixed(raws, topic, CONTRACT_TYPES[topic], picks)
-        _check_finite(topic, cols)
-        t, t_recv, cols, back = _sorted(stamp, recv, cols)
-        if back:
-            unordered[topic] = back
-        return t, t_recv, cols
+        stamp, cols = _decode_fixed(raws, f'{path}: {topic}', CONTRACT_TYPES[topic], picks)
+        _check_finite(f'{path}: {topic}', cols)
+        return order(topic, raws, None, stamp, recv, cols)
 
     t, t_recv, c = fixed_topic('/joint_temperature', {'xi': ('temperature', 0),
                                                       'variance': ('variance', 0)})
@@ -320,16 +376,19 @@ def read_recording(path, joint_name=None):
         t, t_recv, c = fixed_topic('/link_torque', {'tau': ('torque', 2)})
         link_torque = LinkTorque(t, t_recv, c['tau'])
     if data.get('/joint_command', ((),))[0]:
-        t, t_recv, c, skipped = joint_topic(
+        t, t_recv, c, skipped, _ = joint_topic(
             '/joint_command', ('effort',),
             {'position': 'q_d', 'velocity': 'qd_d', 'effort': 'effort'})
         joint_command = JointCommand(t, t_recv, c['effort'], c['q_d'], c['qd_d'], skipped)
     if data.get('/external_torque', ((),))[0]:
-        t, t_recv, c, skipped = joint_topic('/external_torque', ('effort',),
-                                            {'effort': 'effort'})
+        t, t_recv, c, skipped, _ = joint_topic('/external_torque', ('effort',),
+                                               {'effort': 'effort'})
         external_torque = ExternalTorque(t, t_recv, c['effort'], skipped)
 
-    return Recording(path=path, joint_name=joint_name, joint_states=joint_states,
-                     temperature=temperature, link_torque=link_torque,
-                     joint_command=joint_command, external_torque=external_torque,
-                     topics=topics, unordered=unordered)
+    rec = Recording(path=path, joint_name=joint_name, joint_states=joint_states,
+                    temperature=temperature, link_torque=link_torque,
+                    joint_command=joint_command, external_torque=external_torque,
+                    topics=topics, unordered=unordered, duplicates=duplicates)
+    if check:
+        check_values(rec)
+    return rec

@@ -36,8 +36,11 @@ topic              class                     fields
 ================== ========================= ===================================
 
 ``t`` is the header stamp, ``t_recv`` the bag (receive) time of each message.
-Messages are returned sorted by header stamp.  ``q_d``/``qd_d`` are NaN where
-a command message carries no reference; everything else must be finite.
+Messages are returned sorted by header stamp; the stamps are checked on reading
+(:mod:`~friction_joint.bag.stamps`: stamps that go backwards are an error, a
+message delivered late is sorted into place, a message sent twice is read
+once).  ``q_d``/``qd_d`` are NaN where a command message carries no reference;
+everything else must be finite and plausible (:mod:`~friction_joint.bag.plausible`).
 
 Decoding does not go through a generic deserializer: the messages of one
 topic nearly always share one byte layout (same frame id, joint names and
@@ -212,8 +215,12 @@ class Recording:
     topics : dict
         Every topic of the bag -> ``(message type, message count)``, including ones not read.
     unordered : dict
-        Topic -> number of messages whose header stamp went backwards in bag order
-        (they are returned sorted by stamp).
+        Topic -> number of messages delivered late (their header stamp is older than one
+        before them in bag order; they fill a hole in the stamps and are sorted into
+        place).
+    duplicates : dict
+        Topic -> number of repeated copies of a message (same stamp, same bytes, one
+        after the other) left out.
 
     """
 
@@ -226,6 +233,7 @@ class Recording:
     external_torque: ExternalTorque = None
     topics: dict = field(default_factory=dict)
     unordered: dict = field(default_factory=dict)
+    duplicates: dict = field(default_factory=dict)
 
     @property
     def t0(self):
@@ -258,6 +266,8 @@ class Recording:
                 entry['skipped'] = int(data.skipped)
             if self.unordered.get(topic):
                 entry['unordered'] = int(self.unordered[topic])
+            if self.duplicates.get(topic):
+                entry['duplicates'] = int(self.duplicates[topic])
             topics[topic] = entry
         return {'path': self.path, 'joint_name': self.joint_name, 'start': self.t0,
                 'duration': self.duration, 'topics': topics,
@@ -271,7 +281,8 @@ class Recording:
         for topic, e in s['topics'].items():
             rate = f'{e["rate"]:.1f} Hz' if e['rate'] else '-'
             gap = f', max gap {e["max_gap"] * 1e3:.1f} ms' if e['max_gap'] is not None else ''
-            extra = ''.join(f', {k} {e[k]}' for k in ('skipped', 'unordered') if k in e)
+            extra = ''.join(f', {k} {e[k]}' for k in ('skipped', 'unordered', 'duplicates')
+                            if k in e)
             lines.append(f'  {topic}: {e["count"]} messages, {rate}{gap}{extra}')
         for topic, e in s['other_topics'].items():
             lines.append(f'  {topic}: {e["count"]} messages ({e["type"]}, not read)')

@@ -25,6 +25,7 @@ import tempfile
 import numpy as np
 
 from ._cdr import WALKERS
+from .checksums import seal_recording
 from .topics import CONTRACT_TYPES, NS, Recording
 from ..exceptions import RecordingError
 
@@ -177,7 +178,9 @@ def write_recording(path, topics, joint_name=None):
     -----
     The bag is written into a temporary directory next to ``path`` and renamed at the
     end, so a failure leaves nothing at ``path``.  Messages are written in order of
-    ``t_recv``.
+    ``t_recv`` (then topic) by rosbags' writer, and the MCAP file is then sealed
+    (:func:`~friction_joint.bag.checksums.seal_recording`: zstd-compressed chunks with
+    CRCs, data-section and summary CRCs), so a flipped bit is found on reading.
 
     """
     from rosbags.rosbag2 import StoragePlugin, Writer
@@ -216,6 +219,7 @@ def write_recording(path, topics, joint_name=None):
                 for j in np.lexsort((which, recvs)):   # by receive time, then topic
                     conn, block = conns[which[j]]
                     writer.write(conn, int(recvs[j]), block[rows[j]].tobytes())
+        seal_recording(bagdir)
         if base.endswith('.mcap'):
             made = [f for f in os.listdir(bagdir) if f.endswith('.mcap')]
             os.rename(os.path.join(bagdir, made[0]), path)

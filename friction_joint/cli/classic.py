@@ -35,14 +35,17 @@ def add_arguments(parser):
                              'breakaway: break-away force vs force rate; stick-slip: '
                              'spring-pulled mass')
     parser.add_argument('--out', required=True, metavar='DIR',
-                        help='output directory (created if missing)')
+                        help='output directory (created if missing; it may hold other files, '
+                             'but an existing EXPERIMENT.png or EXPERIMENT.json is an error '
+                             'without --force)')
+    parser.add_argument('--force', action='store_true',
+                        help='replace an existing EXPERIMENT.png and EXPERIMENT.json')
     return parser
 
 
 def run(args):
     """Run the experiment and write its figure and numbers."""
-    from ..experiments.classic_report import write_experiment
-    result = EXPERIMENTS[args.experiment]()
-    paths = write_experiment(args.experiment, result, args.out)
+    from ..experiments.classic_report import run_classic
+    paths = run_classic(args.experiment, args.out, force=args.force)
     print('wrote ' + ', '.join(paths))
     return 0

@@ -24,7 +24,12 @@ DESCRIPTION = ('Bring the ROS 2 nodes up with a recording, run the classic and t
 
 def add_arguments(parser):
     """Add the ``demo`` arguments to ``parser``."""
-    parser.add_argument('--out', required=True, help='output directory')
+    parser.add_argument('--out', required=True, metavar='DIR',
+                        help='output directory (an existing non-empty one is an error without '
+                             '--force)')
+    parser.add_argument('--force', action='store_true',
+                        help='replace an existing DIR as a whole (built next to it, swapped in '
+                             'at the end)')
     parser.add_argument('--model', help='model gear file (default config/csd25.yaml)')
     parser.add_argument('--truth', help='truth gear file (default config/csd25_truth.yaml)')
     parser.add_argument('--duration-scale', type=float, default=1.0,
@@ -36,6 +41,6 @@ def run(args):
     """Run the demo; prints the report's path."""
     from ..demo import run_demo
     path = run_demo(args.out, model=args.model, truth=args.truth,
-                    duration_scale=args.duration_scale)
+                    duration_scale=args.duration_scale, force=args.force)
     print(f'report: {path}')
     return 0

@@ -20,15 +20,16 @@ Outputs: README, *Interfaces*, ``diagnose`` outputs.
 Fits BASE's structure to the recordings, names the missing effects and writes
 ``DIR/report.json``, ``DIR/extended.yaml``, ``DIR/report.md`` and figures
 (method: :mod:`friction_joint.diagnosis`).  Everything is computed and rendered
-first, then written atomically (report.json last); on an error nothing is
-written and the command exits with status 2.
+first, then DIR is written as a whole (built next to it and renamed into
+place); an existing non-empty DIR is an error unless ``--force``, which
+replaces it as a whole; on an error nothing is written and the command exits
+with status 2.
 """
 import json
-import os
 
 from ._console import progress_printer
 from ..diagnosis import EFFECTS
-from ..exceptions import FrictionJointError, GearConfigError
+from ..exceptions import GearConfigError
 
 __all__ = ['NAME', 'HELP', 'DESCRIPTION', 'add_arguments', 'run', 'parse_effects']
 
@@ -44,11 +45,16 @@ def add_arguments(parser):
     parser.add_argument('recordings', nargs='+', metavar='RECORDING',
                         help='rosbag2 directories or .mcap files')
     parser.add_argument('--model', required=True, metavar='BASE.yaml', help='base gear file')
-    parser.add_argument('--out', required=True, metavar='DIR', help='result directory')
+    parser.add_argument('--out', required=True, metavar='DIR',
+                        help='result directory (an existing non-empty one is an error without '
+                             '--force)')
     parser.add_argument('--effects', default=None, metavar='E1,E2,...',
                         help='candidate effects to test (default: all)')
     parser.add_argument('--joint', default=None, metavar='NAME',
-                        help="joint to read (default: the gear's joint_name, else the first)")
+                        help="joint to read (default: the gear's joint_name)")
+    parser.add_argument('--force', action='store_true',
+                        help='replace an existing DIR as a whole (no file of an earlier run '
+                             'remains)')
     parser.add_argument('--quiet', action='store_true', help='no progress messages')
     return parser
 
@@ -68,11 +74,9 @@ def parse_effects(text):
 def run(args):
     """Diagnose and write the result directory; prints the named causes."""
     from ..diagnosis.report import run_diagnose
-    if os.path.exists(args.out) and not os.path.isdir(args.out):
-        raise FrictionJointError(f'--out {args.out} exists and is not a directory')
     written = run_diagnose(args.recordings, args.model, args.out,
                            effects=parse_effects(args.effects), joint_name=args.joint,
-                           progress=progress_printer(args.quiet))
+                           progress=progress_printer(args.quiet), force=args.force)
     with open(written[-1], encoding='utf-8') as fh:
         named = json.load(fh)['named_causes']
     print(f'named causes: {", ".join(named) or "none"}; wrote {args.out}/report.json, '

@@ -39,11 +39,15 @@ def add_arguments(parser):
     parser.add_argument('--truth', required=True, metavar='T.yaml',
                         help='gear file of the simulated hardware (plant)')
     parser.add_argument('--out', required=True, metavar='DIR',
-                        help='output directory (created if missing); for identification the '
-                             'recording to write (a rosbag2 directory, or a .mcap file)')
+                        help='output directory (created if missing; an existing non-empty one '
+                             'is an error without --force); for identification the recording '
+                             'to write (a rosbag2 directory, or a .mcap file)')
     parser.add_argument('--duration-scale', type=float, default=1.0, metavar='X',
                         help='multiply all run durations by X (default 1; small values for '
                              'quick tests)')
+    parser.add_argument('--force', action='store_true',
+                        help='replace an existing --out as a whole (an --out that is or '
+                             'contains --model or --truth is an error even then)')
     return parser
 
 
@@ -51,6 +55,7 @@ def run(args):
     """Run the experiment and write its results."""
     from ..experiments.runner import run_experiment
     paths = run_experiment(args.name, args.model, args.truth, args.out,
-                           duration_scale=args.duration_scale, progress=progress_printer())
+                           duration_scale=args.duration_scale, progress=progress_printer(),
+                           force=args.force)
     print('wrote ' + ', '.join(paths))
     return 0

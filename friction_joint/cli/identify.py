@@ -38,7 +38,8 @@ def add_arguments(parser):
                         help='gear file giving the model structure (list length = polynomial '
                              'order + 1), inertia and lever; its coefficient values are not used')
     parser.add_argument('--out', required=True, metavar='GEAR.yaml',
-                        help='identified gear file to write')
+                        help='identified gear file to write (with its report directory: an '
+                             'existing one is an error without --force)')
     parser.add_argument('--orders', default=None, metavar='auto|NAME=N,...',
                         help='polynomial orders: the structure\'s (default), "auto" (chosen by '
                              'held-out error) or e.g. "fc=2,fv=1,fc_load=1" (orders, not list '
@@ -49,7 +50,11 @@ def add_arguments(parser):
                         help='step 3: run when possible and note why not (auto), never (skip), '
                              'or fail without it (require)')
     parser.add_argument('--joint', default=None, metavar='NAME',
-                        help="joint to identify (default: the structure's joint_name)")
+                        help="joint to identify (default: the structure's joint_name; a "
+                             'recording without it is an error); the gear file is named for it')
+    parser.add_argument('--force', action='store_true',
+                        help='replace an existing GEAR.yaml and report directory (as a whole; '
+                             '--out or --report equal to an input is an error even then)')
     parser.add_argument('--quiet', action='store_true', help='no progress messages')
     return parser
 
@@ -76,6 +81,7 @@ def run(args):
     from ..identification.pipeline import run_identify
     paths = run_identify(args.recordings, args.model, args.out, orders=parse_orders(args.orders),
                          report_dir=args.report, presliding=args.presliding,
-                         joint_name=args.joint, progress=progress_printer(args.quiet))
+                         joint_name=args.joint, progress=progress_printer(args.quiet),
+                         force=args.force)
     print('wrote ' + ', '.join(paths))
     return 0

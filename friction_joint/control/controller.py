@@ -22,6 +22,14 @@ J e'' + k_d e' + k_p e = 0, a second-order system with omega_n^2 = k_p / J and
 2 zeta omega_n = k_d / J.  :func:`pd_gains` picks zeta from the maximum
 overshoot and omega_n from the 10-90 % rise time of that system's step
 response (found numerically, not from an approximation formula).
+
+:class:`Controller` never holds a non-finite friction feed-forward state: a
+sample with a NaN/inf input raises ``ValueError`` before anything changes;
+a finite sample whose command overflows (e.g. a velocity of 1e306 rad/s in
+the friction curve) raises ``ValueError`` and relaxes the feed-forward state.
+Bounding the inputs to plausible values is the caller's job (the
+``controller`` node gates them with
+:class:`~friction_joint.testbed.plant.InputLimits`).
 """
 import math
 
@@ -131,6 +139,7 @@ class Controller:
         self.last = {}
 
     def reset(self):
+        """Relax the friction feed-forward state."""
         self.friction.reset()
 
     def gravity(self, q):
@@ -143,12 +152,30 @@ class Controller:
 
         ``dt`` is the time since the previous sample when it differs from the
         control period (a real-time loop that skipped stale samples); it
-        advances the dynamic friction model's state.
+        advances the dynamic friction model's state.  Raises ``ValueError``
+        for a sample that cannot give a finite command (see the module
+        docstring).
         """
+        h = self.dt if dt is None else dt
+        for name, value in (('position', q), ('velocity', qd), ('temperature', xi),
+                            ('desired position', q_d), ('desired velocity', qd_d),
+                            ('desired acceleration', qdd_d)):
+            if not math.isfinite(value):
+                raise ValueError(f'controller input {name} is {value}: sample refused')
+        if not (math.isfinite(h) and h > 0):
+            raise ValueError(f'controller time step must be finite and > 0, got {h}')
         tau_g = self.gravity(q)
-        v = qd if self.ff_velocity == 'measured' else qd_d
-        tau_f = self.friction.step(v, xi, abs(tau_g), self.dt if dt is None else dt, q)
         tau_pd = self.kp * (q_d - q) + self.kd * (qd_d - qd)
+        if not math.isfinite(self.J * qdd_d + tau_pd):
+            raise ValueError(f'controller command overflows (position {q} rad, velocity {qd} '
+                             'rad/s): sample refused')
+        v = qd if self.ff_velocity == 'measured' else qd_d
+        tau_f = self.friction.step(v, xi, abs(tau_g), h, q)
         tau = self.J * qdd_d + tau_pd + tau_g + tau_f
+        if not math.isfinite(tau):
+            self.reset()
+            raise ValueError(f'controller command overflows ({tau} Nm at position {q} rad, '
+                             f'velocity {qd} rad/s): sample refused, friction feed-forward '
+                             'relaxed')
         self.last = {'pd': tau_pd, 'gravity': tau_g, 'friction': tau_f, 'inertia': self.J * qdd_d}
         return tau

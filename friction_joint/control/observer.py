@@ -24,7 +24,21 @@ run sample by sample.  As in Section V-D of the paper the gravity of the
 lever can be left out (``gravity=False``) so that it is estimated as an
 unknown external load; the friction model's load input is then the previous
 estimate |tau_ext^|.
+
+The observer's states (the Q(s) sections, the LuGre/GMS friction state, the
+estimate) never hold a non-finite value.  A sample with a NaN/inf input, or
+whose ``tau + beta J qd`` overflows, raises ``ValueError`` before anything
+changes, so the outputs afterwards are those of an observer that never saw
+it.  A finite sample that still overflows further in (e.g. a velocity of
+1e306 rad/s in the friction curve) raises ``ValueError`` too and resets the
+observer to the steady state of the last finite estimate and velocity, with
+a relaxed friction state; the estimate then converges back at the rate beta.
+Bounding the inputs to plausible values is the caller's job (the
+``estimator`` node gates them with
+:class:`~friction_joint.testbed.plant.InputLimits`).
 """
+import math
+
 import numpy as np
 from scipy import signal
 
@@ -69,17 +83,48 @@ class DisturbanceObserver:
         self.q_filter = StreamingSOS(signal.tf2sos(np.ravel(num), den))
         self.estimate = 0.0
         self.tau_friction = 0.0
+        self._qd = 0.0
 
     def reset(self, tau_ext=0.0, qd=0.0, tau=0.0):
-        """Start at a steady state with estimate tau_ext."""
+        """Start at a steady state with estimate tau_ext (finite) at velocity qd."""
+        if not (math.isfinite(tau_ext) and math.isfinite(qd)):
+            raise ValueError(f'observer reset to a non-finite state (tau_ext {tau_ext}, '
+                             f'qd {qd})')
         self.friction.reset()
         self.q_filter.reset(tau_ext + self.beta * self.J * qd)
         self.estimate = tau_ext
+        self.tau_friction = 0.0
+        self._qd = qd
 
     def __call__(self, tau, q, qd, xi):
-        """One sample: measured drive torque, position, velocity, temperature -> tau_ext^."""
-        tau_g = self.mgl * np.sin(q)
-        self.tau_friction = self.friction.step(qd, xi, abs(self.estimate), self.dt, q)
+        """
+        Return tau_ext^ for one sample of drive torque, position, velocity and temperature.
+
+        Raises ``ValueError`` for a sample it cannot turn into a finite
+        estimate (see the module docstring); the state stays finite.
+        """
+        for name, value in (('drive torque', tau), ('position', q), ('velocity', qd),
+                            ('temperature', xi)):
+            if not math.isfinite(value):
+                raise ValueError(f'observer input {name} is {value}: sample refused')
+        tau_g = self.mgl * math.sin(q)
         bjq = self.beta * self.J * qd
-        self.estimate = self.q_filter(tau + bjq - tau_g - self.tau_friction) - bjq
-        return self.estimate
+        u = tau + bjq - tau_g
+        if not math.isfinite(u):
+            raise ValueError(f'observer input overflows (drive torque {tau} Nm, velocity '
+                             f'{qd} rad/s): sample refused')
+        tau_f = self.friction.step(qd, xi, abs(self.estimate), self.dt, q)
+        try:
+            if not math.isfinite(tau_f):
+                raise ValueError(f'the friction model gives {tau_f} Nm')
+            estimate = self.q_filter(u - tau_f) - bjq
+            if not math.isfinite(estimate):
+                raise ValueError(f'the estimate overflows ({estimate} Nm)')
+        except ValueError as exc:
+            self.reset(self.estimate, self._qd)
+            raise ValueError(f'observer sample (drive torque {tau} Nm, velocity {qd} rad/s) '
+                             f'refused: {exc}; observer reset to {self.estimate:.6g} Nm') from None
+        self.tau_friction = tau_f
+        self.estimate = estimate
+        self._qd = qd
+        return estimate

@@ -15,14 +15,23 @@
 """
 Diagnosis input: recordings -> friction-torque data averaged over short time bins.
 
-For every recording the joint states are split into contiguous pieces (at
-gaps in the stamps), the encoder position is differentiated without phase
-lag (:func:`friction_joint._filters.zero_phase_derivatives`), and
+For every recording the joint states are split into contiguous pieces at
+gaps in the stamps (a step longer than :data:`GAP` median sample times: a
+pause between runs, which no derivative bridges), the encoder position is
+differentiated without phase lag
+(:func:`friction_joint._filters.zero_phase_derivatives`), and
 
     y = tau - tau_ext - J q̈          (the measured friction torque tau_r, eq. 2)
 
 is formed with ``tau_ext`` from ``/link_torque`` (or the base gear's lever
 ``m g l sin q`` when the recording has none) and J the base inertia.
+
+Measured data are often sampled irregularly (stamps that jitter, a dropped
+sample now and then).  A piece whose stamps lie further than
+:data:`REGULAR` of a sample time from a uniform grid is resampled onto the
+uniform grid of its median sample time (linear interpolation of position,
+torques) before the derivatives are taken; regular pieces are used as they
+are.
 
 Bins
 ----
@@ -65,6 +74,10 @@ N_BLOCKS = 10
 MIN_PIECE = 1.0
 #: samples this close (s) to the start or end of a piece are not used (filter edge effects)
 EDGE = 0.1
+#: a step of the stamps longer than this many median steps is a gap between pieces
+GAP = 5.0
+#: stamps further than this fraction of a sample time from a uniform grid: resampled
+REGULAR = 0.01
 
 
 @dataclasses.dataclass
@@ -115,17 +128,28 @@ class DiagnosisData:
         return np.bincount(self.bin_of[sel], weights=f[sel], minlength=self.n_bins) / self.count
 
 
-def _pieces(t):
+def _pieces(t, path):
+    """Index ranges of the contiguous pieces of at least MIN_PIECE s (cut at gaps)."""
     d = np.diff(t)
     if len(d) == 0:
         return []
     med = float(np.median(d))
     if not med > 0:
-        raise RecordingError('/joint_states: stamps do not increase')
-    cuts = np.flatnonzero((d > 1.5 * med) | (d <= 0)) + 1
+        raise RecordingError(f'{path}: /joint_states: stamps do not increase')
+    cuts = np.flatnonzero((d > GAP * med) | (d <= 0)) + 1
     bounds = np.concatenate(([0], cuts, [len(t)]))
     return [(int(a), int(b)) for a, b in zip(bounds[:-1], bounds[1:])
             if b - a >= 2 and t[b - 1] - t[a] >= MIN_PIECE]
+
+
+def _grid(t):
+    """Return the piece's sample time and its uniform grid (None: the stamps are one)."""
+    dt = float(np.median(np.diff(t)))
+    m = int(np.floor((t[-1] - t[0]) / dt + 1e-6)) + 1
+    grid = t[0] + np.arange(m) * dt
+    if m == len(t) and np.max(np.abs(t - grid)) <= REGULAR * dt:
+        return dt, None
+    return dt, grid
 
 
 def load_data(paths, gear, joint_name=None, n_blocks=N_BLOCKS, progress=None):
@@ -139,7 +163,8 @@ def load_data(paths, gear, joint_name=None, n_blocks=N_BLOCKS, progress=None):
     gear : GearParams
         The base gear (inertia, lever when there is no ``/link_torque``).
     joint_name : str, optional
-        Joint to read (default: the gear's joint name if present, else the first).
+        Joint to read (default: the gear's joint name; a recording without it is an
+        error naming the joints it has).
     n_blocks : int, optional
         Number of contiguous cross-validation blocks (default :data:`N_BLOCKS`).
     progress : callable, optional
@@ -148,52 +173,49 @@ def load_data(paths, gear, joint_name=None, n_blocks=N_BLOCKS, progress=None):
     Raises
     ------
     RecordingError
-        Unreadable recording, missing topic, NaN (from :func:`read_recording`).
+        Unreadable or corrupt recording, missing topic or joint, NaN, time stamps that go
+        backwards, absurd values (from :func:`read_recording`, naming the file).
     ExcitationError
         Too little sliding motion to fit and cross-validate a model.
 
     """
     if not paths:
         raise RecordingError('no recordings given')
-    recs = []
-    for path in paths:
-        try:
-            rec = read_recording(path, joint_name=joint_name or gear.joint_name)
-        except RecordingError as exc:
-            if joint_name is None and 'names joint' in str(exc):
-                rec = read_recording(path)
-            else:
-                raise
-        recs.append(rec)
+    joint = gear.joint_name if joint_name is None else joint_name
+    recs = [read_recording(path, joint_name=joint) for path in paths]
     cols = {k: [] for k in ('t', 'q', 'qf', 'qd', 'qdd', 'effort', 'tau_ext', 'xi', 'dt',
                             'piece')}
     have_link = all(r.link_torque is not None and len(r.link_torque) > 1 for r in recs)
     n_piece = 0
     for rec in recs:
         js = rec.joint_states
-        pieces = _pieces(js.t)
+        pieces = _pieces(js.t, rec.path)
         if not pieces:
             raise ExcitationError(f'{rec.path}: no contiguous stretch of /joint_states of at '
                                   f'least {MIN_PIECE:g} s (recording {rec.duration:.2f} s long)')
         for a, b in pieces:
             t = js.t[a:b]
-            dt = float(np.median(np.diff(t)))
+            q, effort = js.q[a:b], js.effort[a:b]
+            dt, grid = _grid(t)
+            if grid is not None:                        # irregular stamps: resample
+                q, effort = np.interp(grid, t, q), np.interp(grid, t, effort)
+                t = grid
             cutoff = min(100.0, 0.2 / dt)
             try:
-                qd, qdd = zero_phase_derivatives(js.q[a:b], dt, cutoff=cutoff)
+                qd, qdd = zero_phase_derivatives(q, dt, cutoff=cutoff)
             except PreslidingDataError as exc:
                 raise ExcitationError(f'{rec.path}: {exc}') from None
             from scipy import signal
             bb, aa = signal.butter(2, cutoff, fs=1.0 / dt)
-            qf = signal.filtfilt(bb, aa, js.q[a:b])
+            qf = signal.filtfilt(bb, aa, q)
             if have_link:
                 te = np.interp(t, rec.link_torque.t, rec.link_torque.tau)
             else:
-                te = gear.mgl * np.sin(js.q[a:b])
-            for k, v in (('t', t), ('q', js.q[a:b]), ('qf', qf), ('qd', qd), ('qdd', qdd),
-                         ('effort', js.effort[a:b]), ('tau_ext', te),
-                         ('xi', rec.temperature_at(t)), ('dt', np.full(b - a, dt)),
-                         ('piece', np.full(b - a, n_piece))):
+                te = gear.mgl * np.sin(q)
+            for k, v in (('t', t), ('q', q), ('qf', qf), ('qd', qd), ('qdd', qdd),
+                         ('effort', effort), ('tau_ext', te),
+                         ('xi', rec.temperature_at(t)), ('dt', np.full(len(t), dt)),
+                         ('piece', np.full(len(t), n_piece))):
                 cols[k].append(v)
             n_piece += 1
     c = {k: np.concatenate(v) for k, v in cols.items()}

@@ -34,7 +34,7 @@ import yaml
 
 from .pipeline import diagnose, EFFECTS
 from ..gear import gear_from_dict, load_gear
-from ..output import json_bytes, render_png, write_files
+from ..output import json_bytes, OutputSet, render_png
 
 __all__ = ['figures', 'markdown', 'CAUSE_VARIABLES', 'run_diagnose']
 
@@ -252,9 +252,27 @@ def _gear_yaml(gear, header):
     return ''.join(f'# {ln}\n' for ln in header.splitlines()) + text
 
 
-def run_diagnose(paths, model_path, out, *, effects=EFFECTS, joint_name=None, progress=None):
-    """Diagnose and write the result directory; returns the paths written."""
+def run_diagnose(paths, model_path, out, *, effects=EFFECTS, joint_name=None, progress=None,
+                 force=False):
+    """
+    Diagnose and write the result directory ``out`` as a whole; returns the paths written.
+
+    ``out`` is checked before the work: an existing non-empty ``out`` is an error
+    unless ``force`` (then it is replaced as a whole, no file of an earlier run
+    remains), an ``out`` that is, contains or lies in an input always.  Everything
+    is computed and rendered first, then ``out`` is built next to its place and
+    renamed into it (:class:`~friction_joint.output.OutputSet`).
+    """
     start = time.perf_counter()
+    inputs = [('--model', model_path)] + [('recording', p) for p in paths]
+    with OutputSet(force=force, inputs=inputs) as outputs:
+        outputs.add_directory(out)
+        outputs.check()
+        return _diagnose_into(outputs, paths, model_path, out, start,
+                              effects=effects, joint_name=joint_name, progress=progress)
+
+
+def _diagnose_into(outputs, paths, model_path, out, start, *, effects, joint_name, progress):
     base = load_gear(model_path)
     diag = diagnose(paths, base, effects=effects, joint_name=joint_name, progress=progress)
     t0 = time.perf_counter()
@@ -274,7 +292,8 @@ def run_diagnose(paths, model_path, out, *, effects=EFFECTS, joint_name=None, pr
     targets = figs + [('report.md', md.encode('utf-8')),
                       ('extended.yaml', gear_text.encode('utf-8')),
                       ('report.json', json_bytes(rep))]
-    paths_written = write_files(out, targets)
+    outputs.write_directory(out, targets)
+    paths_written = outputs.publish()
     if progress:
         progress('timing: ' + ', '.join(f'{k} {v:.2f} s' for k, v in rep['timing'].items()))
     return paths_written

@@ -16,13 +16,19 @@
 Figures and files of the classic LuGre experiments (:mod:`friction_joint.experiments.classic`).
 
 :func:`write_experiment` takes the result of an experiment function and writes
-``NAME.png`` and ``NAME.json``.
+``NAME.png`` and ``NAME.json``; :func:`run_classic` runs the experiment and
+writes them (the ``classic`` command).  The output of one experiment is that
+pair of files, not the directory: several experiments share one directory
+(``demo`` writes all four into ``classic/``), and an existing ``NAME.png`` or
+``NAME.json`` is an error unless ``force`` (see :class:`~friction_joint.output.OutputSet`).
 """
+import os
+
 import numpy as np
 
-from ..output import json_bytes, render_png, write_files
+from ..output import json_bytes, OutputSet, render_png
 
-__all__ = ['FIGURES', 'write_experiment']
+__all__ = ['FIGURES', 'write_experiment', 'run_classic']
 
 
 PLOT_POINTS = 20000   # series are thinned to about this many points per line
@@ -130,13 +136,29 @@ def _draw(name, result):
     return draw
 
 
-def write_experiment(name, result, out_dir):
-    """
-    Write ``out_dir/name.png`` and ``out_dir/name.json`` atomically.
+def _declare(outputs, name, out_dir):
+    paths = tuple(os.path.join(os.fspath(out_dir), name + ext) for ext in ('.png', '.json'))
+    for path in paths:
+        outputs.add_file(path)
+    outputs.check()
+    return paths
 
-    Both files are rendered in memory and written to temporary files in
-    ``out_dir`` first; only then are they renamed into place (os.replace),
-    so an error leaves no partial result.  ``out_dir`` is created if missing.
+
+def _write(outputs, name, result, paths):
+    png = render_png(_draw(name, result), (10, 5) if name != 'stick-slip' else (9, 6.5), dpi=110)
+    outputs.write_file(paths[0], png)
+    outputs.write_file(paths[1], json_bytes(result['summary']))
+    return tuple(outputs.publish())
+
+
+def write_experiment(name, result, out_dir, *, force=False):
+    """
+    Write ``out_dir/name.png`` and ``out_dir/name.json``, together or not at all.
+
+    Both files are rendered in memory and staged next to their place first;
+    only then are they renamed into place, so an error leaves no partial
+    result.  ``out_dir`` is created if missing and may hold other files; an
+    existing ``name.png`` or ``name.json`` is an error unless ``force``.
 
     Returns
     -------
@@ -144,6 +166,23 @@ def write_experiment(name, result, out_dir):
         Paths of the PNG and JSON files.
 
     """
-    png = render_png(_draw(name, result), (10, 5) if name != 'stick-slip' else (9, 6.5), dpi=110)
-    return tuple(write_files(out_dir, [(name + '.png', png),
-                                       (name + '.json', json_bytes(result['summary']))]))
+    with OutputSet(force=force) as outputs:
+        return _write(outputs, name, result, _declare(outputs, name, out_dir))
+
+
+def run_classic(name, out_dir, *, force=False):
+    """
+    Run classic experiment ``name`` and write its files (as :func:`write_experiment`).
+
+    The outputs are checked before the experiment runs.
+
+    Returns
+    -------
+    tuple of str
+        Paths of the PNG and JSON files.
+
+    """
+    from .classic import EXPERIMENTS
+    with OutputSet(force=force) as outputs:
+        paths = _declare(outputs, name, out_dir)
+        return _write(outputs, name, EXPERIMENTS[name](), paths)

@@ -43,15 +43,18 @@ and ``figures`` (file name -> function drawing on a matplotlib Figure).
 experiment is adding an entry.
 
 The command ``friction_joint experiment NAME --model M.yaml --truth T.yaml
---out DIR [--duration-scale X]`` runs one and writes its PNG figures and
-``DIR/summary.json``, all atomically (temporary files renamed into place,
-the JSON last).  ``--duration-scale`` multiplies every duration (settling,
-evaluation window, chirp length) and is meant for quick test runs.
+--out DIR [--duration-scale X] [--force]`` runs one and writes its PNG figures
+and ``DIR/summary.json``: DIR is the command's output as a whole (built next
+to it and renamed into place; an existing non-empty DIR is an error unless
+``--force``, which replaces it, see :class:`~friction_joint.output.OutputSet`).
+``--duration-scale`` multiplies every duration (settling, evaluation window,
+chirp length) and is meant for quick test runs.
 
 ``identification`` (Section V-A) is different: it only needs ``--truth`` and
 writes a *recording* (``--out BAG``, a rosbag2 MCAP directory or ``.mcap``
 file) of the identification excitation of :mod:`friction_joint.experiments.excitation`
-for ``friction_joint identify``.
+for ``friction_joint identify``, under the same rules (``--force`` replaces an
+existing recording as a whole).
 """
 import os
 import time
@@ -62,7 +65,7 @@ from .compensation import compensation
 from .estimation import estimation
 from ..exceptions import ExperimentError
 from ..gear import load_gear
-from ..output import write_results
+from ..output import OutputSet, result_files
 
 __all__ = ['EXPERIMENTS', 'identification', 'run_experiment']
 
@@ -107,14 +110,18 @@ EXPERIMENTS = {
 }
 
 
-def run_experiment(name, model_path, truth_path, out_dir, duration_scale=1.0, progress=None):
+def run_experiment(name, model_path, truth_path, out_dir, duration_scale=1.0, progress=None, *,
+                   force=False):
     """
     Load the gear files, run experiment ``name`` and write its results.
 
     ``model_path`` may be None for experiments that do not use a model
     (``identification``).  Experiments with ``output == 'recording'`` write a
-    rosbag2 recording at ``out_dir`` (which must not exist); the others write
-    their figures and ``summary.json`` into the directory ``out_dir``.
+    rosbag2 recording at ``out_dir`` (a directory, or a file if the name ends in
+    ``.mcap``); the others write the directory ``out_dir`` with their figures and
+    ``summary.json``.  Either is one output: an existing one (not an empty
+    directory) is an error unless ``force``, which replaces it as a whole; one
+    that is, contains or lies in ``model_path`` or ``truth_path`` always.
 
     Returns
     -------
@@ -128,24 +135,31 @@ def run_experiment(name, model_path, truth_path, out_dir, duration_scale=1.0, pr
     scale = check_scale(duration_scale)
     if exp.needs_model and model_path is None:
         raise ExperimentError(f'experiment {name} needs --model (the identified model gear file)')
-    if exp.output == 'recording' and os.path.lexists(out_dir):
-        raise ExperimentError(f'{out_dir} exists already: the {name} experiment writes a new '
-                              'recording there; choose another --out')
-    model = load_gear(model_path) if model_path is not None else None
-    truth = load_gear(truth_path)
-    start = time.perf_counter()
-    if exp.output == 'recording':
-        from ..bag import write_recording
-        topics, summary = exp.func(model, truth, scale, progress=progress)
-        path = write_recording(out_dir, topics, joint_name=truth.joint_name)
-        summary['wall_time_s'] = time.perf_counter() - start
-        if progress is not None:
-            progress(f'{len(summary.get("plateaus", []))} plateaus planned, '
-                     f'{summary.get("duration_s", 0.0):.1f} s simulated in '
-                     f'{summary["wall_time_s"]:.1f} s')
-        return [path]
-    result = exp.func(model, truth, scale)
-    result.summary['model_file'] = os.path.abspath(model_path)
-    result.summary['truth_file'] = os.path.abspath(truth_path)
-    result.summary['wall_time_s'] = time.perf_counter() - start
-    return write_results(result, out_dir, error=ExperimentError)
+    out_dir = os.fspath(out_dir)
+    inputs = [('--model', model_path), ('--truth', truth_path)]
+    with OutputSet(force=force, inputs=inputs, error=ExperimentError) as outputs:
+        if exp.output == 'recording' and out_dir.endswith('.mcap'):
+            outputs.add_file(out_dir)
+        else:
+            outputs.add_directory(out_dir)
+        outputs.check()
+        model = load_gear(model_path) if model_path is not None else None
+        truth = load_gear(truth_path)
+        start = time.perf_counter()
+        if exp.output == 'recording':
+            from ..bag import write_recording
+            topics, summary = exp.func(model, truth, scale, progress=progress)
+            write_recording(outputs.staging_path(out_dir), topics, joint_name=truth.joint_name)
+            written = outputs.publish()
+            summary['wall_time_s'] = time.perf_counter() - start
+            if progress is not None:
+                progress(f'{len(summary.get("plateaus", []))} plateaus planned, '
+                         f'{summary.get("duration_s", 0.0):.1f} s simulated in '
+                         f'{summary["wall_time_s"]:.1f} s')
+            return written
+        result = exp.func(model, truth, scale)
+        result.summary['model_file'] = os.path.abspath(model_path)
+        result.summary['truth_file'] = os.path.abspath(truth_path)
+        result.summary['wall_time_s'] = time.perf_counter() - start
+        outputs.write_directory(out_dir, result_files(result))
+        return outputs.publish()

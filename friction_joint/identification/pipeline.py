@@ -17,9 +17,12 @@ The ``identify`` command: recordings -> identified gear file + report (seed Sect
 
     friction_joint identify RECORDING [RECORDING ...] --model STRUCTURE.yaml --out GEAR.yaml
                             [--orders auto] [--report DIR] [--presliding auto|skip|require]
+                            [--joint NAME] [--force]
 
-1. Reads the recordings (rosbag2 directories or ``.mcap`` files) and finds
-   their constant-velocity plateaus (:mod:`friction_joint.identification.plateaus`).
+1. Reads the joint ``--joint`` (default the structure's ``joint_name``) from the
+   recordings (rosbag2 directories or ``.mcap`` files; a recording without that
+   joint is an error, there is no fallback to another joint) and finds their
+   constant-velocity plateaus (:mod:`friction_joint.identification.plateaus`).
 2. Steps 1 and 2: the static curve's temperature and load coefficients
    (:class:`~friction_joint.identification.static_fit.StaticIdentifier`), in the structure of
    STRUCTURE.yaml (or with orders chosen by held-out error, ``--orders auto``).
@@ -37,21 +40,26 @@ The ``identify`` command: recordings -> identified gear file + report (seed Sect
    pre-sliding experiment in the data, or a model that cannot describe the
    gear); the header and report say so.
 4. Writes the report directory (default ``GEAR_report/`` next to GEAR.yaml:
-   figures after Fig. 3 and 4, ``identification.json``) and then GEAR.yaml
+   figures after Fig. 3 and 4, ``identification.json``) and GEAR.yaml
    (:func:`~friction_joint.gear.save_gear`): the structure file with the
-   identified coefficients, ``friction.temperature_range`` set to the
-   recorded temperature range, every other section kept, and the parameters
-   with their standard errors in the header comments.  Every file is written
-   atomically; GEAR.yaml last.
+   identified coefficients, ``joint_name`` the joint identified,
+   ``friction.temperature_range`` set to the recorded temperature range, every
+   other section kept, and the parameters with their standard errors in the
+   header comments.  The two are one set of outputs
+   (:class:`~friction_joint.output.OutputSet`): checked before the work (an
+   existing one is refused unless ``force``, one that is an input always),
+   then published together or not at all, the old set replaced as a whole.
 
 STRUCTURE.yaml's coefficient *values* are not used, only its list lengths
 (the model structure), ``delta_s``, ``velocity_scale``, inertia (J qdd) and
 lever (tau_ext when a recording has no ``/link_torque``).  A structure file
 without a ``delta_v`` key means linear viscous friction: delta_v stays 1.
 """
+import dataclasses
 import datetime
 import importlib.util
 import os
+import tempfile
 import time
 import warnings
 
@@ -60,11 +68,12 @@ import yaml
 
 from .plateaus import find_plateaus, Plateaus
 from .static_fit import StaticIdentifier
+from .._filters import zero_phase_derivatives
 from ..bag import read_recording
 from ..exceptions import (ExcitationError, FrictionJointError, GearConfigWarning,
                           RecordingError)
 from ..gear import load_gear, save_gear
-from ..output import ExperimentResult, json_clean, write_results
+from ..output import ExperimentResult, json_clean, OutputSet, result_files
 
 __all__ = ['IdentificationRun', 'identify_recordings', 'run_identify',
            'MAX_PRESLIDING_ERROR']
@@ -125,7 +134,9 @@ def _declared_friction_keys(path):
         with open(path, encoding='utf-8') as fh:
             doc = yaml.safe_load(fh)
         params = doc['/**']['ros__parameters']
-    except (OSError, yaml.YAMLError, KeyError, TypeError):
+    except (OSError, ValueError, yaml.YAMLError, KeyError, TypeError):
+        return None
+    if not isinstance(params, dict):
         return None
     keys = set()
     fr = params.get('friction')
@@ -148,19 +159,7 @@ def _read(path, joint_name):
         raise
 
 
-def _read_joint(path, joint_name, structure):
-    """Return the recording's joint ``joint_name``, else the structure's, else its first joint."""
-    if joint_name is not None:
-        return _read(path, joint_name)
-    try:
-        return _read(path, structure.joint_name)
-    except RecordingError as exc:
-        if 'names joint' not in str(exc):
-            raise
-    return _read(path, None)
-
-
-def _presliding_pieces(recording, gear, ps):
+def _presliding_pieces(recording, gear):
     """Contiguous, equally spaced pieces of a recording as pre-sliding input arrays."""
     js = recording.joint_states
     t = js.t
@@ -176,7 +175,7 @@ def _presliding_pieces(recording, gear, ps):
             continue
         tt = t[a:b]
         dt = float(np.median(np.diff(tt)))
-        qd, qdd = ps.zero_phase_derivatives(js.q[a:b], dt)
+        qd, qdd = zero_phase_derivatives(js.q[a:b], dt)
         if recording.link_torque is not None and len(recording.link_torque) > 1:
             tau_ext = np.interp(tt, recording.link_torque.t, recording.link_torque.tau)
         else:
@@ -201,17 +200,18 @@ def _step3(gear, recordings, mode, progress):
         if mode == 'require':
             raise FrictionJointError(f'step 3: {reason}')
         return gear, {'status': 'skipped', 'reason': reason}
-    from . import presliding as ps
+    from .presliding import fit_presliding
+    from .presliding_data import EXPERIMENT_ADVICE, presliding_segments
     result = {'status': 'done', 'models': {}}
     try:
-        pieces = [p for r in recordings for p in _presliding_pieces(r, gear, ps)]
+        pieces = [p for r in recordings for p in _presliding_pieces(r, gear)]
         for model in models:
             cols = {k: [] for k in ('t', 'q', 'qd', 'tau_r', 'xi', 'tau_l')}
             errors = []
             for piece in pieces:
                 try:
-                    segs = ps.presliding_segments(piece['t'], piece['qd'], gear=gear, model=model,
-                                                  xi=piece['xi'])
+                    segs = presliding_segments(piece['t'], piece['qd'], gear=gear, model=model,
+                                               xi=piece['xi'])
                 except ExcitationError as exc:
                     errors.append(str(exc))
                     continue
@@ -223,15 +223,15 @@ def _step3(gear, recordings, mode, progress):
             if not cols['t']:
                 raise ExcitationError(errors[0] if errors else
                                       'no slow velocity reversals in the recordings: '
-                                      + ps.EXPERIMENT_ADVICE)
+                                      + EXPERIMENT_ADVICE)
             if progress:
                 progress(f'step 3 ({model}): pattern search on {len(cols["t"])} pre-sliding '
                          f'segments ({sum(len(x) for x in cols["t"])} samples)')
             t0 = time.perf_counter()
             with warnings.catch_warnings():          # kept in fit.report['warnings']
                 warnings.simplefilter('ignore', GearConfigWarning)
-                fit = ps.fit_presliding(cols['t'], cols['qd'], cols['tau_r'], cols['xi'],
-                                        cols['tau_l'], gear, model=model, q=cols['q'])
+                fit = fit_presliding(cols['t'], cols['qd'], cols['tau_r'], cols['xi'],
+                                     cols['tau_l'], gear, model=model, q=cols['q'])
             scale = float(np.sqrt(np.mean(np.concatenate(cols['tau_r']) ** 2)))
             rel = fit.report['objective_final'] / max(scale, 1e-12)
             if rel > MAX_PRESLIDING_ERROR:
@@ -244,7 +244,7 @@ def _step3(gear, recordings, mode, progress):
                     'time_s': time.perf_counter() - t0}
                 if mode == 'require':
                     raise ExcitationError(f'step 3: {result["models"][model]["reason"]}; '
-                                          + ps.EXPERIMENT_ADVICE)
+                                          + EXPERIMENT_ADVICE)
                 if progress:
                     progress(f'step 3 ({model}): {result["models"][model]["reason"]}')
                 continue
@@ -296,8 +296,9 @@ def identify_recordings(paths, structure, *, orders=None, joint_name=None, detec
     orders : None, 'auto' or dict
         See :class:`~friction_joint.identification.static_fit.StaticIdentifier`.
     joint_name : str, optional
-        Joint to pick from the recordings (default: the structure's joint name if the
-        recording has it, else the recording's first joint).
+        Joint to pick from the recordings (default: the structure's ``joint_name``); a
+        recording without it is a :class:`~friction_joint.exceptions.RecordingError`.
+        The identified gear is named for it.
     detection : dict, optional
         Plateau detection options (:data:`friction_joint.identification.plateaus.DETECTION`).
     presliding : {'auto', 'skip', 'require'}
@@ -315,16 +316,19 @@ def identify_recordings(paths, structure, *, orders=None, joint_name=None, detec
     timings = {}
     fixed = ()
     if isinstance(structure, str):
-        keys = _declared_friction_keys(structure)
-        structure = load_gear(structure)
+        path = structure
+        structure = load_gear(path)              # a malformed file: GearConfigError first
+        keys = _declared_friction_keys(path)
         if keys is not None and 'delta_v' not in keys:
             fixed = ('delta_v',)
     if not paths:
         raise RecordingError('no recordings given')
+    if joint_name is not None and joint_name != structure.joint_name:
+        structure = structure.replace({'joint_name': joint_name})
     t0 = time.perf_counter()
     recordings, parts = [], []
     for path in paths:
-        rec = _read_joint(path, joint_name, structure)
+        rec = _read(path, structure.joint_name)
         recordings.append(rec)
         part = find_plateaus(rec, structure, detection)
         parts.append(part)
@@ -359,7 +363,7 @@ def _header(run, paths, structure_path):
     lines = [
         f'Identified by "friction_joint identify" (seed paper Section V-A) on '
         f'{datetime.date.today().isoformat()}',
-        'from: ' + ', '.join(os.path.abspath(x) for x in paths),
+        'from: ' + ', '.join(paths) + f' (joint {run.gear.joint_name!r})',
         f'  {len(p)} constant-velocity plateaus, |qd| {np.abs(p.qd).min():.3g}..'
         f'{np.abs(p.qd).max():.3g} rad/s, xi {p.xi.min():.2f}..{p.xi.max():.2f} degC, '
         f'tau_L {p.load.min():.2f}..{p.load.max():.2f} Nm',
@@ -393,10 +397,48 @@ def _header(run, paths, structure_path):
     return '\n'.join(lines)
 
 
+def _relocated(obj, relocate):
+    """Return ``obj`` (plain JSON types) with every string passed through ``relocate``."""
+    if isinstance(obj, dict):
+        return {k: _relocated(v, relocate) for k, v in obj.items()}
+    if isinstance(obj, (list, tuple)):
+        return [_relocated(v, relocate) for v in obj]
+    return relocate(obj) if isinstance(obj, str) else obj
+
+
+def _gear_bytes(gear, header):
+    """Return the gear file's text (UTF-8), checked to load as every node loads it."""
+    with tempfile.TemporaryDirectory() as d:
+        path = os.path.join(d, 'gear.yaml')
+        save_gear(gear, path, header=header)
+        load_gear(path)
+        with open(path, 'rb') as fh:
+            return fh.read()
+
+
 def run_identify(paths, model_path, out, *, orders=None, report_dir=None, presliding='auto',
-                 joint_name=None, progress=None):
+                 joint_name=None, progress=None, force=False, relocate=None):
     """
-    Run the identification and write the report directory and GEAR.yaml.
+    Run the identification and write GEAR.yaml and its report directory, one set of outputs.
+
+    Parameters
+    ----------
+    paths : sequence of str
+        Recordings.
+    model_path : str
+        The structure gear file.
+    out : str
+        GEAR.yaml to write.
+    orders, presliding, joint_name, progress
+        As for :func:`identify_recordings`.
+    report_dir : str, optional
+        Report directory (default ``GEAR_report`` next to GEAR.yaml).
+    force : bool
+        Replace an existing GEAR.yaml and report directory (as a whole); without it
+        either existing is an error, checked before the work.
+    relocate : callable, optional
+        Maps the absolute paths named in the header and report to the paths they will
+        have (for a caller that builds everything in a staging directory, ``demo``).
 
     Returns
     -------
@@ -406,28 +448,35 @@ def run_identify(paths, model_path, out, *, orders=None, report_dir=None, presli
     """
     start = time.perf_counter()
     out = os.fspath(out)
-    if os.path.isdir(out):
-        raise FrictionJointError(f'--out {out} is a directory; give the gear file to write')
-    run = identify_recordings(paths, model_path, orders=orders, joint_name=joint_name,
-                              presliding=presliding, progress=progress)
+    where = relocate or (lambda path: path)
     if report_dir is None:
         stem = os.path.splitext(os.path.basename(out))[0]
         report_dir = os.path.join(os.path.dirname(os.path.abspath(out)), f'{stem}_report')
-    from .report import identification_figures
-    t0 = time.perf_counter()
-    rep = run.report()
-    rep['structure_file'] = os.path.abspath(model_path)
-    rep['gear_file'] = os.path.abspath(out)
-    figures = identification_figures(run.identifier, run.recordings, run.presliding)
-    rep['timings']['time_total_s'] = time.perf_counter() - start
-    written = write_results(ExperimentResult(rep, figures), report_dir,
-                            json_name='identification.json')
+    inputs = [('--model', model_path)] + [('recording', p) for p in paths]
+    with OutputSet(force=force, inputs=inputs) as outputs:
+        outputs.add_directory(report_dir, label='--report')
+        outputs.add_file(out, label='--out')
+        outputs.check()
+        run = identify_recordings(paths, model_path, orders=orders, joint_name=joint_name,
+                                  presliding=presliding, progress=progress)
+        if relocate is not None:
+            run.recordings = [dataclasses.replace(r, path=relocate(os.path.abspath(r.path)))
+                              for r in run.recordings]
+        from .report import identification_figures
+        t0 = time.perf_counter()
+        rep = run.report()
+        rep['structure_file'] = os.path.abspath(model_path)
+        rep['gear_file'] = where(os.path.abspath(out))
+        rep['joint_name'] = run.gear.joint_name
+        figures = identification_figures(run.identifier, run.recordings, run.presliding)
+        rep['timings']['time_total_s'] = time.perf_counter() - start
+        if relocate is not None:
+            rep = _relocated(rep, relocate)
+        outputs.write_directory(report_dir, result_files(ExperimentResult(rep, figures),
+                                                         'identification.json'))
+        header = _header(run, [where(os.path.abspath(x)) for x in paths], model_path)
+        outputs.write_file(out, _gear_bytes(run.gear, header))
+        written = outputs.publish()
     if progress:
         progress(f'report: {report_dir} ({time.perf_counter() - t0:.1f} s)')
-    os.makedirs(os.path.dirname(os.path.abspath(out)), exist_ok=True)
-    try:
-        save_gear(run.gear, out, header=_header(run, paths, model_path))
-    except OSError as exc:
-        raise FrictionJointError(f'cannot write {out}: {exc.strerror}') from None
-    load_gear(out)                      # the file must load in every node
-    return written + [out]
+    return written

@@ -63,6 +63,7 @@ import math
 
 import numpy as np
 
+from ..bag import check_samples, check_values
 from ..exceptions import ExcitationError, RecordingError
 
 __all__ = ['DETECTION', 'Plateaus', 'find_plateaus', 'plateaus_from_arrays']
@@ -291,7 +292,7 @@ def _segments(t, qd, tau_r, opt):
 
 
 def plateaus_from_arrays(t, q, qd, effort, xi, tau_ext, *, inertia, options=None, source='arrays',
-                         torque_source='given'):
+                         torque_source='given', check=True):
     """
     Find plateaus in sampled arrays (the engine of :func:`find_plateaus`).
 
@@ -312,10 +313,20 @@ def plateaus_from_arrays(t, q, qd, effort, xi, tau_ext, *, inertia, options=None
     torque_source : str
         Where tau_ext came from (e.g. ``'link_torque'`` or ``'lever_model'``), kept as
         the plateaus' ``torque_source``.
+    check : bool
+        Reject absurd samples (:func:`friction_joint.bag.check_samples`: a value millions
+        of robust spreads off, a velocity the position does not show) before fitting.
 
     Returns
     -------
     Plateaus
+
+    Raises
+    ------
+    ExcitationError
+        Arrays of different lengths, NaN/inf, unknown options.
+    RecordingError
+        An absurd sample (named with ``source``, the field and its time).
 
     """
     opt = dict(DETECTION)
@@ -333,6 +344,9 @@ def plateaus_from_arrays(t, q, qd, effort, xi, tau_ext, *, inertia, options=None
             raise ExcitationError(f'{name} has {len(a)} samples, t has {n}')
         if not np.all(np.isfinite(a)):
             raise ExcitationError(f'{source}: {name} contains NaN or inf')
+    if check:
+        check_samples(source, t, {'q': q, 'qd': qd, 'effort': effort, 'xi': xi,
+                                  'tau_ext': tau_ext}, position=('q', 'qd'))
     if n < 3:
         return Plateaus.empty((source,), (torque_source,))
     dts = np.diff(t)
@@ -391,9 +405,11 @@ def find_plateaus(recording, structure, options=None):
     Raises
     ------
     RecordingError
-        The recording has no temperature samples.
+        The recording has no temperature samples, or an absurd sample
+        (:func:`friction_joint.bag.check_values`, naming the file, topic, field and time).
 
     """
+    check_values(recording)
     js = recording.joint_states
     if recording.temperature is None or len(recording.temperature) == 0:
         raise RecordingError(f'{recording.path}: no /joint_temperature samples: the '
@@ -408,4 +424,4 @@ def find_plateaus(recording, structure, options=None):
         tsrc = 'lever_model'
     return plateaus_from_arrays(js.t, js.q, js.qd, js.effort, xi, tau_ext,
                                 inertia=structure.inertia, options=options,
-                                source=recording.path, torque_source=tsrc)
+                                source=recording.path, torque_source=tsrc, check=False)

@@ -16,7 +16,7 @@
 Figures of an identification, after the seed paper's Fig. 3 and Fig. 4.
 
 :func:`identification_figures` returns ``{file name: (draw, size)}`` for
-:func:`friction_joint.experiments.paper.write_results`:
+:func:`friction_joint.output.result_files`:
 
 * ``fig3a_temperature_curves.png`` -- per temperature group: the plateau
   data (markers, load effect removed with the identified load terms) and

@@ -23,9 +23,20 @@ A node's own parameters are declared with a description, their range where
 one applies, and read-only unless the node accepts them at run time
 (:func:`parameter_guard`).  ``use_sim_time`` and the standard
 ``qos_overrides.*`` parameters are accepted besides.
+
+rcl parses ``--params-file`` itself, with other rules than the command line's
+reader (``2e4`` a number, ``[2, 0.01]`` an error at ``rclpy.init``, a
+duplicate key the last value).  :func:`prepare_ros_args` therefore reads every
+params file with the package's reader before ``rclpy.init`` and hands rcl a
+normalized copy, so a node and the command line read a gear file alike and a
+bad file is a :class:`~friction_joint.exceptions.GearConfigError` naming it.
 """
 import array
 import math
+import os
+import shutil
+import sys
+import tempfile
 
 from rcl_interfaces.msg import (FloatingPointRange, IntegerRange, ParameterDescriptor,
                                 SetParametersResult)
@@ -34,8 +45,11 @@ from rclpy.parameter import Parameter
 
 from ..exceptions import GearConfigError
 from ..gear import gear_from_flat, SCHEMA, Section
+from ..gear.files import format_ros_params, read_ros_params_file
+from ..gear.strict_yaml import parse_yaml_text
 
-__all__ = ['gear_keys', 'declare_gear', 'declare_node_params', 'parameter_guard', 'describe']
+__all__ = ['gear_keys', 'declare_gear', 'declare_node_params', 'parameter_guard', 'describe',
+           'prepare_ros_args']
 
 #: parameter names accepted besides the gear keys and a node's own
 STANDARD = ('use_sim_time',)
@@ -117,7 +131,10 @@ def declare_node_params(node, defaults, validators=None, descriptors=None):
     Declare the node's own parameters; return {name: value}.
 
     ``defaults`` maps names to default values (their type is the parameter's
-    type; ints are accepted where a float is expected).  ``validators`` maps
+    type; ints are accepted where a float is expected, a float where an int
+    is expected is an error, and a NaN default accepts NaN as "unset").  A
+    value of the wrong type is a :class:`GearConfigError` naming the
+    parameter (one line, exit 2 from the node).  ``validators`` maps
     names to ``f(value) -> error message or None``; ``descriptors`` names to
     :class:`ParameterDescriptor` (:func:`describe`).
     """
@@ -139,16 +156,24 @@ def declare_node_params(node, defaults, validators=None, descriptors=None):
     return values
 
 
+def _short(value):
+    text = repr(value)
+    return text if len(text) <= 60 else text[:57] + '...'
+
+
 def _check(name, value, default, validators):
     if isinstance(default, bool) != isinstance(value, bool):
-        return f'expected {type(default).__name__}, got {value!r}'
+        return f'expected {type(default).__name__}, got {_short(value)}'
     if isinstance(default, float):
         if isinstance(value, bool) or not isinstance(value, (int, float)):
-            return f'expected a number, got {value!r}'
-        if not math.isfinite(value):
-            return f'must be finite, got {value}'
+            return f'expected a number, got {_short(value)}'
+        if not math.isfinite(value) and not (math.isnan(default) and math.isnan(value)):
+            return f'must be finite, got {value}'          # a NaN default: NaN means unset
+    elif isinstance(default, int) and not isinstance(default, bool):
+        if isinstance(value, bool) or not isinstance(value, int):
+            return f'expected an integer, got {_short(value)}'
     elif isinstance(default, str) and not isinstance(value, str):
-        return f'expected a string, got {value!r}'
+        return f'expected a string, got {_short(value)}'
     v = validators.get(name)
     return v(value) if v else None
 
@@ -180,3 +205,104 @@ def parameter_guard(node, defaults, validators, apply):
             apply(p.name, value)
         return SetParametersResult(successful=True)
     node.add_on_set_parameters_callback(callback)
+
+
+#: ROS arguments followed by a value (skipped when looking for ``--params-file``)
+_VALUE_FLAGS = ('-r', '--remap', '-e', '--enclave', '--log-level', '--log-config-file',
+                '--log-file-name')
+_PARAM_FLAGS = ('-p', '--param')
+
+
+def _ros_arguments(argv):
+    """Yield (flag, index of its value) for the flags inside ``--ros-args ... [--]``."""
+    i, inside = 0, False
+    while i < len(argv):
+        arg = argv[i]
+        if arg == '--ros-args':
+            inside = True
+        elif inside and arg == '--':
+            inside = False
+        elif inside and arg in ('--params-file',) + _VALUE_FLAGS + _PARAM_FLAGS:
+            yield arg, i + 1
+            i += 1
+        i += 1
+
+
+def _one_type_list(assignment):
+    """``-p name:=[2, 0.01]`` -> ``name:=[2.0, 0.01]`` (rcl refuses a list of int and float)."""
+    name, sep, text = assignment.partition(':=')
+    if not sep or not text.lstrip().startswith('['):
+        return assignment
+    try:
+        value = parse_yaml_text(text, f'-p {name}')
+    except GearConfigError:
+        return assignment                               # rcl reports its own syntax errors
+    numbers = isinstance(value, list) and value and all(
+        isinstance(v, (int, float)) and not isinstance(v, bool) for v in value)
+    if not numbers or not any(isinstance(v, float) for v in value) or all(
+            isinstance(v, float) for v in value):
+        return assignment
+    return f'{name}:=[{", ".join(repr(float(v)) for v in value)}]'
+
+
+def prepare_ros_args(args=None):
+    """
+    Read every ``--params-file`` with the package's reader; return rcl-ready args and a cleanup.
+
+    Each ``--params-file PATH`` inside ``--ros-args`` is read with
+    :func:`~friction_joint.gear.files.read_ros_params_file` (the command
+    line's YAML reader and gear schema) and replaced by a normalized copy in
+    a temporary directory, written so that rcl parses exactly what the reader
+    read (floats as floats, strings quoted).  ``-p name:=[...]`` lists of
+    integers and floats become float lists.  Call before ``rclpy.init``; call
+    ``cleanup()`` once ``rclpy.init`` has parsed the files (it removes the
+    copies).
+
+    Parameters
+    ----------
+    args : list of str, optional
+        The command line (default ``sys.argv``), as ``rclpy.init`` takes it.
+
+    Returns
+    -------
+    (list of str, callable)
+        The arguments to give ``rclpy.init`` (``args`` itself when there is
+        nothing to change) and the cleanup function.
+
+    Raises
+    ------
+    GearConfigError
+        A params file is missing, unreadable, not UTF-8 YAML, too large, has
+        a duplicate key, or a gear key it gives is invalid; the message names
+        the file.  Nothing is left behind.
+
+    """
+    argv = list(sys.argv if args is None else args)
+    found = list(_ros_arguments(argv))
+    files = [i for flag, i in found if flag == '--params-file']
+    params = [i for flag, i in found if flag in _PARAM_FLAGS and i < len(argv)]
+    if any(i >= len(argv) for i in files):
+        raise GearConfigError('--params-file needs a file path after it')
+    out = list(argv)
+    for i in params:
+        out[i] = _one_type_list(argv[i])
+    if not files:
+        return (args if out == argv else out), (lambda: None)
+    tmpdir = None
+
+    def cleanup():
+        if tmpdir is not None:
+            shutil.rmtree(tmpdir, ignore_errors=True)
+
+    try:
+        texts = [format_ros_params(read_ros_params_file(argv[i])) for i in files]
+        tmpdir = tempfile.mkdtemp(prefix='friction_joint-params-')
+        for n, (i, text) in enumerate(zip(files, texts)):
+            path = os.path.join(tmpdir, f'{n}-{os.path.basename(argv[i]) or "params"}')
+            with open(path, 'w', encoding='utf-8') as fh:
+                fh.write(text)
+            out[i] = path
+    except BaseException:
+        cleanup()
+        raise
+    return out, cleanup

@@ -25,10 +25,13 @@ of more than half.  Every message is written in the callback that takes it, so
 the counts received and written are the same number.
 
 Stopping (SIGINT, SIGTERM or ``--duration``) first drains what DDS has already
-received, then finalises the bag: every message received is written, and the
-counts are printed.  A second signal skips the drain.  The bag is written into a
-temporary directory next to ``OUT`` and renamed when complete, so ``OUT`` is
-either a complete recording or absent.
+received, then finalises the bag: every message received is written, the MCAP
+file is sealed (rewritten with chunk, data and summary CRCs and zstd-compressed
+chunks, messages in log-time order across topics:
+:func:`~friction_joint.bag.seal_recording`; if that fails the bag is kept as
+rosbags wrote it), and the counts are printed.  A second signal skips the
+drain.  The bag is written into a temporary directory next to ``OUT`` and
+renamed when complete, so ``OUT`` is either a complete recording or absent.
 
 QoS: reliable with keep-all history for every topic (a recorder that falls
 behind for a moment must not let its queue overwrite messages it has
@@ -47,7 +50,7 @@ import time
 
 from ._rclpy import take_all
 from .qos import recorder_qos
-from ..bag import CONTRACT_TYPES
+from ..bag import CONTRACT_TYPES, seal_recording
 from ..exceptions import RecordingError
 
 __all__ = ['record', 'Recorder', 'parse_topics', 'message_class', 'install_signals',
@@ -153,6 +156,20 @@ class Recorder:
             self.last_message = time.monotonic()
 
         return callback
+
+
+def _seal(bag, out, log):
+    """
+    Put CRCs into the closed bag (messages in log-time order); keep it unsealed on failure.
+
+    rosbags writes CRC 0; :func:`~friction_joint.bag.seal_recording` rewrites the
+    ``.mcap`` beside itself and renames it over the original, so a failure (a full disk)
+    leaves the complete unsealed recording, which is kept: nothing recorded is lost.
+    """
+    try:
+        seal_recording(bag)
+    except (OSError, RecordingError) as exc:
+        log(f'{out}: kept without checksums, sealing failed ({exc})')
 
 
 def install_signals(stop, force=None):
@@ -261,6 +278,7 @@ def record(out, *, topics=None, duration=None, args=None, log=None, stop=None):
             writer.abort()
             raise
         writer.close()
+        _seal(os.path.join(tmp, base), out, log)
         os.rename(os.path.join(tmp, base), out)
         return dict(recorder.written)
     except RecordingError:

@@ -20,9 +20,9 @@ The simulated hardware: plant, sensors and the lumped thermal model of the test 
 * :mod:`~friction_joint.testbed.sensors`: sensor models;
 * :mod:`~friction_joint.testbed.thermal`: ``C dξ/dt = |τ_r q̇| − (ξ − ξ_amb)/R``.
 """
-from .plant import Plant, Sample
+from .plant import InputLimits, Plant, Sample
 from .sensors import CurrentLoop, Encoder, StreamingSOS, TemperatureSensor, VelocityEstimator
 from .thermal import ThermalModel
 
-__all__ = ['Plant', 'Sample', 'ThermalModel', 'StreamingSOS', 'Encoder', 'VelocityEstimator',
-           'CurrentLoop', 'TemperatureSensor']
+__all__ = ['Plant', 'Sample', 'InputLimits', 'ThermalModel', 'StreamingSOS', 'Encoder',
+           'VelocityEstimator', 'CurrentLoop', 'TemperatureSensor']

@@ -18,6 +18,10 @@ The simulated test bed: joint, lever, thermal model and sensors at a fixed rate.
 This is the "hardware" of the experiments: it runs the **truth** gear file.
 Controllers and observers only see its :class:`Sample` measurements and run
 their own **model** gear file.
+
+:class:`InputLimits` says which values of a joint's signals are physically
+plausible for a gear (derived from its gear file); the nodes refuse inputs
+beyond them.
 """
 import math
 
@@ -27,8 +31,110 @@ from .sensors import CurrentLoop, Encoder, TemperatureSensor, VelocityEstimator
 from .thermal import ThermalModel
 from ..exceptions import SimulationError
 from ..models.joint import Joint
+from ..models.static import StaticFriction
 
-__all__ = ['Plant', 'Sample']
+__all__ = ['Plant', 'Sample', 'InputLimits', 'PLAUSIBILITY_FACTOR', 'MAX_INPUT_SPEED',
+           'ACCELERATION_TIME']
+
+#: multiple of the plausible speed and torque scales beyond which an input is refused
+PLAUSIBILITY_FACTOR = 10.0
+#: top wave-generator (motor) speed assumed for any gear: 10 000 rpm, in rad/s
+MAX_INPUT_SPEED = 10_000.0 * 2.0 * math.pi / 60.0
+#: time in which the drive is assumed able to bring the joint from rest to its speed scale, s
+ACCELERATION_TIME = 0.1
+#: absolute zero, degC
+ABSOLUTE_ZERO = -273.15
+UNITS = {'position': 'rad', 'velocity': 'rad/s', 'torque': 'Nm', 'temperature': 'degC'}
+
+
+class InputLimits:
+    """
+    Plausible magnitudes of a joint's signals, derived from its gear file alone.
+
+    The rule (no gear keys of its own):
+
+    * speed scale V = max(``MAX_INPUT_SPEED`` / ``gear_ratio``, sqrt(4 m g l / J)):
+      the motor at 10 000 rpm through the gear, or the lever falling from
+      upright to hanging, whichever is faster;
+    * torque scale T = m g l + F + J V / ``ACCELERATION_TIME``: the lever's
+      gravity; F, the largest friction torque of the gear's static curve at any
+      speed up to V, any temperature of ``friction.temperature_range`` and a
+      load from 0 to m g l (with ``friction.offset``), plus the amplitudes of
+      ``friction.position_ripple``; and the inertia torque that brings the
+      joint from rest to V in ``ACCELERATION_TIME``;
+    * ``velocity`` = factor V and ``torque`` = factor T (rad/s, Nm; drive
+      effort, torque command and contact torque alike);
+    * ``position``: the largest |q| at which a double still resolves one count
+      of the encoder (``sensors.encoder_bits``), no multiple;
+    * ``temperature``: ``friction.temperature_range`` widened by factor times its
+      width (at least 1 K) on both sides, and not below absolute zero (degC).
+
+    For the CSD-25 model (config/csd25.yaml) this gives 141 rad/s and 607 Nm.
+
+    Parameters
+    ----------
+    gear : GearParams
+        The gear whose signals are bounded.
+    factor : float
+        Multiple of the speed and torque scales (default ``PLAUSIBILITY_FACTOR``).
+
+    """
+
+    def __init__(self, gear, factor=PLAUSIBILITY_FACTOR):
+        if not (math.isfinite(factor) and factor >= 1.0):
+            raise ValueError(f'plausibility factor must be >= 1, got {factor}')
+        mgl, inertia = gear.mgl, gear.inertia
+        self.factor = float(factor)
+        self.speed = max(MAX_INPUT_SPEED / gear.gear_ratio, math.sqrt(4.0 * mgl / inertia))
+        self.friction = self._peak_friction(gear, self.speed)
+        self.torque_scale = mgl + self.friction + inertia * self.speed / ACCELERATION_TIME
+        self.velocity = self.factor * self.speed
+        self.torque = self.factor * self.torque_scale
+        bits = gear.section('sensors')['encoder_bits']
+        self.position = 2.0 * math.pi / 2.0 ** bits / np.finfo(float).eps
+        lo, hi = gear.friction.temperature_range
+        width = max(hi - lo, 1.0)
+        self.temperature = (max(ABSOLUTE_ZERO, lo - self.factor * width),
+                            hi + self.factor * width)
+
+    @staticmethod
+    def _peak_friction(gear, speed):
+        lo, hi = gear.friction.temperature_range
+        v = speed * np.geomspace(1e-6, 1.0, 61)
+        vv, xx = np.meshgrid(np.concatenate([v, -v]), np.linspace(lo, hi, 9))
+        model = StaticFriction(gear.friction)
+        peak = max(float(np.max(np.abs(model.torque(vv.ravel(), xx.ravel(), load))))
+                   for load in (0.0, gear.mgl))
+        ripple = gear.friction.position_ripple
+        return peak + (sum(abs(a) for a in ripple.amplitude) if ripple else 0.0)
+
+    def check(self, quantity, value):
+        """
+        Return why ``value`` is not plausible for ``quantity``, or None if it is.
+
+        ``quantity`` is ``'position'``, ``'velocity'``, ``'torque'`` or
+        ``'temperature'``.
+        """
+        unit = UNITS[quantity]
+        if not math.isfinite(value):
+            return f'{quantity} {value:g} {unit} is not finite'
+        if quantity == 'temperature':
+            lo, hi = self.temperature
+            if lo <= value <= hi:
+                return None
+            return (f'{quantity} {value:g} {unit} is outside the plausible '
+                    f'[{lo:.4g}, {hi:.4g}] {unit} of this gear')
+        bound = getattr(self, quantity)
+        if abs(value) <= bound:
+            return None
+        return (f'{quantity} {value:g} {unit} is beyond the plausible +-{bound:.4g} {unit} '
+                'of this gear')
+
+    def describe(self):
+        """Return the limits as one line of text."""
+        lo, hi = self.temperature
+        return (f'|q| <= {self.position:.3g} rad, |qd| <= {self.velocity:.4g} rad/s, '
+                f'|torque| <= {self.torque:.4g} Nm, temperature in [{lo:.4g}, {hi:.4g}] degC')
 
 
 class Sample:
@@ -121,19 +227,31 @@ class Plant:
         """
         Apply ``tau_cmd`` for one step, plus a contact torque, and measure.
 
+        A NaN/inf command or contact torque raises
+        :class:`~friction_joint.exceptions.SimulationError` before anything
+        changes (the plant can go on).  A finite input that drives the state
+        out of the finite range (an unstable loop, a runaway command) raises it
+        too, naming the time, command and contact torque; the plant is then
+        spent.
+
         Returns
         -------
         Sample
 
         """
+        for name, value in (('command', tau_cmd), ('contact torque', tau_contact)):
+            if not math.isfinite(value):
+                raise SimulationError(f'{name} {value} Nm at t = {self.t:.4f} s is not finite: '
+                                      'step refused, nothing applied')
         tau_app = self.current(tau_cmd) if not self.ideal else float(tau_cmd)
         q, qd, tau_r, tau_ext = self.joint.step(tau_app, self.dt, self.thermal.xi, tau_contact)
-        if not (math.isfinite(q) and math.isfinite(qd)):
+        power = abs(tau_r * qd)
+        if not (math.isfinite(q) and math.isfinite(qd) and math.isfinite(power)):
             raise SimulationError(
                 f'the joint state is no longer finite at t = {self.t + self.dt:.4f} s '
-                f'(q = {q}, qd = {qd}, command {tau_cmd} Nm): the closed loop is unstable '
-                'or the command ran away')
-        self.thermal.step(abs(tau_r * qd), self.dt)
+                f'(q = {q}, qd = {qd}, command {tau_cmd} Nm, contact torque {tau_contact} '
+                'Nm): the closed loop is unstable or the command ran away')
+        self.thermal.step(power, self.dt)
         xi_new = False
         if not self.ideal:
             _, xi_new = self.temperature(self.thermal.xi)

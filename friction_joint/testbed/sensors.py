@@ -44,7 +44,9 @@ class StreamingSOS:
     Apply a scipy second-order-sections filter one sample at a time.
 
     Same result as ``scipy.signal.sosfilt`` (transposed direct form II), at a
-    per-sample cost small enough for a 3 kHz loop.
+    per-sample cost small enough for a 3 kHz loop.  The state never holds a
+    non-finite value: a sample that is not finite, or that would overflow the
+    state, raises ``ValueError`` and leaves the filter as it was.
     """
 
     def __init__(self, sos):
@@ -53,16 +55,32 @@ class StreamingSOS:
         self.reset()
 
     def reset(self, x0=0.0):
-        """Start in the steady state of a constant input x0."""
+        """Start in the steady state of a constant input x0 (finite)."""
+        if not math.isfinite(x0):
+            raise ValueError(f'filter reset to a non-finite value {x0}')
         zi = signal.sosfilt_zi(self.sos) * x0
         self._z = [[float(a), float(b)] for a, b in zi]
 
+    @property
+    def state(self):
+        """Return the section states, a list of (z0, z1)."""
+        return [tuple(z) for z in self._z]
+
     def __call__(self, x):
-        for (b0, b1, b2, _, a1, a2), z in zip(self._coef, self._z):
-            y = b0 * x + z[0]
-            z[0] = b1 * x - a1 * y + z[1]
-            z[1] = b2 * x - a2 * y
+        """Filter one sample; refuses (``ValueError``) what would leave the state non-finite."""
+        x_in = x
+        new = []
+        for (b0, b1, b2, _, a1, a2), (z0, z1) in zip(self._coef, self._z):
+            y = b0 * x + z0
+            new.append((b1 * x - a1 * y + z1, b2 * x - a2 * y))
             x = y
+        if not (math.isfinite(x) and all(math.isfinite(a) and math.isfinite(b)
+                                         for a, b in new)):
+            raise ValueError(f'filter input {x_in} gives a non-finite filter state; '
+                             'sample refused, state kept')
+        for z, (a, b) in zip(self._z, new):
+            z[0] = a
+            z[1] = b
         return x
 
 

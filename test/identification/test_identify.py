@@ -236,12 +236,12 @@ def test_orders_auto(api_runs):
 # ------------------------------------------------- synthetic recordings, errors ---
 
 def synthetic_recording(path, speeds, xi=(30.0, 30.4), temperature=True, link=True, noise=0.0,
-                        gear=None, seed=0):
+                        gear=None, seed=0, joint_name=None):
     """
     Velocity plateaus (0.1 s ramps, 1 s hold, 0.2 s rest).
 
     With effort = static friction of ``gear`` (default the structure) + lever gravity;
-    1 kHz, temperature at 4 Hz.
+    1 kHz, temperature at 4 Hz; the joint is named ``joint_name`` (default ``gear``'s).
     """
     gear = gear or load_gear(STRUCTURE)
     dt = 1e-3
@@ -263,7 +263,7 @@ def synthetic_recording(path, speeds, xi=(30.0, 30.4), temperature=True, link=Tr
         topics['/joint_temperature'] = {'t': tt, 'xi': np.interp(tt, [t[0], t[-1]], xi)}
     if link:
         topics['/link_torque'] = {'t': t, 'tau': tau_ext}
-    return write_recording(path, topics)
+    return write_recording(path, topics, joint_name=joint_name or gear.joint_name)
 
 
 BOTH = [s * v for v in np.geomspace(0.01, 3.0, 10) for s in (1.0, -1.0)]
@@ -342,9 +342,69 @@ def test_synthetic_exact_without_link_torque(tmp_path):
 def test_experiment_command_errors(tmp_path, capsys):
     existing = tmp_path / 'bag'
     existing.mkdir()
+    (existing / 'metadata.yaml').write_text('an earlier recording\n')
     assert main(['experiment', 'identification', '--truth', BASE_TRUTH, '--out',
                  str(existing)]) == 2
     assert 'exists already' in capsys.readouterr().err
+    assert os.listdir(existing) == ['metadata.yaml']
     assert main(['experiment', 'chirp', '--truth', BASE_TRUTH, '--out',
                  str(tmp_path / 'x')]) == 2
     assert 'needs --model' in capsys.readouterr().err
+
+
+# ------------------------------------------------------------------ the joint ---
+
+def one_temperature_structure(path, joint_name):
+    """Write a one-temperature structure (its static curve) for a joint; return (gear, path)."""
+    gear = load_gear(STRUCTURE).replace({'joint_name': joint_name, 'friction': {
+        'fc': [2.2], 'fv': [0.41], 'fs': [4.5], 'vs': [4.9], 'delta_v': [0.4],
+        'fc_load': [0.02], 'temperature_range': [20.0, 40.0]}})
+    save_gear(gear, path)
+    return gear, path
+
+
+def test_recording_without_the_structures_joint(tmp_path, capsys):
+    """The recording names another joint than the structure: an error naming the joint."""
+    gear, structure = one_temperature_structure(tmp_path / 'structure.yaml', 'elbow')
+    speeds = [s * v for v in np.geomspace(0.01, 3.0, 12) for s in (1.0, -1.0)]
+    bag = synthetic_recording(tmp_path / 'bag', speeds, gear=gear, joint_name='wrist')
+    err = _identify_fails(tmp_path, bag, capsys, model=str(structure))
+    assert "'elbow'" in err and 'wrist' in err
+    assert len(err.strip().splitlines()) == 1
+
+
+def test_joint_option_names_the_written_gear(tmp_path):
+    gear, structure = one_temperature_structure(tmp_path / 'structure.yaml', 'elbow')
+    speeds = [s * v for v in np.geomspace(0.01, 3.0, 12) for s in (1.0, -1.0)]
+    bag = synthetic_recording(tmp_path / 'bag', speeds, gear=gear, joint_name='wrist')
+    out = tmp_path / 'gear.yaml'
+    assert main(['identify', str(bag), '--model', str(structure), '--out', str(out),
+                 '--joint', 'wrist', '--presliding', 'skip', '--quiet']) == 0
+    assert load_gear(out).joint_name == 'wrist'
+    report = json.loads((tmp_path / 'gear_report' / 'identification.json').read_text())
+    assert report['recordings'][0]['samples'] > 10000
+
+
+def test_step_3_runs_from_the_command(tmp_path):
+    """``--presliding auto`` (the default) reaches step 3 and reports its outcome."""
+    gear, structure = one_temperature_structure(tmp_path / 'structure.yaml', 'joint')
+    speeds = [s * v for v in np.geomspace(0.01, 3.0, 12) for s in (1.0, -1.0)]
+    bag = synthetic_recording(tmp_path / 'bag', speeds, gear=gear)
+    out = tmp_path / 'gear.yaml'
+    assert main(['identify', str(bag), '--model', str(structure), '--out', str(out),
+                 '--quiet']) == 0
+    report = json.loads((tmp_path / 'gear_report' / 'identification.json').read_text())
+    assert report['presliding']['status'] == 'done'
+    assert set(report['presliding']['models']) == {'lugre', 'gms'}
+    load_gear(out)
+
+
+@pytest.mark.parametrize('text', [b'/**:\n  ros__parameters:', b'\x80 not UTF-8'],
+                         ids=['empty parameters', 'binary'])
+def test_malformed_structure_file(tmp_path, capsys, text):
+    """A malformed STRUCTURE.yaml is a one-line error naming the file, exit 2, nothing written."""
+    structure = tmp_path / 'structure.yaml'
+    structure.write_bytes(text)
+    bag = synthetic_recording(tmp_path / 'bag', BOTH[:4])
+    err = _identify_fails(tmp_path, bag, capsys, model=str(structure))
+    assert str(structure) in err and len(err.strip().splitlines()) == 1

@@ -210,3 +210,75 @@ def test_observer_with_exact_friction_model_sees_only_the_contact():
     rms_with = np.sqrt(np.mean(np.square(np.array(err_with) + contact[-len(err_with):] - ideal)))
     rms_without = np.sqrt(np.mean(np.square(err_without)))
     assert rms_with < 0.1 and rms_without > 1.5
+
+
+def test_plant_refuses_non_finite_inputs_and_keeps_running():
+    """A NaN/inf command or contact torque is refused before anything changes."""
+    from friction_joint.exceptions import SimulationError
+    truth = load_gear('config/csd25_truth.yaml')
+    ref, p = Plant(truth, xi0=30.0, seed=4), Plant(truth, xi0=30.0, seed=4)
+    cmd = 14.0 * np.sin(np.arange(900) / 150.0)
+    out_ref, out, errors = [], [], []
+    for k, c in enumerate(cmd):
+        if k in (100, 400):
+            for bad in ((float('nan'), 0.0), (0.0, float('inf')), (float('-inf'), 1.0)):
+                try:
+                    p.step(*bad)
+                except SimulationError as exc:
+                    errors.append(str(exc))
+        out_ref.append(ref.step(c).q)
+        out.append(p.step(c).q)
+    assert out == out_ref                                    # no trace of the refused steps
+    assert len(errors) == 6
+    assert 'command nan Nm' in errors[0] and 'contact torque inf Nm' in errors[1]
+
+
+def test_runaway_error_names_the_contact_torque():
+    from friction_joint.exceptions import SimulationError
+    truth = load_gear('config/csd25_truth.yaml')
+    with pytest.raises(SimulationError) as info:
+        Plant(truth).step(0.0, 1e308)
+    assert 'contact torque 1e+308 Nm' in str(info.value)
+    assert 'no longer finite' in str(info.value)
+
+
+def test_input_limits_follow_the_documented_rule():
+    from friction_joint.testbed.plant import (ACCELERATION_TIME, InputLimits, MAX_INPUT_SPEED,
+                                              PLAUSIBILITY_FACTOR)
+    from friction_joint.models.static import StaticFriction
+    model = load_gear('config/csd25.yaml')
+    lim = InputLimits(model)
+    speed = max(MAX_INPUT_SPEED / model.gear_ratio, math.sqrt(4 * model.mgl / model.inertia))
+    assert lim.speed == pytest.approx(speed)
+    assert lim.velocity == pytest.approx(PLAUSIBILITY_FACTOR * speed)
+    # friction: at least the break-away torque, at most the curve's value at speed V
+    xi = np.linspace(*model.friction.temperature_range, 9)
+    top = np.max(StaticFriction(model.friction).torque(speed, xi, model.mgl))
+    friction = lim.torque_scale - model.mgl - model.inertia * speed / ACCELERATION_TIME
+    assert max(4.48, top) - 1e-9 <= friction <= top + 1.0
+    assert lim.torque == pytest.approx(PLAUSIBILITY_FACTOR * lim.torque_scale)
+    # CSD-25 numbers: 10 x (11 Nm lever + ~19 Nm friction + 31 Nm inertia) ~ 600 Nm, 141 rad/s
+    assert 400 < lim.torque < 900 and 100 < lim.velocity < 200
+    assert lim.position > 1e8 and lim.temperature[0] < 0 < 100 < lim.temperature[1]
+    assert lim.check('velocity', 0.6) is None and lim.check('torque', -lim.torque) is None
+    for quantity, value in (('velocity', 1e308), ('torque', float('nan')),
+                            ('torque', 1.01 * lim.torque), ('temperature', -300.0),
+                            ('position', -1e12), ('velocity', float('-inf'))):
+        reason = lim.check(quantity, value)
+        assert reason and quantity in reason and f'{value:g}' in reason
+
+
+def test_input_limits_scale_with_the_gear():
+    from friction_joint.testbed.plant import InputLimits
+    base = frictionless(inertia=0.2, mgl=11.0)
+    lim = InputLimits(base)
+    heavier = InputLimits(frictionless(inertia=0.2, mgl=44.0))
+    slower = InputLimits(base.replace({'gear_ratio': 160.0}))
+    assert heavier.torque > lim.torque and heavier.velocity > lim.velocity
+    assert InputLimits(frictionless(inertia=0.8, mgl=11.0)).torque > lim.torque
+    assert slower.velocity <= lim.velocity
+    rough = InputLimits(base.replace({'friction': {'fc': [20.0], 'fv': [2.0]}}))
+    assert rough.torque > lim.torque + 10 * 20.0
+    bare = InputLimits(frictionless(inertia=0.01, mgl=0.0))      # no lever, no friction
+    assert 0 < bare.torque < lim.torque and bare.velocity > 0
+    assert InputLimits(base, factor=2.0).torque == pytest.approx(lim.torque / 5.0)

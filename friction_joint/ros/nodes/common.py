@@ -12,13 +12,43 @@
 # See the License for the specific language governing permissions and
 # limitations under the License.
 
-"""Shared pieces of the nodes: message helpers, stamp pairing, input checks, the main loop."""
-import math
+"""
+Shared pieces of the nodes: message helpers, stamp pairing, the input gate, the main loop.
 
-from .._rclpy import take_all
+The input gate (:class:`Rejects`, :class:`PairedInput`): every message a node
+takes in is checked before it touches any state.  A message is refused when
+it lacks the node's joint or a field for it, when a value is not finite or
+beyond what is physically plausible for the node's gear
+(:class:`~friction_joint.testbed.plant.InputLimits`: position, velocity,
+torque, temperature), or when its stamp lies more than ``MAX_STAMP_LEAD``
+seconds ahead of the node's (wall) clock.  Refused messages are counted by
+reason, logged at most once per ``REJECT_LOG_PERIOD`` seconds (rclpy's
+``throttle_duration_sec``, behind a monotonic-clock check: rclpy's logger
+inspects the caller's module on every call, about 0.7 ms, even when it then
+throttles), and the count is logged when the node is destroyed
+(``rejected N input messages (...)``).  An exception raised while a message
+is processed is counted and logged the same way; it never ends the node
+(except the types a node names in ``fatal``).
+"""
+import collections
+import math
+import time
+
+from .._rclpy import RCLError, take_all
+from ..parameters import prepare_ros_args
 
 __all__ = ['stamp_to_ns', 'ns_to_stamp', 'joint_index', 'finite', 'take_queued',
-           'StampPairing', 'Rejects', 'PairedInput', 'run_node']
+           'StampPairing', 'Rejects', 'PairedInput', 'run_node', 'REJECT_LOG_PERIOD',
+           'MAX_STAMP_LEAD']
+
+#: s a stopping node waits for reliable subscribers (a recorder on a loaded machine) to
+#: acknowledge its last samples; returns at once when they have
+ACK_TIMEOUT = 15.0
+
+#: seconds between two log lines about refused input (per node; rclpy throttling)
+REJECT_LOG_PERIOD = 2.0
+#: seconds a state's stamp may lie ahead of the node's wall clock (checked without sim time)
+MAX_STAMP_LEAD = 1.0
 
 
 def take_queued(sub, cls):
@@ -99,46 +129,127 @@ class StampPairing:
 
 
 class Rejects:
-    """Mixin: log (rate-limited) and count messages a node ignores."""
+    """
+    Mixin: count, log (throttled) and report at shutdown the messages a node refuses.
+
+    ``fatal`` names the exception types a guarded callback lets through (they
+    end the node, as the node documents); every other exception is counted as
+    a refused message.
+    """
 
     rejected = 0
+    fatal = ()
 
-    def _reject(self, what):
+    def _log_due(self, key, period):
+        """Return whether the throttled log line ``key`` is due (checked before rclpy's)."""
+        now = time.monotonic()
+        due = self.__dict__.setdefault('_log_next', {})
+        if now < due.get(key, -math.inf):
+            return False
+        due[key] = now + period
+        return True
+
+    def _reject(self, what, why=''):
+        """Count a refused message under ``what`` (a fixed reason); ``why`` adds the detail."""
         self.rejected += 1
-        if self.rejected <= 10 or self.rejected % 1000 == 0:
-            self.get_logger().warning(f'ignored {what} (rejected so far: {self.rejected})')
+        counts = self.__dict__.setdefault('_reject_counts', collections.Counter())
+        counts[what] += 1
+        if self._log_due('rejected', REJECT_LOG_PERIOD):
+            detail = f': {why}' if why else ''
+            # rclpy's own throttle stays as a second guard (half the period: never in the way)
+            self.get_logger().warning(
+                f'ignored {what}{detail} (rejected so far: {self.rejected})',
+                throttle_duration_sec=0.5 * REJECT_LOG_PERIOD)
+
+    def guarded(self, what, handler, msg):
+        """Run ``handler(msg)``; an exception (not in ``fatal``) is counted, logged, survived."""
+        try:
+            handler(msg)
+        except self.fatal:
+            raise
+        except Exception as exc:                # noqa: BLE001 - no message may end the node
+            self._reject(f'{what} whose processing failed', f'{type(exc).__name__}: {exc}')
+
+    def rejects_report(self):
+        """Return the one-line summary of the refused messages."""
+        counts = self.__dict__.get('_reject_counts') or collections.Counter()
+        detail = '; '.join(f'{n} x {what}' for what, n in counts.most_common())
+        return f'rejected {self.rejected} input messages' + (f' ({detail})' if detail else '')
+
+    def destroy_node(self):
+        """Log the count of refused messages, then destroy the node."""
+        self.get_logger().info(self.rejects_report())
+        return super().destroy_node()
 
 
 class PairedInput(Rejects):
     """
-    Mixin: validated /joint_states + /joint_temperature input, paired by stamp.
+    Mixin: gated /joint_states + /joint_temperature input, paired by stamp.
 
-    The node sets ``joint``, ``pair`` (:class:`StampPairing`) and
+    The node sets ``joint``, ``pair`` (:class:`StampPairing`), ``limits``
+    (:class:`~friction_joint.testbed.plant.InputLimits` of its gear) and
     ``state_fields`` (JointState fields it needs) and implements
-    ``process(ns, values, xi)``.
+    ``process(ns, values, xi)``.  ``on_state`` and ``on_temperature`` are the
+    subscription callbacks; they never raise.
     """
 
     state_fields = ('position', 'velocity')
+    #: the InputLimits quantity of each JointState field
+    QUANTITY = {'position': 'position', 'velocity': 'velocity', 'effort': 'torque'}
 
     def on_temperature(self, msg):
-        if not finite(msg.temperature):
-            self._reject('a non-finite temperature')
+        """Take a /joint_temperature message (gated; never raises)."""
+        self.guarded('a /joint_temperature message', self.handle_temperature, msg)
+
+    def on_state(self, msg):
+        """Take a /joint_states message (gated; never raises)."""
+        self.guarded('a /joint_states message', self.handle_state, msg)
+
+    def handle_temperature(self, msg):
+        why = self.limits.check('temperature', msg.temperature)
+        if why:
+            self._reject('an implausible /joint_temperature', why)
             return
         for item in self.pair.temperature(stamp_to_ns(msg.header.stamp), msg.temperature):
             self.process(*item)
 
-    def on_state(self, msg):
+    def handle_state(self, msg):
+        state = self.gate_state(msg)
+        if state is not None:
+            for item in self.pair.state(*state):
+                self.process(*item)
+
+    def gate_state(self, msg):
+        """Return ``(ns, values)`` of a state that passes the gate, else count it and None."""
         i = joint_index(msg, self.joint)
         arrays = [getattr(msg, f) for f in self.state_fields]
         if i is None or i >= min(len(a) for a in arrays):
             self._reject(f'a joint state without {"/".join(self.state_fields)} for {self.joint}')
-            return
-        values = tuple(a[i] for a in arrays)
-        if not finite(*values):
-            self._reject('a joint state with NaN/inf')
-            return
-        for item in self.pair.state(stamp_to_ns(msg.header.stamp), values):
-            self.process(*item)
+            return None
+        values = tuple(float(a[i]) for a in arrays)
+        for field, value in zip(self.state_fields, values):
+            why = self.limits.check(self.QUANTITY[field], value)
+            if why:
+                self._reject(f'an implausible /joint_states {field}', why)
+                return None
+        ns = stamp_to_ns(msg.header.stamp)
+        why = self.stamp_problem(ns)
+        if why:
+            self._reject('a /joint_states stamp in the future', why)
+            return None
+        return ns, values
+
+    def stamp_problem(self, ns):
+        """Return why stamp ``ns`` is implausible (negative, or ahead of the wall clock)."""
+        if ns < 0:
+            return f'stamp {ns * 1e-9:.9f} s is negative'
+        clock = self.get_clock()
+        if clock.ros_time_is_active:            # sim time comes from the data: no reference
+            return None
+        lead = ns - clock.now().nanoseconds
+        if lead > MAX_STAMP_LEAD * 1e9:
+            return f'stamp {ns * 1e-9:.3f} s is {lead * 1e-9:.3g} s ahead of the clock'
+        return None
 
 
 def run_node(factory, name, args=None, drain=True):
@@ -175,7 +286,19 @@ def run_node(factory, name, args=None, drain=True):
         if len(stop) > 1:
             raise KeyboardInterrupt
 
-    rclpy.init(args=args, signal_handler_options=SignalHandlerOptions.NO)
+    try:
+        # the gear file through the package's reader; rcl parses a normalized copy
+        args, cleanup = prepare_ros_args(args)
+    except FrictionJointError as exc:
+        print(f'{name}: error: {exc}', file=sys.stderr)
+        return 2
+    try:
+        rclpy.init(args=args, signal_handler_options=SignalHandlerOptions.NO)
+    except RCLError as exc:          # e.g. a malformed -p value rcl cannot parse
+        print(f'{name}: error: ROS arguments: {str(exc).splitlines()[0]}', file=sys.stderr)
+        return 2
+    finally:
+        cleanup()                    # rcl has parsed the copies at init
     old = {s: signal.signal(s, on_signal) for s in (signal.SIGINT, signal.SIGTERM)}
     node = executor = None
     status = 0
@@ -206,9 +329,12 @@ def run_node(factory, name, args=None, drain=True):
             from rclpy.duration import Duration
             for pub in node.publishers:          # let reliable peers take the last samples
                 try:
-                    pub.wait_for_all_acked(Duration(seconds=2.0))
+                    acked = pub.wait_for_all_acked(Duration(seconds=ACK_TIMEOUT))
                 except Exception:                # noqa: BLE001 - best effort on the way out
-                    pass
+                    acked = True
+                if not acked:
+                    print(f'{name}: {pub.topic_name}: samples not acknowledged by every '
+                          f'subscriber within {ACK_TIMEOUT:g} s of stopping', file=sys.stderr)
         if executor is not None:
             executor.shutdown()
         if node is not None:

@@ -35,6 +35,14 @@ node answers only the newest queued state, skipping (and counting) stale
 ones, so a moment of overload does not turn into a growing delay, and the
 friction feed-forward advances by the stamps' time difference.
 ``rate`` is the control rate (default ``simulation.rate``).
+
+Input gate (see :mod:`~friction_joint.ros.nodes.common`): a state whose
+position or velocity is not finite or beyond the plausible limits of the
+model gear (:class:`~friction_joint.testbed.plant.InputLimits`, logged at
+start), a temperature outside its plausible range, or a stamp ahead of the
+clock is refused, counted and logged (throttled) and gets no command; with
+``sync:=false`` the newest queued state that passes the gate is answered.
+The count is logged at shutdown.
 """
 import sys
 
@@ -46,6 +54,7 @@ from ..parameters import declare_gear, declare_node_params, describe, parameter_
 from ..qos import overridable, stream_qos
 from ...control.controller import Controller, pd_gains, SineTrajectory
 from ...models.friction import FRICTION_KINDS
+from ...testbed.plant import InputLimits
 
 __all__ = ['ControllerNode', 'main']
 
@@ -92,6 +101,7 @@ class ControllerNode(PairedInput, Node):
         self.p = declare_node_params(self, DEFAULTS, VALIDATORS, DESCRIPTORS)
         self.gear = declare_gear(self, own=list(DEFAULTS))
         self.joint = self.gear.joint_name
+        self.limits = InputLimits(self.gear)
         rate = self.p['rate'] or self.gear.section('simulation')['rate']
         self.kp, self.kd = pd_gains(self.gear.inertia, self.p['rise_time'], self.p['overshoot'])
         self.dt = 1.0 / rate
@@ -115,7 +125,8 @@ class ControllerNode(PairedInput, Node):
         parameter_guard(self, {k: DEFAULTS[k] for k in RUNTIME}, VALIDATORS, self.apply)
         self.get_logger().info(f'eq. 17 controller for {self.joint}: kp {self.kp:.1f} Nm/rad, '
                                f'kd {self.kd:.2f} Nm s/rad, friction feed-forward '
-                               f'{self.p["friction_ff"]}')
+                               f'{self.p["friction_ff"]}; plausible inputs '
+                               f'{self.limits.describe()}')
 
     def _controller(self):
         return Controller(self.gear, self.kp, self.kd, self.p['friction_ff'], self.dt,
@@ -129,24 +140,34 @@ class ControllerNode(PairedInput, Node):
             self.traj = SineTrajectory(self.p['amplitude'], self.p['omega'], self.p['offset'])
         self.get_logger().info(f'{name} set to {value!r}')
 
-    def on_state(self, msg):
-        if not self.p['sync']:
-            # real time: answer the newest state only; the ones queued behind it are stale
-            queued = take_queued(self.sub_state, JointState)
-            if queued:
-                msg = queued[-1]
-                self.stale += len(queued)
-                self.get_logger().warning(
-                    f'skipped {self.stale} stale joint states so far (the loop is behind: '
-                    'answering the newest)', throttle_duration_sec=5.0)
-        super().on_state(msg)
+    def handle_state(self, msg):
+        if self.p['sync']:
+            super().handle_state(msg)
+            return
+        # real time: answer the newest state that passes the gate; the older ones are stale
+        queued = [msg] + take_queued(self.sub_state, JointState)
+        for i in range(len(queued) - 1, -1, -1):
+            state = self.gate_state(queued[i])
+            if state is None:
+                continue
+            if i:
+                self.stale += i
+                if self._log_due('stale', 5.0):
+                    self.get_logger().warning(
+                        f'skipped {self.stale} stale joint states so far (the loop is behind: '
+                        'answering the newest)', throttle_duration_sec=2.5)
+            for item in self.pair.state(*state):
+                self.process(*item)
+            return
 
     def process(self, ns, state, xi):
         if ns == self.last_ns:                   # the same state again: same answer
             self.pub.publish(self.last_cmd)
             return
         if self.last_ns is not None and ns < self.last_ns:
-            return                               # stale
+            self._reject('a joint state older than the last one answered',
+                         f'stamp {ns * 1e-9:.6f} s < {self.last_ns * 1e-9:.6f} s')
+            return
         if self.t0 is None:
             self.t0 = ns
         q, qd = state

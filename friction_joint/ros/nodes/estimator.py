@@ -28,6 +28,14 @@ gravity; false = estimate it as unknown external load, as in the paper's
 Section V-D), ``rate`` (sample rate, default ``simulation.rate``), ``sync``
 (pair states with temperatures by stamp).  Runs unchanged on replayed bags
 (``use_sim_time:=true``).
+
+Input gate (see :mod:`~friction_joint.ros.nodes.common`): a state whose
+position, velocity or effort is not finite or beyond the plausible limits of
+the model gear (:class:`~friction_joint.testbed.plant.InputLimits`, logged at
+start), a temperature outside its plausible range, a stamp ahead of the clock
+or older than the last state answered is refused, counted and logged
+(throttled) and gets no answer; the observer's state is never touched by it.
+The count is logged at shutdown.
 """
 import sys
 
@@ -39,6 +47,7 @@ from ..parameters import declare_gear, declare_node_params, describe, parameter_
 from ..qos import overridable, stream_qos
 from ...control.observer import DisturbanceObserver
 from ...models.friction import FRICTION_KINDS
+from ...testbed.plant import InputLimits
 
 __all__ = ['EstimatorNode', 'main']
 
@@ -72,6 +81,7 @@ class EstimatorNode(PairedInput, Node):
         self.p = declare_node_params(self, DEFAULTS, VALIDATORS, DESCRIPTORS)
         self.gear = declare_gear(self, own=list(DEFAULTS))
         self.joint = self.gear.joint_name
+        self.limits = InputLimits(self.gear)
         self.dt = 1.0 / (self.p['rate'] or self.gear.section('simulation')['rate'])
         self.observer = self._observer()
         self.observer(0.0, 0.0, 0.0, 25.0)          # compile the kernels before data flows
@@ -90,7 +100,8 @@ class EstimatorNode(PairedInput, Node):
         parameter_guard(self, {'friction': DEFAULTS['friction']}, VALIDATORS, self.apply)
         self.get_logger().info(f'external torque observer for {self.joint}: '
                                f'beta {self.p["beta"]:g} '
-                               f'rad/s, friction model {self.p["friction"]}')
+                               f'rad/s, friction model {self.p["friction"]}; plausible inputs '
+                               f'{self.limits.describe()}')
 
     def _observer(self):
         return DisturbanceObserver(self.gear, self.p['beta'], self.dt, self.p['friction'],
@@ -107,12 +118,16 @@ class EstimatorNode(PairedInput, Node):
         if self.last_ns is not None and ns <= self.last_ns:
             if ns == self.last_ns:
                 self.pub.publish(self.last_msg)
+            else:
+                self._reject('a joint state older than the last one answered',
+                             f'stamp {ns * 1e-9:.6f} s < {self.last_ns * 1e-9:.6f} s')
             return
         q, qd, tau = state
+        estimate = self.observer(tau, q, qd, xi)      # ValueError: refused (see guarded)
         out = JointState()
         out.header.stamp.sec, out.header.stamp.nanosec = divmod(ns, 1_000_000_000)
         out.name = [self.joint]
-        out.effort = [self.observer(tau, q, qd, xi)]
+        out.effort = [estimate]
         self.last_ns, self.last_msg = ns, out
         self.pub.publish(out)
 

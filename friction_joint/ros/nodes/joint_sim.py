@@ -54,6 +54,19 @@ Modes (parameter ``mode``):
 Own parameters: mode, publish_rate, duration, xi0 (NaN: the gear file's
 thermal.initial), q0, seed (-1: simulation.seed), friction_model ('' : the
 gear file's friction.model), resend_period, wait_subscribers, start_delay.
+
+Implausible input is **rejected, keeping the last valid value**: a
+``/joint_command`` effort or a ``/contact_torque`` that is not finite or
+beyond the plausible torque of the gear
+(:class:`~friction_joint.testbed.plant.InputLimits`: 10 x (m g l + peak
+friction + J V / 0.1 s), about 600 Nm for the CSD-25; logged at start) is
+counted, logged (throttled) and not applied: the plant goes on with the last
+valid command and contact torque.  In lockstep a refused command stamped for
+the current step still advances the step (with the last valid command), so
+the loop never stalls on it.  The count is logged at shutdown (see
+:mod:`~friction_joint.ros.nodes.common`).  Only a finite state leaving the
+finite range (an unstable closed loop) ends the node, with
+:class:`~friction_joint.exceptions.SimulationError`.
 """
 import math
 import sys
@@ -64,11 +77,12 @@ from rclpy.node import Node
 from rosgraph_msgs.msg import Clock
 from sensor_msgs.msg import JointState, Temperature
 
-from .common import (finite, joint_index, ns_to_stamp, Rejects, run_node, stamp_to_ns,
+from .common import (joint_index, ns_to_stamp, Rejects, run_node, stamp_to_ns,
                      take_queued)
 from ..parameters import declare_gear, declare_node_params, describe
 from ..qos import CLOCK_QOS, overridable, stream_qos
-from ...testbed.plant import Plant
+from ...exceptions import SimulationError
+from ...testbed.plant import InputLimits, Plant
 
 __all__ = ['JointSimNode', 'main']
 
@@ -114,6 +128,9 @@ DESCRIPTORS = {
 class JointSimNode(Rejects, Node):
     """Wires the :class:`~friction_joint.testbed.plant.Plant` to topics and a timer."""
 
+    #: an unstable closed loop ends the node (a refused input never gets that far)
+    fatal = (SimulationError,)
+
     def __init__(self):
         super().__init__('joint_sim')
         own = {k: v for k, v in DEFAULTS.items() if k != 'xi0'}
@@ -128,6 +145,7 @@ class JointSimNode(Rejects, Node):
         plant().step(0.0)                           # compile the kernels before data flows
         self.plant = plant()
         self.joint = self.gear.joint_name
+        self.limits = InputLimits(self.gear)
         self.lockstep = self.p['mode'] == 'lockstep'
         self.tau_cmd = 0.0
         self.contact = 0.0
@@ -165,25 +183,42 @@ class JointSimNode(Rejects, Node):
             self.skipped = 0
         self.get_logger().info(
             f'{self.p["mode"]} simulation of {self.joint} ({self.plant.joint.model} friction, '
-            f'{self.plant.rate:g} Hz, xi0 {self.plant.thermal.xi:.2f} degC)')
+            f'{self.plant.rate:g} Hz, xi0 {self.plant.thermal.xi:.2f} degC); plausible '
+            f'command and contact torque: |torque| <= {self.limits.torque:.4g} Nm')
 
     # ---------------------------------------------------------------- input
     def on_command(self, msg):
+        """Take a /joint_command message (gated; never raises but ``fatal``)."""
+        self.guarded('a /joint_command message', self.handle_command, msg)
+
+    def on_contact(self, msg):
+        """Take a /contact_torque message (gated; never raises)."""
+        self.guarded('a /contact_torque message', self.handle_contact, msg)
+
+    def handle_command(self, msg):
         i = joint_index(msg, self.joint)
-        if i is None or i >= len(msg.effort) or not finite(msg.effort[i]):
-            self._reject('a /joint_command without a finite effort for ' + self.joint)
+        if i is None:
+            self._reject('a /joint_command not naming ' + self.joint)
             return
-        self.tau_cmd = float(msg.effort[i])
+        why = (f'no effort for {self.joint}' if i >= len(msg.effort)
+               else self.limits.check('torque', msg.effort[i]))
+        if why:
+            self._reject('a refused /joint_command effort',
+                         f'command {why}; keeping {self.tau_cmd:.6g} Nm')
+        else:
+            self.tau_cmd = float(msg.effort[i])
         if self.lockstep and not self.done:
             if stamp_to_ns(msg.header.stamp) != self.stamp_ns(self.plant.k):
                 return                          # a stale or duplicate command
             self.started = True
             self.advance()
 
-    def on_contact(self, msg):
+    def handle_contact(self, msg):
         tz = msg.wrench.torque.z
-        if not finite(tz):
-            self._reject('a non-finite /contact_torque')
+        why = self.limits.check('torque', tz)
+        if why:
+            self._reject('a refused /contact_torque',
+                         f'contact {why}; keeping {self.contact:.6g} Nm')
             return
         self.contact = float(tz)
 
@@ -260,9 +295,10 @@ class JointSimNode(Rejects, Node):
             late = int((now - self.next_tick) / self.period)
             self.skipped += late
             self.next_tick = now
-            self.get_logger().warning(
-                f'{late} ticks late: skipped them ({self.skipped} in all); the machine does '
-                'not keep up with publish_rate', throttle_duration_sec=5.0)
+            if self._log_due('late', 5.0):
+                self.get_logger().warning(
+                    f'{late} ticks late: skipped them ({self.skipped} in all); the machine '
+                    'does not keep up with publish_rate', throttle_duration_sec=2.5)
         self.next_tick += self.period
         for msg in take_queued(self.sub_command, JointState):
             self.on_command(msg)

@@ -141,3 +141,17 @@ def test_round_trip_and_flat_names(tmp_path):
     assert gear_from_flat(flat).friction.lugre.sigma0 == 1e4
     g3 = g.replace({'friction': {'fc_load': [0.05]}})
     assert g3.friction.fc_load == (0.05,) and g.friction.fc_load == (0.018,)
+
+
+def test_saved_gear_file_has_the_normal_mode(tmp_path):
+    """save_gear writes a file readable by others (0666 less the umask), not 0600."""
+    import os
+    import stat
+    path = tmp_path / 'g.yaml'
+    old = os.umask(0o022)
+    try:
+        save_gear(load_gear('config/csd25.yaml'), path)
+    finally:
+        os.umask(old)
+    assert stat.S_IMODE(os.stat(path).st_mode) == 0o644
+    assert load_gear(path).joint_name == load_gear('config/csd25.yaml').joint_name

@@ -1,0 +1,340 @@
+# Copyright 2026 friction_joint maintainers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""
+The gear file schema: every key, its type, default, bounds and length limits.
+
+Limits on list lengths (checked before a list's elements are looked at):
+
+``MAX_POLYNOMIAL_ORDER`` = 8
+    Temperature polynomials (``fc``, ``fv``, ``fs``, ``vs``, ``delta_v``: at
+    most 9 coefficients, powers 0..8) and load polynomials (``*_load``: at most
+    8 coefficients, powers 1..8).  The paper uses order 2; ``identify``'s
+    automatic order selection goes up to 2 and ``diagnose`` raises an order by
+    one.  In the monomial basis the coefficients of order 8 are at the end of
+    double precision: the Vandermonde matrix of 50 temperatures over 0-100 degC
+    has condition number 1.7e16 at order 8 (1.3e19 over the CSD-25's 22-37
+    degC), so a higher order cannot be identified or evaluated meaningfully; it
+    only costs (a 1001-coefficient polynomial ran ``diagnose`` for > 300 s).
+``MAX_GMS_ELEMENTS`` = 100
+    GMS elements (``gms.k``, ``gms.alpha``).  Published GMS models use 3-10
+    elements; every element is a state updated at each step of every
+    simulation (3 kHz, batched in identification), so the cost grows linearly.
+``MAX_RIPPLE_HARMONICS`` = 100
+    Position-ripple harmonics (``amplitude``, ``phase``).  Harmonic n of a
+    c cycles/rev ripple at q' rad/s has n c q' / 2 pi Hz; for the CSD-25's
+    c = 160 at 3.5 rad/s, harmonic 100 is already ~9 kHz, above the Nyquist
+    frequency of the 3 kHz simulation, so more harmonics cannot be simulated.
+
+Integers are ROS 2 parameter integers (64-bit); larger ones are rejected.
+"""
+import copy
+import math
+import reprlib
+
+from ..exceptions import GearConfigError
+
+__all__ = ['REQUIRED', 'FRICTION_MODELS', 'MAX_POLYNOMIAL_ORDER', 'MAX_GMS_ELEMENTS',
+           'MAX_RIPPLE_HARMONICS', 'INT64_RANGE', 'Float', 'Int', 'Str', 'FloatList', 'Section',
+           'FRICTION_SCHEMA', 'SCHEMA', 'DEFAULT_SECTIONS', 'validate_fields', 'key_specs',
+           'required_keys']
+
+FRICTION_MODELS = ('static', 'lugre', 'gms')
+REQUIRED = object()
+MAX_POLYNOMIAL_ORDER = 8
+MAX_GMS_ELEMENTS = 100
+MAX_RIPPLE_HARMONICS = 100
+#: the range of a ROS 2 integer parameter
+INT64_RANGE = (-2 ** 63, 2 ** 63 - 1)
+
+_REPR = reprlib.Repr()
+_REPR.maxstring = 60
+_REPR.maxother = 60
+_REPR.maxlist = _REPR.maxtuple = _REPR.maxdict = 6
+
+
+def _short(value):
+    """repr() cut to a readable length: error messages stay one short line."""
+    return _REPR.repr(value)
+
+
+class _Spec:
+    default = REQUIRED
+
+    def check(self, value, path):  # pragma: no cover - interface
+        raise NotImplementedError
+
+
+class Float(_Spec):
+    """A finite number (an integer is accepted and becomes a float)."""
+
+    def __init__(self, default=REQUIRED, positive=False, nonnegative=False, doc=''):
+        self.default, self.positive, self.nonnegative, self.doc = (
+            default, positive, nonnegative, doc)
+
+    def check(self, value, path):
+        """Return ``value`` as a float or raise GearConfigError naming ``path``."""
+        return _number(value, path, self.positive, self.nonnegative)
+
+
+def _number(value, path, positive=False, nonnegative=False):
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        raise GearConfigError(f'{path}: expected a number, got {_short(value)}')
+    try:
+        value = float(value)
+    except OverflowError:
+        raise GearConfigError(f'{path}: must be finite, got an integer of '
+                              f'{value.bit_length()} bits') from None
+    if not math.isfinite(value):
+        raise GearConfigError(f'{path}: must be finite, got {value}')
+    if positive and value <= 0.0:
+        raise GearConfigError(f'{path}: must be > 0, got {value}')
+    if nonnegative and value < 0.0:
+        raise GearConfigError(f'{path}: must be >= 0, got {value}')
+    return value
+
+
+class Int(_Spec):
+    """An integer in the ROS 2 (64-bit) range."""
+
+    def __init__(self, default=REQUIRED, minimum=None, doc=''):
+        self.default, self.minimum, self.doc = default, minimum, doc
+
+    def check(self, value, path):
+        """Return ``value`` or raise GearConfigError naming ``path``."""
+        if isinstance(value, bool) or not isinstance(value, int):
+            raise GearConfigError(f'{path}: expected an integer, got {_short(value)}')
+        if not INT64_RANGE[0] <= value <= INT64_RANGE[1]:
+            raise GearConfigError(f'{path}: outside the 64-bit integer range of ROS 2 '
+                                  'parameters')
+        if self.minimum is not None and value < self.minimum:
+            raise GearConfigError(f'{path}: must be >= {self.minimum}, got {value}')
+        return value
+
+
+class Str(_Spec):
+    """A non-empty string, optionally one of ``choices``."""
+
+    def __init__(self, default=REQUIRED, choices=None, doc=''):
+        self.default, self.choices, self.doc = default, choices, doc
+
+    def check(self, value, path):
+        """Return ``value`` or raise GearConfigError naming ``path``."""
+        if not isinstance(value, str) or not value:
+            raise GearConfigError(f'{path}: expected a non-empty string, got {_short(value)}')
+        if self.choices and value not in self.choices:
+            raise GearConfigError(f'{path}: must be one of {", ".join(self.choices)}; '
+                                  f'got {_short(value)}')
+        return value
+
+
+class FloatList(_Spec):
+    """A list of finite numbers (integers become floats), its length bounded."""
+
+    def __init__(self, default=REQUIRED, min_len=0, length=None, positive=False, doc='', *,
+                 max_len=None, limit=''):
+        self.default, self.min_len, self.length, self.positive, self.doc = (
+            default, min_len, length, positive, doc)
+        self.max_len = length if max_len is None else max_len
+        self.limit = limit
+
+    def check(self, value, path):
+        """Return ``value`` as a list of floats or raise GearConfigError naming ``path``."""
+        if not isinstance(value, (list, tuple)):
+            raise GearConfigError(f'{path}: expected a list of numbers, got {_short(value)}')
+        if self.length is not None and len(value) != self.length:
+            raise GearConfigError(f'{path}: expected {self.length} numbers, got {len(value)}')
+        if self.max_len is not None and len(value) > self.max_len:
+            why = f' ({self.limit})' if self.limit else ''
+            raise GearConfigError(f'{path}: at most {self.max_len} numbers{why}, '
+                                  f'got {len(value)}')
+        if len(value) < self.min_len:
+            raise GearConfigError(f'{path}: needs at least {self.min_len} coefficient(s), '
+                                  f'got {len(value)}')
+        return [_number(v, f'{path}[{i}]', self.positive) for i, v in enumerate(value)]
+
+
+class Section(_Spec):
+    """A mapping of keys with their own specs."""
+
+    def __init__(self, fields, optional=True, doc=''):
+        self.fields, self.doc = fields, doc
+        self.default = None if optional else REQUIRED
+
+    def check(self, value, path):
+        """Return the validated mapping (defaults filled in) or raise GearConfigError."""
+        if not isinstance(value, dict):
+            raise GearConfigError(f'{path}: expected a mapping of keys, got {_short(value)}')
+        return validate_fields(self.fields, value, path)
+
+
+def validate_fields(fields, data, path):
+    """
+    Validate mapping ``data`` against ``fields`` (key -> spec); return it with defaults.
+
+    Parameters
+    ----------
+    fields : dict
+        Key -> spec (:class:`Float`, :class:`Section`, ...).
+    data : dict
+        The mapping to check.
+    path : str
+        Dotted name of the mapping ('' at the top), used in error messages.
+
+    Returns
+    -------
+    dict
+        Every key of ``fields``: the checked value, or its default.
+
+    Raises
+    ------
+    GearConfigError
+        Unknown or missing key, or a value its spec rejects.
+
+    """
+    prefix = path + '.' if path else ''
+    unknown = sorted(str(k) for k in set(data) - set(fields))
+    if unknown:
+        raise GearConfigError(f'unknown key {prefix}{_short(unknown[0])[1:-1]}'
+                              + (f' (and {len(unknown) - 1} more)' if len(unknown) > 1 else '')
+                              + f'; known keys here: {", ".join(sorted(fields))}')
+    out = {}
+    for key, spec in fields.items():
+        if key in data and data[key] is not None:
+            out[key] = spec.check(data[key], prefix + key)
+        elif spec.default is REQUIRED:
+            raise GearConfigError(f'missing required key {prefix}{key}')
+        else:
+            out[key] = copy.deepcopy(spec.default)
+    return out
+
+
+def _temperature(doc, required=False):
+    return FloatList(REQUIRED if required else None, min_len=1, doc=doc,
+                     max_len=MAX_POLYNOMIAL_ORDER + 1,
+                     limit=f'temperature polynomial order <= {MAX_POLYNOMIAL_ORDER}')
+
+
+def _load(doc):
+    return FloatList([], doc=doc, max_len=MAX_POLYNOMIAL_ORDER,
+                     limit=f'load polynomial order <= {MAX_POLYNOMIAL_ORDER}')
+
+
+def _elements(default, doc, positive=True):
+    return FloatList(default, min_len=1, positive=positive, doc=doc, max_len=MAX_GMS_ELEMENTS,
+                     limit=f'GMS elements <= {MAX_GMS_ELEMENTS}')
+
+
+def _harmonics(default, doc):
+    return FloatList(default, min_len=1, doc=doc, max_len=MAX_RIPPLE_HARMONICS,
+                     limit=f'ripple harmonics <= {MAX_RIPPLE_HARMONICS}')
+
+
+FRICTION_SCHEMA = {
+    'model': Str('static', choices=FRICTION_MODELS, doc='friction model used by default'),
+    'fc': _temperature('F_c temperature coefficients, powers 0..n (Nm)', required=True),
+    'fv': _temperature('F_v temperature coefficients (Nm / (rad/s)^delta_v)', required=True),
+    'fs': _temperature('F_s temperature coefficients (Nm); absent = no Stribeck effect'),
+    'vs': _temperature('v_s temperature coefficients (rad/s); required with fs'),
+    'delta_v': FloatList([1.0], min_len=1, doc='delta_v temperature coefficients',
+                         max_len=MAX_POLYNOMIAL_ORDER + 1,
+                         limit=f'temperature polynomial order <= {MAX_POLYNOMIAL_ORDER}'),
+    'delta_s': Float(2.0, positive=True, doc='Stribeck exponent'),
+    'fc_load': _load('F_c load coefficients, powers 1..m'),
+    'fv_load': _load('F_v load coefficients'),
+    'fs_load': _load('F_s load coefficients'),
+    'vs_load': _load('v_s load coefficients'),
+    'delta_v_load': _load('delta_v load coefficients'),
+    'velocity_scale': Float(1.0, positive=True, doc='curve evaluated at velocity_scale * qd'),
+    'temperature_range': FloatList([0.0, 100.0], length=2,
+                                   doc='validity range of the polynomials, degC'),
+    'lugre': Section({
+        'sigma0': Float(positive=True, doc='bristle stiffness, Nm/rad'),
+        'sigma1': Float(0.0, nonnegative=True, doc='micro-damping, Nm s/rad'),
+    }, doc='LuGre pre-sliding parameters (eq. 10)'),
+    'gms': Section({
+        'k': _elements(REQUIRED, 'element stiffnesses, Nm/rad'),
+        'alpha': _elements(None, 'element torque fractions, sum 1'),
+        'c': Float(positive=True, doc='attraction parameter C, Nm/s'),
+    }, doc='GMS parameters (eq. 11-13)'),
+    'offset': Float(0.0, doc='constant torque added to the friction torque, Nm'),
+    'position_ripple': Section({
+        'cycles_per_rev': Float(REQUIRED, positive=True,
+                                doc='fundamental, cycles per output revolution'),
+        'amplitude': _harmonics(REQUIRED, 'Nm, one per harmonic 1..n'),
+        'phase': _harmonics(None, 'rad, one per harmonic (default 0)'),
+    }, doc='torque ripple periodic in q, added to the friction torque'),
+}
+
+#: The full schema of the ``ros__parameters`` mapping of a gear file.
+SCHEMA = {
+    'joint_name': Str('joint', doc='joint name in JointState messages'),
+    'gear_ratio': Float(positive=True, doc='gear ratio N'),
+    'inertia': Float(positive=True, doc='output-side inertia J, kg m^2'),
+    'friction': Section(FRICTION_SCHEMA, optional=False, doc='friction model'),
+    'lever': Section({
+        'mass': Float(0.0, nonnegative=True, doc='kg'),
+        'length': Float(0.0, nonnegative=True, doc='distance of the mass from the axis, m'),
+        'gravity': Float(9.81, positive=True, doc='m/s^2'),
+    }, doc='lever whose gravity m g l sin(q) loads the joint (q = 0 hanging down)'),
+    'thermal': Section({
+        'capacity': Float(450.0, positive=True, doc='heat capacity of gear and housing, J/K'),
+        'resistance': Float(1.2, positive=True, doc='thermal resistance housing-ambient, K/W'),
+        'ambient': Float(25.0, doc='ambient temperature, degC'),
+        'initial': Float(None, doc='initial housing temperature, degC (default ambient)'),
+    }, doc='lumped thermal model heated by the friction losses'),
+    'sensors': Section({
+        'encoder_bits': Int(25, minimum=1, doc='output encoder resolution, bits/rev'),
+        'velocity_cutoff': Float(250.0, positive=True, doc='velocity filter cut-off, Hz'),
+        'current_bandwidth': Float(800.0, positive=True, doc='current loop bandwidth, Hz'),
+        'torque_noise': Float(0.01, nonnegative=True, doc='applied-torque noise std, Nm'),
+        'effort_noise': Float(0.005, nonnegative=True, doc='measured-effort noise std, Nm'),
+        'temperature_resolution': Float(0.0625, positive=True, doc='degC'),
+        'temperature_time_constant': Float(4.0, positive=True, doc='sensor lag, s'),
+        'temperature_noise': Float(0.0, nonnegative=True, doc='std, degC'),
+        'link_torque_noise': Float(0.03, nonnegative=True,
+                                   doc='output torque sensor noise std, Nm'),
+    }, doc='sensor models of the simulated test bed'),
+    'simulation': Section({
+        'rate': Float(3000.0, positive=True, doc='simulation and control rate, Hz'),
+        'temperature_rate': Float(4.0, positive=True, doc='temperature sample rate, Hz'),
+        'seed': Int(0, minimum=0, doc='noise seed'),
+    }, doc='simulator rates'),
+}
+
+#: sections whose defaults apply when they are absent from a file
+DEFAULT_SECTIONS = ('lever', 'thermal', 'sensors', 'simulation')
+
+
+def key_specs(schema=None, prefix=''):
+    """Return {dotted name: spec} of every key and section of ``schema`` (:data:`SCHEMA`)."""
+    out = {}
+    for key, spec in (SCHEMA if schema is None else schema).items():
+        out[prefix + key] = spec
+        if isinstance(spec, Section):
+            out.update(key_specs(spec.fields, prefix + key + '.'))
+    return out
+
+
+def required_keys(schema=None, prefix=''):
+    """Return the dotted names of the keys every gear must give (``gear_ratio``, ...)."""
+    out = []
+    for key, spec in (SCHEMA if schema is None else schema).items():
+        if spec.default is not REQUIRED:
+            continue
+        if isinstance(spec, Section):
+            out += required_keys(spec.fields, prefix + key + '.')
+        else:
+            out.append(prefix + key)
+    return out
