@@ -24,7 +24,11 @@ Public rclpy does not offer two things the nodes need at 1-3 kHz:
   object) has ``take_message(cls, raw)``; :func:`take_message` wraps it;
 * the exception type of a failed publish on a keep-all publisher whose
   subscriber has stopped taking (``RCLError`` from the C extension), which
-  replay turns into a named error.
+  replay turns into a named error;
+* the names of the parameters given on the command line (``-p``, params
+  files) for a node, so that an unknown one is an error as an unknown key in
+  a gear file is: rclpy keeps them in ``Node._parameter_overrides`` and only
+  declares the ones the node asks for.
 
 If a later rclpy moves these, this module is the one to change.  It also
 re-exports the public rclpy names the command line needs, so that only
@@ -35,7 +39,7 @@ from rclpy.impl.implementation_singleton import rclpy_implementation
 from rclpy.utilities import remove_ros_args
 
 __all__ = ['ExternalShutdownException', 'RCLError', 'remove_ros_args', 'take_message',
-           'take_all']
+           'take_all', 'parameter_override_names']
 
 #: raised by rcl calls that fail, e.g. publishing to a full keep-all queue
 RCLError = rclpy_implementation.RCLError
@@ -58,3 +62,8 @@ def take_all(subscription, msg_class, raw=False):
         while (taken := take_message(subscription, msg_class, raw)) is not None:
             out.append(taken)
     return out
+
+
+def parameter_override_names(node):
+    """Return the names of the parameters given to ``node`` on the command line (a set)."""
+    return set(getattr(node, '_parameter_overrides', {}))

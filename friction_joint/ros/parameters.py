@@ -43,6 +43,7 @@ from rcl_interfaces.msg import (FloatingPointRange, IntegerRange, ParameterDescr
 from rclpy.exceptions import InvalidParameterValueException
 from rclpy.parameter import Parameter
 
+from ._rclpy import parameter_override_names
 from ..exceptions import GearConfigError
 from ..gear import gear_from_flat, SCHEMA, Section
 from ..gear.files import format_ros_params, read_ros_params_file
@@ -97,7 +98,7 @@ def declare_gear(node, own=()):
         p = node.declare_parameter(name, None, desc)
         if p.type_ != Parameter.Type.NOT_SET:
             flat[name] = _plain(p.value)
-    overrides = set(getattr(node, '_parameter_overrides', {}))
+    overrides = parameter_override_names(node)
     unknown = sorted(n for n in overrides - set(keys) - set(own) - set(STANDARD)
                      if not n.startswith(QOS_OVERRIDES))
     if unknown:
