@@ -23,6 +23,10 @@ Benchmark of the ROS 2 side: rates, latency, lockstep speed, recorder throughput
    command carrying the state's stamp; latency = the recorder's receive time
    of the command - stamp);
 2. lockstep mode (joint_sim + controller): simulated steps per wall second;
+   then the full lockstep loop as ``bringup`` runs it (joint_sim + controller +
+   estimator at 3 kHz, all on /clock, recorded with ``record --use-sim-time``):
+   steps/s, sim time / wall time (x real time), and the recording's log-time
+   span and /joint_states rate (sim time: 3000 Hz over the simulated seconds);
 3. recorder throughput: a publisher floods /joint_states for 5 s; the
    recorder's count written is compared with the count published.
 
@@ -141,6 +145,43 @@ def lockstep(sim_seconds, e):
     return {'steps': steps, 'wall_s': wall, 'steps_per_s': steps / wall}
 
 
+def lockstep_recorded(sim_seconds, e):
+    """Sim + controller + estimator in lockstep (as bringup) with a --use-sim-time recorder."""
+    from rosbags.highlevel import AnyReader
+    with tempfile.TemporaryDirectory() as d:
+        out = os.path.join(d, 'ls')
+        rec = start([PY, '-m', 'friction_joint', 'record', out, '--use-sim-time'], e)
+        time.sleep(1.0)
+        est = start(node('estimator', MODEL, friction='lugre', sync='true', use_sim_time='true'),
+                    e)
+        ctrl = start(node('controller', MODEL, friction_ff='lugre', sync='true',
+                          use_sim_time='true'), e)
+        sim = start(node('joint_sim', TRUTH, mode='lockstep', duration=float(sim_seconds),
+                         wait_subscribers=3, start_delay=2.0), e)
+        try:
+            t0 = None
+            for line in sim.stdout:
+                if t0 is None and 'lockstep simulation' in line:
+                    t0 = time.monotonic()
+                if 'done' in line:
+                    break
+            wall = time.monotonic() - t0
+            sim.wait(30)
+            time.sleep(0.5)
+        finally:
+            for p in (sim, ctrl, est):
+                stop(p)
+            log = stop(rec, timeout=120)
+        with AnyReader([__import__('pathlib').Path(out)]) as reader:
+            js = [t for c, t, _ in reader.messages() if c.topic == '/joint_states']
+    steps = int(round(sim_seconds * 3000))
+    span = (js[-1] - js[0]) * 1e-9
+    return {'steps': steps, 'wall_s': wall, 'steps_per_s': steps / wall,
+            'ratio': sim_seconds / wall, 'bag_span_s': span,
+            'bag_rate_hz': (len(js) - 1) / span if span > 0 else float('nan'),
+            'recorded': len(js), 'log': log.strip().splitlines()[-1:]}
+
+
 FLOOD = """
 import sys, time, rclpy
 from rclpy.qos import HistoryPolicy, QoSProfile, ReliabilityPolicy
@@ -204,6 +245,12 @@ def main():
     print(f'lockstep: {ls["steps"]} steps in {ls["wall_s"]:.2f} s = '
           f'{ls["steps_per_s"]:.0f} steps/s ({ls["steps_per_s"] / 3000:.3f} x real time)',
           flush=True)
+    sim_s = 1.0 if a.quick else 5.0
+    lr = lockstep_recorded(sim_s, e)
+    print(f'lockstep 3 processes + recorder (--use-sim-time): {lr["steps"]} steps in '
+          f'{lr["wall_s"]:.2f} s = {lr["steps_per_s"]:.0f} steps/s, sim/wall '
+          f'{lr["ratio"]:.3f} x real time; bag spans {lr["bag_span_s"]:.3f} s of log time, '
+          f'/joint_states {lr["recorded"]} msgs at {lr["bag_rate_hz"]:.0f} Hz', flush=True)
     r3 = recorder(3000.0, 5.0, e)
     rf = recorder(0.0, 5.0, e)
     for name, r in (('3 kHz', r3), ('flood', rf)):
@@ -212,6 +259,8 @@ def main():
     print(f'rate_hz={rt["rate_hz"]:.1f} latency_p50_ms={rt["latency_p50_ms"]:.3f} '
           f'latency_p99_ms={rt["latency_p99_ms"]:.3f} '
           f'lockstep_steps_per_s={ls["steps_per_s"]:.0f} '
+          f'lockstep_recorded_steps_per_s={lr["steps_per_s"]:.0f} '
+          f'lockstep_recorded_x_realtime={lr["ratio"]:.3f} '
           f'recorder_lost={r3["lost"] + rf["lost"]} recorder_flood_msg_s={rf["rate_msg_s"]:.0f}')
 
 

@@ -19,7 +19,8 @@ rosbags' MCAP writer stores every CRC as 0, so a flipped bit in a recording
 goes unnoticed.  :func:`seal_recording` rewrites the ``.mcap`` file(s) of a
 recording with the ``mcap`` library: the header profile, schemas, channels
 (with their metadata), every message, the metadata records (rosbags'
-``rosbag2`` record) and attachments are copied, messages in log-time order
+``rosbag2`` record) and attachments are copied (channel and metadata entries
+can be replaced on the way, see :func:`seal_recording`), messages in log-time order
 across topics, into compressed chunks with chunk CRCs, a data-section CRC and
 a summary CRC.  ``metadata.yaml`` needs no change: the file keeps its name,
 and rosbags' reader takes chunk compression from the chunks themselves.
@@ -36,7 +37,7 @@ import zlib
 
 from ..exceptions import RecordingError
 
-__all__ = ['seal_recording', 'verify_checksums', 'mcap_files', 'COMPRESSIONS']
+__all__ = ['seal_recording', 'seal_rosbag2', 'verify_checksums', 'mcap_files', 'COMPRESSIONS']
 
 #: chunk compression names -> mcap.writer.CompressionType member names
 COMPRESSIONS = {'zstd': 'ZSTD', 'lz4': 'LZ4', 'none': 'NONE'}
@@ -140,11 +141,12 @@ def _copy(reader, writer, channels, log_time_order):
     return True
 
 
-def _seal_file(src, compression, data_crc):
+def _seal_file(src, compression, data_crc, overrides=(None, None)):
     from mcap.reader import make_reader
     from mcap.writer import CompressionType, Writer
 
     kind = getattr(CompressionType, COMPRESSIONS[compression])
+    metadata, channel_metadata = (x or {} for x in overrides)
     tmp = src.with_name(f'.{src.name}.seal.tmp')
     try:
         with open(src, 'rb') as fin:
@@ -162,7 +164,8 @@ def _seal_file(src, compression, data_crc):
                                for sid, s in sorted(summary.schemas.items())}
                     channels = {cid: writer.register_channel(c.topic, c.message_encoding,
                                                              schemas.get(c.schema_id, 0),
-                                                             dict(c.metadata))
+                                                             {**c.metadata, **channel_metadata.get(
+                                                                 c.topic, {})})
                                 for cid, c in sorted(summary.channels.items())}
                     if not _copy(reader, writer, channels, log_time_order):
                         continue
@@ -170,8 +173,13 @@ def _seal_file(src, compression, data_crc):
                     for att in reader.iter_attachments():
                         writer.add_attachment(att.create_time, att.log_time, att.name,
                                               att.media_type, att.data)
+                    seen = set()
                     for meta in reader.iter_metadata():
-                        writer.add_metadata(meta.name, dict(meta.metadata))
+                        seen.add(meta.name)
+                        writer.add_metadata(meta.name, {**meta.metadata,
+                                                        **metadata.get(meta.name, {})})
+                    for name in sorted(set(metadata) - seen):
+                        writer.add_metadata(name, dict(metadata[name]))
                     writer.finish()
                     break
         os.replace(tmp, src)
@@ -180,7 +188,8 @@ def _seal_file(src, compression, data_crc):
             os.remove(tmp)
 
 
-def seal_recording(path, *, compression='zstd', data_crc=True):
+def seal_recording(path, *, compression='zstd', data_crc=True, metadata=None,
+                   channel_metadata=None):
     """
     Rewrite a recording's MCAP file(s) with CRCs, compressed chunks and messages in time order.
 
@@ -192,6 +201,13 @@ def seal_recording(path, *, compression='zstd', data_crc=True):
         Chunk compression.
     data_crc : bool
         Also record the data-section CRC (chunk and summary CRCs are always recorded).
+    metadata : dict, optional
+        Metadata record name -> ``{key: value}`` entries to set in that record (added
+        if the file has no record of that name), e.g. ``{'rosbag2': {'ROS_DISTRO':
+        'jazzy', 'serialized_metadata': ...}}``.
+    channel_metadata : dict, optional
+        Topic -> ``{key: value}`` entries to set in the metadata of that topic's
+        channel(s), e.g. ``{'/joint_states': {'offered_qos_profiles': ...}}``.
 
     Returns
     -------
@@ -218,5 +234,71 @@ def seal_recording(path, *, compression='zstd', data_crc=True):
                              f'(one of {", ".join(COMPRESSIONS)})')
     files = mcap_files(path)
     for f in files:
-        _seal_file(f, compression, data_crc)
+        _seal_file(f, compression, data_crc, (metadata, channel_metadata))
     return [os.fspath(f) for f in files]
+
+
+def _dump_yaml(data):
+    from io import StringIO
+
+    from ruamel.yaml import YAML
+    yaml = YAML(typ='safe')
+    yaml.default_flow_style = False
+    stream = StringIO()
+    yaml.dump(data, stream)
+    return stream.getvalue()
+
+
+def seal_rosbag2(bagdir, *, ros_distro=None, offered_qos=None, compression='zstd'):
+    """
+    Set ``ros_distro`` and offered QoS profiles in a rosbag2 directory, then seal it.
+
+    Parameters
+    ----------
+    bagdir : str or os.PathLike
+        A rosbag2 directory (``metadata.yaml`` and uncompressed ``.mcap`` file(s)) as
+        rosbags wrote it: rosbags writes ``ros_distro: rosbags``.
+    ros_distro : str, optional
+        Distribution to write (default: the environment's ``ROS_DISTRO``, else
+        ``'jazzy'``).
+    offered_qos : dict, optional
+        Topic -> list of QoS profiles in rosbag2's version 9 form (dicts with
+        ``history``, ``depth``, ``reliability``, ``durability``, ``deadline``,
+        ``lifespan``, ``liveliness``, ``liveliness_lease_duration``,
+        ``avoid_ros_namespace_conventions``); topics not named keep theirs.
+    compression : {'zstd', 'lz4', 'none'}
+        Chunk compression of :func:`seal_recording`.
+
+    Returns
+    -------
+    list of str
+        The ``.mcap`` files rewritten.
+
+    Notes
+    -----
+    ``metadata.yaml`` is replaced atomically first; the ``.mcap`` file(s) then get
+    the same metadata in their ``rosbag2`` record (``serialized_metadata`` and
+    ``ROS_DISTRO``, as rosbag2 writes them) and the profiles in each channel's
+    ``offered_qos_profiles``, while :func:`seal_recording` rewrites them.
+
+    """
+    from ruamel.yaml import YAML
+
+    distro = ros_distro or os.environ.get('ROS_DISTRO') or 'jazzy'
+    offered_qos = offered_qos or {}
+    meta_path = Path(bagdir) / 'metadata.yaml'
+    meta = YAML(typ='safe').load(meta_path.read_text('utf8'))
+    info = meta['rosbag2_bagfile_information']
+    info['ros_distro'] = distro
+    for entry in info.get('topics_with_message_count') or []:
+        topic = entry['topic_metadata']
+        if topic['name'] in offered_qos:
+            topic['offered_qos_profiles'] = list(offered_qos[topic['name']])
+    tmp = meta_path.with_name('.metadata.yaml.tmp')
+    tmp.write_text(_dump_yaml(meta), 'utf8')
+    os.replace(tmp, meta_path)
+    channels = {t: {'offered_qos_profiles': _dump_yaml(list(p)).strip()}
+                for t, p in offered_qos.items()}
+    record = {'serialized_metadata': _dump_yaml(info).strip(), 'ROS_DISTRO': distro}
+    return seal_recording(bagdir, compression=compression, metadata={'rosbag2': record},
+                          channel_metadata=channels)

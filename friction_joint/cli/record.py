@@ -37,6 +37,11 @@ def add_arguments(parser):
                              f'topics (default: {" ".join(CONTRACT_TYPES)})')
     parser.add_argument('--duration', type=float, metavar='S',
                         help='stop after S seconds (default: until Ctrl-C / SIGTERM)')
+    parser.add_argument('--use-sim-time', action='store_true',
+                        help='log times from /clock (as ros2 bag record --use-sim-time): each '
+                             'message at the latest /clock time received before it, so a '
+                             'lockstep recording spans (and replays in) its simulated time; '
+                             'default: receive (wall) time')
     return parser
 
 
@@ -44,7 +49,8 @@ def run(args):
     """Record; prints the message counts."""
     from ..ros.record import format_counts, record
     counts = record(args.out, topics=args.topics, duration=args.duration,
-                    args=getattr(args, 'ros_args', None))
+                    args=getattr(args, 'ros_args', None),
+                    use_sim_time=getattr(args, 'use_sim_time', False))
     print(f'recorded {format_counts(counts)} to {args.out}', flush=True)
     return 0
 

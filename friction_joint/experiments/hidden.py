@@ -389,9 +389,9 @@ def simulate_recording(truth_gear, path=None, *, duration=90.0, seed=0, base_gea
     link_torque, command : bool
         Include ``/link_torque`` and ``/joint_command``.
     compress : bool
-        Write a zstd file-compressed rosbag2 directory (as ``ros2 bag record
-        --compression-mode file --compression-format zstd``; about a quarter of the
-        size).  Only for a directory ``path``.
+        Write the rosbag2 directory as the shipped sample is stored: a plain
+        ``.mcap`` with zstd-compressed chunks and CRCs, ``ros_distro: jazzy``
+        (MCAP tools and Foxglove open it as is).  Only for a directory ``path``.
     cfg : dict, optional
         Overrides of :data:`SEGMENT`.
 
@@ -472,36 +472,21 @@ def simulate_recording(truth_gear, path=None, *, duration=90.0, seed=0, base_gea
 
 
 def _write_compressed(path, topics, joint_name):
-    """Write ``topics`` as a zstd file-compressed rosbag2 directory at ``path``."""
-    import os
-    import shutil
-    import tempfile
+    """
+    Write ``topics`` as a rosbag2 directory the way the shipped sample is stored.
 
-    from rosbags.rosbag2 import Reader, StoragePlugin, Writer
-    from rosbags.rosbag2.enums import CompressionFormat, CompressionMode
-    from rosbags.typesys import Stores, get_typestore
+    One plain ``.mcap`` file with zstd-compressed chunks and CRCs (what
+    ``ros2 bag record --storage-preset-profile zstd_small`` and Foxglove read as
+    is; no whole-file compression, which MCAP tools cannot open without unpacking),
+    ``ros_distro: jazzy`` in ``metadata.yaml``.
+    """
+    import os
+
+    from ..bag.checksums import seal_rosbag2
 
     path = os.fspath(path)
     if path.endswith('.mcap'):
         raise FrictionJointError('compress=True needs a rosbag2 directory path, not .mcap')
-    if os.path.lexists(path):
-        raise FrictionJointError(f'{path} exists already, not overwriting')
-    parent = os.path.dirname(os.path.abspath(path))
-    os.makedirs(parent, exist_ok=True)
-    tmp = tempfile.mkdtemp(prefix='.compress.', dir=parent)
-    try:
-        plain = os.path.join(tmp, 'plain')
-        write_recording(plain, topics, joint_name=joint_name)
-        final = os.path.join(tmp, os.path.basename(os.path.normpath(path)))
-        typestore = get_typestore(Stores.ROS2_JAZZY)
-        writer = Writer(final, version=9, storage_plugin=StoragePlugin.MCAP)
-        writer.set_compression(CompressionMode.FILE, CompressionFormat.ZSTD)
-        with Reader(plain) as reader, writer:
-            conns = {c.id: writer.add_connection(c.topic, c.msgtype, typestore=typestore)
-                     for c in reader.connections}
-            for con, stamp, raw in reader.messages():
-                writer.write(conns[con.id], stamp, raw)
-        os.rename(final, path)
-    finally:
-        shutil.rmtree(tmp, ignore_errors=True)
+    write_recording(path, topics, joint_name=joint_name)     # sealed: zstd chunks, CRCs
+    seal_rosbag2(path, ros_distro='jazzy')
     return path

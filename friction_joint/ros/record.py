@@ -17,7 +17,12 @@
 
 The recorder subscribes with ``raw=True`` (the serialized CDR bytes are written
 as received, nothing is deserialized) and writes every message with the rosbags
-``Writer`` (version 9, MCAP), the DDS receive time as bag time.  Each
+``Writer`` (version 9, MCAP), the DDS receive time as log (bag) time; with
+``--use-sim-time`` (as ``ros2 bag record --use-sim-time``) the log time is the
+latest ``/clock`` time received before the message (matched by DDS receive
+times, so the batching below does not shift it), and a lockstep recording
+spans its simulated time: replay, which follows log times, then plays it at
+its simulated speed.  Each
 subscription callback also takes whatever else is already queued on its
 subscription, and the spin loop pauses 2 ms between rounds so that messages
 arrive in batches: at 3 kHz the recorder costs about a fifth of a core instead
@@ -27,22 +32,27 @@ the counts received and written are the same number.
 Stopping (SIGINT, SIGTERM or ``--duration``) first drains what DDS has already
 received, then finalises the bag: every message received is written, the MCAP
 file is sealed (rewritten with chunk, data and summary CRCs and zstd-compressed
-chunks, messages in log-time order across topics:
-:func:`~friction_joint.bag.seal_recording`; if that fails the bag is kept as
-rosbags wrote it), and the counts are printed.  A second signal skips the
+chunks, messages in log-time order across topics; ``metadata.yaml`` and the
+file's ``rosbag2`` record get ``ros_distro`` from ``ROS_DISTRO`` (default
+``jazzy``) and, per topic, the ``offered_qos_profiles`` of the publishers the
+recorder matched, as rosbag2 stores them:
+:func:`~friction_joint.bag.checksums.seal_rosbag2`; if that fails the bag is
+kept as rosbags wrote it), and the counts are printed.  A second signal skips the
 drain.  The bag is written into a temporary directory next to ``OUT`` and
 renamed when complete, so ``OUT`` is either a complete recording or absent.
 
-QoS: reliable with keep-all history for every topic (a recorder that falls
-behind for a moment must not let its queue overwrite messages it has
-acknowledged), except ``/clock`` (best effort, keep-last 1000).  A reliable
-subscription does not match a
+QoS (:func:`friction_joint.ros.qos.recorder_qos`): reliable with keep-all
+history for every topic (a recorder that falls behind for a moment must not
+let its queue overwrite messages it has acknowledged), except ``/clock``
+(best effort, keep-last 1000).  A reliable subscription does not match a
 best-effort publisher; record such a topic from a reliable republisher.
 """
+import collections
 import importlib
 import os
 import shutil
 import signal
+import struct
 import sys
 import tempfile
 import threading
@@ -50,16 +60,71 @@ import time
 
 from ._rclpy import take_all
 from .qos import recorder_qos
-from ..bag import CONTRACT_TYPES, seal_recording
+from ..bag import CONTRACT_TYPES
+from ..bag.checksums import seal_rosbag2
 from ..exceptions import RecordingError
 
 __all__ = ['record', 'Recorder', 'parse_topics', 'message_class', 'install_signals',
-           'format_counts']
+           'format_counts', 'qos_dict']
 
 
 _BATCH = 0.002      # s to let messages queue up between takes (bag time is DDS time)
 _DRAIN_QUIET = 0.2     # s without a message that ends the drain
 _DRAIN_MAX = 2.0       # s the drain may take at most (a publisher still flooding)
+_CLOCK_TYPE = 'rosgraph_msgs/msg/Clock'
+_CLOCK_KEEP = 100_000   # /clock samples kept for messages not taken yet (older ones folded)
+
+
+def _clock_ns(raw):
+    """Time (ns) in a serialized ``rosgraph_msgs/msg/Clock`` (CDR, either byte order)."""
+    sec, nsec = struct.unpack_from('<iI' if raw[1] & 1 else '>iI', raw, 4)
+    return sec * 1_000_000_000 + nsec
+
+
+def _policy(value):
+    return getattr(value, 'name', str(value)).lower()
+
+
+def _duration(value):
+    ns = value.nanoseconds
+    return {'sec': ns // 1_000_000_000, 'nsec': ns % 1_000_000_000}
+
+
+def qos_dict(profile):
+    """
+    Return an rclpy ``QoSProfile`` as a rosbag2 version 9 ``offered_qos_profiles`` entry.
+
+    As ``ros2 bag record`` stores a matched publisher's profile: policy names in
+    lower case (``keep_last``, ``reliable``, ...; ``unknown`` where DDS discovery
+    does not tell, as the history of a remote publisher), durations as
+    ``{sec, nsec}`` (infinite: ``{sec: 9223372036, nsec: 854775807}``).
+    """
+    return {'history': _policy(profile.history), 'depth': int(profile.depth),
+            'reliability': _policy(profile.reliability),
+            'durability': _policy(profile.durability),
+            'deadline': _duration(profile.deadline), 'lifespan': _duration(profile.lifespan),
+            'liveliness': _policy(profile.liveliness),
+            'liveliness_lease_duration': _duration(profile.liveliness_lease_duration),
+            'avoid_ros_namespace_conventions': bool(profile.avoid_ros_namespace_conventions)}
+
+
+class _SimClock:
+    """The latest ``/clock`` time received before a given receive time."""
+
+    def __init__(self):
+        self.now = 0                      # before the first /clock, as ros2 bag: 0
+        self.pending = collections.deque()   # (receive time, clock ns), in arrival order
+
+    def add(self, recv, ns):
+        self.pending.append((recv, ns))
+        if len(self.pending) > _CLOCK_KEEP:
+            self.now = self.pending.popleft()[1]
+
+    def at(self, recv):
+        pending = self.pending
+        while pending and pending[0][0] <= recv:
+            self.now = pending.popleft()[1]
+        return self.now
 
 
 def parse_topics(specs):
@@ -110,66 +175,139 @@ class Recorder:
         (``'/topic: 1 publisher matched'``).  A publisher's messages are recorded only
         from the moment the recorder's side has matched it: DDS marks what a volatile
         reader missed before that as lost.
+    sim_time : bool
+        Log times from ``/clock`` instead of the receive (wall) time: each message
+        gets the latest ``/clock`` time received before it (0 before the first),
+        ``/clock`` messages their own time; ``/clock`` is subscribed best effort
+        (and not written unless it is one of ``topics``).
+
+    Attributes
+    ----------
+    offered_qos : dict
+        Topic -> list of the distinct QoS profiles (:func:`qos_dict`) of the
+        publishers matched so far; see :meth:`update_offered_qos`.
 
     """
 
-    def __init__(self, node, writer, topics, typestore, log=None):
+    def __init__(self, node, writer, topics, typestore, log=None, *, sim_time=False):
         from rclpy.event_handler import SubscriptionEventCallbacks
         self.writer = writer
+        self.node = node
         self.written = {t: 0 for t, _ in topics}
+        self.offered_qos = {t: [] for t, _ in topics}
         self.last_message = time.monotonic()
+        self.connections = {}
+        self._clock = _SimClock() if sim_time else None
+        self._clock_take = None
         self._subs = []
-        for topic, msgtype in topics:
+        pairs = list(topics)
+        if sim_time and '/clock' not in dict(pairs):
+            pairs.append(('/clock', _CLOCK_TYPE))
+        for topic, msgtype in pairs:
             if msgtype not in typestore.types:
                 raise RecordingError(f'{topic}: message type {msgtype} is unknown to the '
                                      'rosbags Jazzy typestore')
             cls = message_class(topic, msgtype)
-            conn = writer.add_connection(topic, msgtype, typestore=typestore)
-            qos = recorder_qos(topic)
+            conn = None
+            if topic in self.written:
+                conn = writer.add_connection(topic, msgtype, typestore=typestore)
+                self.connections[topic] = conn
             holder = []
-            events = None if log is None else SubscriptionEventCallbacks(
-                matched=self._matched(topic, log))
-            sub = node.create_subscription(cls, topic, self._callback(topic, cls, conn, holder),
-                                           qos, raw=True, event_callbacks=events)
+            events = SubscriptionEventCallbacks(matched=self._matched(topic, log)) \
+                if topic in self.written else None
+            if sim_time and topic == '/clock':
+                callback = self._clock_callback(conn, cls, holder)
+            else:
+                callback = self._callback(topic, cls, conn, holder)
+            sub = node.create_subscription(cls, topic, callback, recorder_qos(topic),
+                                           raw=True, event_callbacks=events)
             holder.append(sub)
             self._subs.append(sub)
 
-    @staticmethod
-    def _matched(topic, log):
+    def _matched(self, topic, log):
         def callback(status):
             n = status.current_count
-            log(f'{topic}: {n} publisher{"" if n == 1 else "s"} matched')
+            self.update_offered_qos([topic])
+            if log is not None:
+                log(f'{topic}: {n} publisher{"" if n == 1 else "s"} matched')
+        return callback
+
+    def update_offered_qos(self, topics=None):
+        """Add the QoS profiles of the publishers now on ``topics`` (default all)."""
+        for topic in self.written if topics is None else topics:
+            seen = self.offered_qos[topic]
+            for info in self.node.get_publishers_info_by_topic(topic):
+                profile = qos_dict(info.qos_profile)
+                if profile not in seen:
+                    seen.append(profile)
+
+    def _clock_callback(self, conn, cls, holder):
+        write = self.writer.write
+        written = self.written
+        clock = self._clock
+
+        def take(raw, info):
+            ns = _clock_ns(raw)
+            clock.add(info.get('received_timestamp') or time.time_ns(), ns)
+            if conn is not None:
+                write(conn, ns, raw)
+                written['/clock'] += 1
+
+        def pull():
+            for taken in take_all(holder[0], cls, raw=True):
+                take(*taken)
+
+        def callback(raw, info):
+            take(raw, info)
+            pull()
+            self.last_message = time.monotonic()
+
+        self._clock_take = pull
         return callback
 
     def _callback(self, topic, cls, conn, holder):
         write = self.writer.write
         written = self.written
 
-        def put(raw, info):
-            write(conn, info.get('received_timestamp') or time.time_ns(), raw)
-            written[topic] += 1
-
         def callback(raw, info):
-            put(raw, info)
-            for taken in take_all(holder[0], cls, raw=True):   # the rest of a burst, now
-                put(*taken)
+            batch = [(raw, info)]
+            batch.extend(take_all(holder[0], cls, raw=True))   # the rest of a burst, now
+            if self._clock is not None:
+                self._clock_take()          # every /clock received so far, in order
+                for raw, info in batch:
+                    write(conn, self._clock.at(info.get('received_timestamp')
+                                               or time.time_ns()), raw)
+            else:
+                for raw, info in batch:
+                    write(conn, info.get('received_timestamp') or time.time_ns(), raw)
+            written[topic] += len(batch)
             self.last_message = time.monotonic()
 
         return callback
 
 
-def _seal(bag, out, log):
+def _seal(bag, out, log, offered_qos):
     """
-    Put CRCs into the closed bag (messages in log-time order); keep it unsealed on failure.
+    Put CRCs, ``ros_distro`` and offered QoS into the closed bag; keep it as is on failure.
 
-    rosbags writes CRC 0; :func:`~friction_joint.bag.seal_recording` rewrites the
-    ``.mcap`` beside itself and renames it over the original, so a failure (a full disk)
-    leaves the complete unsealed recording, which is kept: nothing recorded is lost.
+    rosbags writes CRC 0 and ``ros_distro: rosbags``;
+    :func:`~friction_joint.bag.checksums.seal_rosbag2` writes the distribution
+    (``ROS_DISTRO``, else ``jazzy``) and the publishers' QoS profiles into
+    ``metadata.yaml`` and rewrites the ``.mcap`` beside itself (messages in log-time
+    order, the same metadata in its ``rosbag2`` record and channels) and renames it
+    over the original, so a failure (a full disk) leaves the complete unsealed
+    recording, which is kept: nothing recorded is lost.
     """
     try:
-        seal_recording(bag)
-    except (OSError, RecordingError) as exc:
+        seal_rosbag2(bag, offered_qos=offered_qos)
+    except (OSError, RecordingError, KeyError, ValueError) as exc:
         log(f'{out}: kept without checksums, sealing failed ({exc})')
+
+
+def _qos_objects(dicts):
+    """Return the rosbags ``Qos`` objects of :func:`qos_dict` entries."""
+    from rosbags.rosbag2.metadata import parse_qos
+    return parse_qos(list(dicts))
 
 
 def install_signals(stop, force=None):
@@ -192,7 +330,8 @@ def install_signals(stop, force=None):
     return lambda: [signal.signal(s, h) for s, h in old.items()]
 
 
-def record(out, *, topics=None, duration=None, args=None, log=None, stop=None):
+def record(out, *, topics=None, duration=None, args=None, log=None, stop=None,
+           use_sim_time=False):
     """
     Record ``topics`` into ``out`` until a signal, ``duration`` or ``stop`` is set.
 
@@ -210,6 +349,11 @@ def record(out, *, topics=None, duration=None, args=None, log=None, stop=None):
         Progress lines (default: stderr).
     stop : threading.Event, optional
         Set it to stop recording (besides SIGINT/SIGTERM).
+    use_sim_time : bool
+        Log times from ``/clock`` (as ``ros2 bag record --use-sim-time``): each message
+        is logged at the latest ``/clock`` time received before it, so a lockstep
+        recording spans its simulated time and replays at its own speed.  Default:
+        the receive (wall) time.
 
     Returns
     -------
@@ -258,9 +402,10 @@ def record(out, *, topics=None, duration=None, args=None, log=None, stop=None):
         writer = Writer(os.path.join(tmp, base), version=9, storage_plugin=StoragePlugin.MCAP)
         writer.open()
         try:
-            recorder = Recorder(node, writer, pairs, typestore, log=log)
+            recorder = Recorder(node, writer, pairs, typestore, log=log, sim_time=use_sim_time)
             log(f'recording {", ".join(t for t, _ in pairs)} to {out} '
-                f'({"for %g s" % duration if duration else "Ctrl-C to stop"})')
+                f'({"for %g s" % duration if duration else "Ctrl-C to stop"}'
+                f'{", log times from /clock" if use_sim_time else ""})')
             t_end = None if duration is None else time.monotonic() + duration
             while not stop.is_set() and (t_end is None or time.monotonic() < t_end):
                 timeout = 0.1 if t_end is None else max(0.0, min(0.1, t_end - time.monotonic()))
@@ -274,11 +419,16 @@ def record(out, *, topics=None, duration=None, args=None, log=None, stop=None):
                 if now - max(recorder.last_message, t_stop) > _DRAIN_QUIET or \
                         now - t_stop > _DRAIN_MAX:
                     break
+            recorder.update_offered_qos()
+            for i, conn in enumerate(writer.connections):   # into metadata.yaml at close
+                profiles = _qos_objects(recorder.offered_qos.get(conn.topic, ()))
+                writer.connections[i] = conn._replace(
+                    ext=conn.ext._replace(offered_qos_profiles=profiles))
         except BaseException:
             writer.abort()
             raise
         writer.close()
-        _seal(os.path.join(tmp, base), out, log)
+        _seal(os.path.join(tmp, base), out, log, recorder.offered_qos)
         os.rename(os.path.join(tmp, base), out)
         return dict(recorder.written)
     except RecordingError:

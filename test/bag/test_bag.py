@@ -377,3 +377,104 @@ def test_dataclass_input(tmp_path):
     rec = read_recording(tmp_path / 'rec')
     assert isinstance(rec, Recording) and rec.joint_name == 'j2'
     np.testing.assert_array_equal(rec.joint_states.q, t)
+
+
+# --------------------------------------------------------------------------- rosbag2 metadata
+
+MCAP_CLI = Path(os.environ.get('FRICTION_JOINT_MCAP_CLI', '/work/shared/tools/mcap'))
+SAMPLE = Path(__file__).resolve().parents[2] / 'bags' / 'csd25_sample'
+
+
+def _mcap_doctor(path):
+    import subprocess
+    if MCAP_CLI.exists():
+        res = subprocess.run([str(MCAP_CLI), 'doctor', '--strict-message-order', str(path)],
+                             capture_output=True, text=True, timeout=120)
+        assert res.returncode == 0, res.stdout + res.stderr
+
+
+def test_seal_rosbag2_writes_distro_and_offered_qos(tmp_path):
+    from mcap.reader import make_reader
+    from rosbags.highlevel import AnyReader
+    from rosbags.interfaces import QosDurability, QosHistory
+    from ruamel.yaml import YAML
+
+    from friction_joint.bag.checksums import seal_rosbag2, verify_checksums
+
+    topics = _topics(n=300)
+    write_recording(tmp_path / 'rec', topics)
+    profile = {'history': 'keep_last', 'depth': 10, 'reliability': 'reliable',
+               'durability': 'transient_local', 'deadline': {'sec': 1, 'nsec': 5},
+               'lifespan': {'sec': 0, 'nsec': 0}, 'liveliness': 'automatic',
+               'liveliness_lease_duration': {'sec': 0, 'nsec': 0},
+               'avoid_ros_namespace_conventions': False}
+    seal_rosbag2(tmp_path / 'rec', ros_distro='jazzy',
+                 offered_qos={'/joint_states': [profile]})
+    info = YAML(typ='safe').load((tmp_path / 'rec' / 'metadata.yaml').read_text())[
+        'rosbag2_bagfile_information']
+    assert info['ros_distro'] == 'jazzy'
+    qos = {t['topic_metadata']['name']: t['topic_metadata']['offered_qos_profiles']
+           for t in info['topics_with_message_count']}
+    assert qos['/joint_states'] == [profile] and qos['/link_torque'] == []
+    with AnyReader([tmp_path / 'rec']) as reader:
+        (conn,) = [c for c in reader.connections if c.topic == '/joint_states']
+        (got,) = conn.ext.offered_qos_profiles
+        assert got.history == QosHistory.KEEP_LAST and got.depth == 10
+        assert got.durability == QosDurability.TRANSIENT_LOCAL and got.deadline.nsec == 5
+        assert sum(1 for _ in reader.messages([conn])) == 300
+    mcap = _mcap_file(tmp_path / 'rec')
+    verify_checksums(mcap)
+    with open(mcap, 'rb') as fh:
+        reader = make_reader(fh)
+        channels = {c.topic: c.metadata for c in reader.get_summary().channels.values()}
+        (meta,) = list(reader.iter_metadata())
+    assert 'transient_local' in channels['/joint_states']['offered_qos_profiles']
+    assert meta.name == 'rosbag2' and meta.metadata['ROS_DISTRO'] == 'jazzy'
+    assert 'ros_distro: jazzy' in meta.metadata['serialized_metadata']
+    rec = read_recording(tmp_path / 'rec')
+    np.testing.assert_array_equal(rec.joint_states.q, topics['/joint_states']['q'])
+    _mcap_doctor(mcap)
+
+
+def _chunk_compressions(path):
+    from mcap.reader import make_reader
+    with open(path, 'rb') as fh:
+        summary = make_reader(fh).get_summary()
+    return {c.compression for c in summary.chunk_indexes}
+
+
+def test_shipped_sample_is_plain_mcap_with_zstd_chunks_and_crcs():
+    from ruamel.yaml import YAML
+
+    from friction_joint.bag.checksums import verify_checksums
+
+    files = sorted(p.name for p in SAMPLE.iterdir())
+    assert files == ['csd25_sample.mcap', 'metadata.yaml']
+    mcap = SAMPLE / 'csd25_sample.mcap'
+    assert mcap.stat().st_size < 5_000_000
+    with open(mcap, 'rb') as fh:
+        assert fh.read(8) == b'\x89MCAP0\r\n'                   # not whole-file compressed
+    assert _chunk_compressions(mcap) == {'zstd'}
+    verify_checksums(mcap)
+    info = YAML(typ='safe').load((SAMPLE / 'metadata.yaml').read_text())[
+        'rosbag2_bagfile_information']
+    assert info['compression_mode'] == '' and info['compression_format'] == ''
+    assert info['relative_file_paths'] == ['csd25_sample.mcap']
+    assert info['ros_distro'] == 'jazzy' and info['message_count'] == 90783
+    _mcap_doctor(mcap)
+
+
+def test_simulated_compressed_recording_has_the_sample_layout(tmp_path):
+    from friction_joint import load_gear
+    from friction_joint.experiments.hidden import simulate_recording
+
+    base = load_gear(Path(__file__).resolve().parents[2] / 'config' / 'csd25_base.yaml')
+    simulate_recording(base, tmp_path / 'sim', duration=4.0, seed=5, n_segments=2,
+                       link_torque=False, compress=True)
+    assert sorted(p.name for p in (tmp_path / 'sim').iterdir()) == ['metadata.yaml',
+                                                                    'sim.mcap']
+    assert _chunk_compressions(tmp_path / 'sim' / 'sim.mcap') == {'zstd'}
+    text = (tmp_path / 'sim' / 'metadata.yaml').read_text()
+    assert 'ros_distro: jazzy' in text and 'compression_mode: file' not in text
+    rec = read_recording(tmp_path / 'sim', joint_name=base.joint_name)
+    assert rec.duration > 3.0 and rec.unordered == {}

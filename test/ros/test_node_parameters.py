@@ -228,7 +228,8 @@ def test_node_parameter_of_the_wrong_type_is_one_line(param, words, spawn):
 def test_node_runs_on_a_file_rcl_alone_refused(tmp_path, spawn):
     """``fc: [2, 0.01]`` ended every node in an RCLError traceback at rclpy.init."""
     gear = write(tmp_path / 'g.yaml', HEAD + BODY)
-    proc = spawn(joint_sim(gear, 'duration:=0.05', 'publish_rate:=200.0'))
+    proc = spawn(joint_sim(gear, 'duration:=0.05', 'publish_rate:=200.0',
+                           'wait_subscribers:=0'))
     assert proc.wait(60) == 0, proc.describe()
     assert 'realtime simulation of j1' in proc.stdout + proc.stderr, proc.describe()
 

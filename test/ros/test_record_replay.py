@@ -13,7 +13,10 @@
 # limitations under the License.
 
 """``friction_joint record`` / ``replay`` as processes on an isolated ROS 2 domain."""
+import os
+from pathlib import Path
 import re
+import subprocess
 import time
 
 from friction_joint.bag import read_recording, write_recording
@@ -26,6 +29,7 @@ pytestmark = pytest.mark.ros
 pytest.importorskip('rclpy')
 
 CLI = [PYTHON, '-m', 'friction_joint']
+MCAP_CLI = Path(os.environ.get('FRICTION_JOINT_MCAP_CLI', '/work/shared/tools/mcap'))
 
 
 def _joint_state(i, names=('joint',)):
@@ -204,3 +208,161 @@ def test_replay_ends_with_an_error_when_a_subscriber_stops_taking(ros_node, spaw
                   r'stopped taking messages', rep.stderr)
     assert m and 0 < int(m.group(1)) < n, rep.describe()
     assert 'replayed' not in rep.stdout
+
+
+def _sim_stream(ros_node, js_pub, clock_pub, phases):
+    """
+    Publish ``/clock`` then a JointState stamped with it, step by step; return the times.
+
+    ``phases``: ``(steps, sim dt, wall period)``; the clock runs faster or slower
+    than wall time as a lockstep simulator's does.
+    """
+    from rosgraph_msgs.msg import Clock
+    sim, stamps = 50_000_000_000, []
+    t_next = time.perf_counter()
+    for steps, dt, period in phases:
+        for _ in range(steps):
+            sim += int(round(dt * 1e9))
+            clock = Clock()
+            clock.clock.sec, clock.clock.nanosec = divmod(sim, 1_000_000_000)
+            clock_pub.publish(clock)
+            m = _joint_state(len(stamps))
+            m.header.stamp = clock.clock
+            js_pub.publish(m)
+            stamps.append(sim)
+            t_next += period
+            while time.perf_counter() < t_next:
+                pass
+    from rclpy.duration import Duration
+    assert js_pub.wait_for_all_acked(Duration(seconds=10))
+    return np.array(stamps)
+
+
+@pytest.mark.slow
+def test_record_sim_time_logs_clock_times_and_replay_spans_sim_time(ros_node, spawn, tmp_path):
+    from rosbags.highlevel import AnyReader
+    from rosgraph_msgs.msg import Clock
+    from sensor_msgs.msg import JointState
+
+    out = tmp_path / 'rec'
+    rec = spawn(CLI + ['record', out, '--use-sim-time', '--topics', '/joint_states', '/clock'])
+    assert rec.wait_for('log times from /clock', 30), rec.describe()
+    js = ros_node.node.create_publisher(JointState, '/joint_states', reliable_qos(None))
+    clock = ros_node.node.create_publisher(Clock, '/clock', reliable_qos(None))
+    assert ros_node.wait_for_subscribers(js) and ros_node.wait_for_subscribers(clock)
+    assert rec.wait_for('/joint_states: 1 publisher matched', 10), rec.describe()
+    assert rec.wait_for('/clock: 1 publisher matched', 10), rec.describe()
+    ros_node.spin_for(0.3)
+    wall0 = time.monotonic()
+    # 1.5 s of sim time in about 0.15 s, then 0.1 s of sim time in about 0.5 s
+    stamps = _sim_stream(ros_node, js, clock, [(150, 0.01, 0.001), (100, 0.001, 0.005)])
+    wall = time.monotonic() - wall0
+    ros_node.spin_for(0.3)
+    assert rec.stop() == 0, rec.describe()
+    n = len(stamps)
+    assert f'recorded {2 * n} messages (/joint_states: {n}, /clock: {n})' in rec.stdout, \
+        rec.describe()
+
+    with AnyReader([out]) as reader:
+        rows = [(c.topic, t, reader.deserialize(raw, c.msgtype)) for c, t, raw in
+                reader.messages()]
+    js_log = np.array([t for topic, t, _ in rows if topic == '/joint_states'])
+    js_stamp = np.array([m.header.stamp.sec * 10**9 + m.header.stamp.nanosec
+                         for topic, _, m in rows if topic == '/joint_states'])
+    clock_log = np.array([t for topic, t, _ in rows if topic == '/clock'])
+    clock_val = np.array([m.clock.sec * 10**9 + m.clock.nanosec
+                          for topic, _, m in rows if topic == '/clock'])
+    np.testing.assert_array_equal(js_stamp, stamps)
+    np.testing.assert_array_equal(js_log, stamps)                # the /clock time, exactly
+    np.testing.assert_array_equal(clock_log, stamps)
+    np.testing.assert_array_equal(clock_val, stamps)
+    assert np.all(np.diff([t for _, t, _ in rows]) >= 0)
+    span = (js_log[-1] - js_log[0]) * 1e-9
+    assert span == pytest.approx(1.599 - 0.0, abs=0.011)        # sim time, not wall time
+    if MCAP_CLI.exists():
+        res = subprocess.run([str(MCAP_CLI), 'doctor', '--strict-message-order',
+                              str(next(out.glob('*.mcap')))], capture_output=True, text=True)
+        assert res.returncode == 0, res.stdout + res.stderr
+
+    # replay follows log times: it spans the recording's sim time, not its wall time
+    col = _Collector(ros_node.node, ['/joint_states'])
+    rep = spawn(CLI + ['replay', out, '--rate', '1', '--wait', '60', '--no-clock', '--topics',
+                       '/joint_states'])
+    ros_node.spin_until(lambda: rep.popen.poll() is not None, timeout=60)
+    ros_node.spin_until(lambda: len(col.got['/joint_states']) >= n, timeout=10)
+    assert rep.wait() == 0, rep.describe()
+    got = col.got['/joint_states']
+    assert [m.position[0] for m in got] == list(range(n))
+    arrival = np.array(col.arrival['/joint_states'])
+    replay_span = arrival[-1] - arrival[0]
+    assert replay_span > 0.9 * span, (replay_span, span, wall)
+    assert replay_span < span + 5.0, (replay_span, span, wall)
+    # the slow sim phase (0.1 s of sim time published over 0.5 s) replays in about 0.1 s
+    slow = arrival[-1] - arrival[150]
+    assert slow < 0.45 or slow < 0.5 * wall, (slow, replay_span, wall)
+
+
+def test_record_metadata_has_ros_distro_and_offered_qos(ros_node, spawn, ros_env, tmp_path):
+    from mcap.reader import make_reader
+    from rclpy.duration import Duration
+    from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
+    from rosbags.highlevel import AnyReader
+    from rosbags.interfaces import QosDurability, QosReliability
+    from ruamel.yaml import YAML
+    from sensor_msgs.msg import JointState, Temperature
+
+    out = tmp_path / 'rec'
+    env = dict(ros_env)
+    env.pop('ROS_DISTRO', None)                                 # default: jazzy
+    rec = spawn(CLI + ['record', out, '--topics', '/joint_states', '/joint_temperature'],
+                env=env)
+    assert rec.wait_for('recording', 30), rec.describe()
+    qos = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=50,
+                     reliability=ReliabilityPolicy.RELIABLE,
+                     durability=DurabilityPolicy.TRANSIENT_LOCAL,
+                     deadline=Duration(seconds=2, nanoseconds=500), lifespan=Duration(seconds=7))
+    js = ros_node.node.create_publisher(JointState, '/joint_states', qos)
+    tp = ros_node.node.create_publisher(Temperature, '/joint_temperature', reliable_qos())
+    assert ros_node.wait_for_subscribers(js) and ros_node.wait_for_subscribers(tp)
+    assert rec.wait_for('/joint_states: 1 publisher matched', 10), rec.describe()
+    assert rec.wait_for('/joint_temperature: 1 publisher matched', 10), rec.describe()
+    temp = Temperature()
+    temp.header.stamp.sec, temp.temperature = 100, 30.0
+    _publish(ros_node, tp, [temp])
+    _publish(ros_node, js, [_joint_state(i) for i in range(20)], rate=500.0)
+    assert rec.stop() == 0, rec.describe()
+    assert 'recorded 21 messages (/joint_states: 20, /joint_temperature: 1)' in rec.stdout
+
+    info = YAML(typ='safe').load((out / 'metadata.yaml').read_text())[
+        'rosbag2_bagfile_information']
+    assert info['ros_distro'] == 'jazzy' and info['version'] == 9
+    topics = {t['topic_metadata']['name']: t['topic_metadata']
+              for t in info['topics_with_message_count']}
+    infinite = {'sec': 9223372036, 'nsec': 854775807}
+    assert topics['/joint_states']['offered_qos_profiles'] == [{
+        'history': 'unknown', 'depth': 0,              # DDS discovery does not carry these
+        'reliability': 'reliable', 'durability': 'transient_local',
+        'deadline': {'sec': 2, 'nsec': 500}, 'lifespan': {'sec': 7, 'nsec': 0},
+        'liveliness': 'automatic', 'liveliness_lease_duration': infinite,
+        'avoid_ros_namespace_conventions': False}]
+    (temp_qos,) = topics['/joint_temperature']['offered_qos_profiles']
+    assert temp_qos['durability'] == 'volatile' and temp_qos['deadline'] == infinite
+
+    with AnyReader([out]) as reader:
+        (conn,) = [c for c in reader.connections if c.topic == '/joint_states']
+        (profile,) = conn.ext.offered_qos_profiles
+        assert profile.reliability == QosReliability.RELIABLE
+        assert profile.durability == QosDurability.TRANSIENT_LOCAL
+        assert profile.deadline.sec == 2 and profile.deadline.nsec == 500
+        msgs = [reader.deserialize(raw, c.msgtype) for c, _, raw in reader.messages([conn])]
+    assert [m.position[0] for m in msgs] == list(range(20))
+    assert np.array_equal(read_recording(out).joint_states.q, np.arange(20.0))
+
+    with open(next(out.glob('*.mcap')), 'rb') as fh:
+        reader = make_reader(fh)
+        channels = {c.topic: c.metadata for c in reader.get_summary().channels.values()}
+        (meta,) = [m.metadata for m in reader.iter_metadata() if m.name == 'rosbag2']
+    assert 'transient_local' in channels['/joint_states']['offered_qos_profiles']
+    assert meta['ROS_DISTRO'] == 'jazzy'
+    assert 'ros_distro: jazzy' in meta['serialized_metadata']
+    assert 'transient_local' in meta['serialized_metadata']
