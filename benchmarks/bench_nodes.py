@@ -121,22 +121,23 @@ def realtime(seconds, e):
             'latency_p99_ms': float(np.percentile(lat, 99)), 'commands': int(csel.sum())}
 
 
+def _lockstep_wall(sim):
+    """Return the wall seconds from the simulator's first lockstep step to its 'done' line."""
+    t0 = None
+    for line in sim.stdout:
+        if t0 is None and 'lockstep simulation' in line:
+            t0 = time.monotonic()
+        if 'done' in line:
+            break
+    return time.monotonic() - t0
+
+
 def lockstep(sim_seconds, e):
     sim = start(node('joint_sim', TRUTH, mode='lockstep', duration=float(sim_seconds),
                      start_delay=0.5), e)
     ctrl = start(node('controller', MODEL), e)
     try:
-        out = ''
-        t0 = None
-        for line in sim.stdout:
-            out += line
-            if 'lockstep simulation' in line:
-                pass
-            if t0 is None and 'lockstep simulation' in line:
-                t0 = time.monotonic()
-            if 'done' in line:
-                break
-        wall = time.monotonic() - t0
+        wall = _lockstep_wall(sim)
         sim.wait(30)
     finally:
         stop(ctrl)
@@ -159,13 +160,7 @@ def lockstep_recorded(sim_seconds, e):
         sim = start(node('joint_sim', TRUTH, mode='lockstep', duration=float(sim_seconds),
                          wait_subscribers=3, start_delay=2.0), e)
         try:
-            t0 = None
-            for line in sim.stdout:
-                if t0 is None and 'lockstep simulation' in line:
-                    t0 = time.monotonic()
-                if 'done' in line:
-                    break
-            wall = time.monotonic() - t0
+            wall = _lockstep_wall(sim)
             sim.wait(30)
             time.sleep(0.5)
         finally:
