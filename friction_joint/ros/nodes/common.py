@@ -90,7 +90,11 @@ class StampPairing:
     In ``sync`` mode a state is processed only once the temperature with its
     stamp has arrived (the simulator publishes one with every state), which
     makes processing independent of the order in which the two topics are
-    delivered.  Otherwise the latest temperature is used.
+    delivered.  Otherwise the latest temperature is used; states that arrive
+    before any temperature are held (in order) until the first one does, so a
+    temperature topic that matches a moment later than the state topic loses
+    nothing.  At most ``max_pending`` states are held; older ones are dropped
+    and counted in ``dropped``.
     """
 
     def __init__(self, sync, max_pending=10000):
@@ -99,12 +103,15 @@ class StampPairing:
         self.latest = None
         self.pending = {}
         self.max_pending = max_pending
+        self.dropped = 0
 
     def temperature(self, ns, xi):
-        """Record a temperature; returns states now ready [(ns, payload)]."""
+        """Record a temperature; returns states now ready [(ns, payload, xi)]."""
         self.latest = xi
         if not self.sync:
-            return []
+            ready = [(k, payload, xi) for k, payload in self.pending.items()]
+            self.pending.clear()
+            return ready
         self.temps[ns] = xi
         ready = []
         if ns in self.pending:
@@ -114,18 +121,20 @@ class StampPairing:
 
     def state(self, ns, payload):
         """Offer a state; returns [(ns, payload, xi)] ready to process."""
-        if not self.sync:
-            return [] if self.latest is None else [(ns, payload, self.latest)]
-        if ns in self.temps:
+        if not self.sync and self.latest is not None:
+            return [(ns, payload, self.latest)]
+        if self.sync and ns in self.temps:
             return [(ns, payload, self.temps.pop(ns))]
         self.pending[ns] = payload
         self._trim()
         return []
 
     def _trim(self):
-        for d in (self.temps, self.pending):
-            while len(d) > self.max_pending:
-                d.pop(next(iter(d)))
+        while len(self.temps) > self.max_pending:
+            self.temps.pop(next(iter(self.temps)))
+        while len(self.pending) > self.max_pending:
+            self.pending.pop(next(iter(self.pending)))
+            self.dropped += 1
 
 
 class Rejects:
@@ -215,9 +224,15 @@ class PairedInput(Rejects):
 
     def handle_state(self, msg):
         state = self.gate_state(msg)
-        if state is not None:
-            for item in self.pair.state(*state):
-                self.process(*item)
+        if state is None:
+            return
+        dropped = self.pair.dropped
+        ready = self.pair.state(*state)
+        if self.pair.dropped > dropped:
+            self._reject('a joint state that waited too long for its temperature',
+                         f'{self.pair.max_pending} states were waiting')
+        for item in ready:
+            self.process(*item)
 
     def gate_state(self, msg):
         """Return ``(ns, values)`` of a state that passes the gate, else count it and None."""
