@@ -138,7 +138,7 @@ def _ros_run(out, model, truth, duration):
     import matplotlib.pyplot as plt
     import numpy as np
 
-    from .bag import read_recording
+    from .bag import check_lockstep, read_recording
     from .ros.bringup import bringup
 
     bag = os.path.join(out, 'bag')
@@ -147,6 +147,10 @@ def _ros_run(out, model, truth, duration):
             amplitude=0.4, xi0=27.0, log_dir=os.path.join(out, 'logs'))
     wall = time.perf_counter() - t0
     rec = read_recording(bag)
+    check = check_lockstep(rec)
+    if not check.complete:
+        raise FrictionJointError(f'{bag}: the lockstep run lost messages: {check.describe()}; '
+                                 'see the node logs in ' + os.path.join(out, 'logs'))
     js, cmd, ext, link = rec.joint_states, rec.joint_command, rec.external_torque, rec.link_torque
     fig, ax = plt.subplots(3, 1, figsize=(8, 8), sharex=True)
     ax[0].plot(cmd.t, cmd.q_d, label='$q_d$')
@@ -168,11 +172,12 @@ def _ros_run(out, model, truth, duration):
     link_on_ext = np.interp(ext.t, link.t, link.tau)
     settled = ext.t > 0.5
     err = ext.effort[settled] - link_on_ext[settled] if settled.any() else np.array([np.nan])
-    counts = ', '.join(f'{k} {v["count"]}' for k, v in rec.summary()['topics'].items())
+    counts = ', '.join(f'`{t.topic}` {t.count}' for t in check.topics)
     return ['## ROS 2 nodes in separate processes (lockstep), recorded', '',
             f'`friction_joint bringup --mode lockstep --duration {duration:g}` with recording: '
             f'{duration:g} s simulated in {wall:.1f} s wall; bag `bag/` '
-            f'({counts}).', '',
+            f'({counts} messages). Every one of the {check.steps} steps is on every loop '
+            'topic (checked; the run fails otherwise).', '',
             '![ros run](ros_run.png)', '',
             'Estimator vs link torque sensor after 0.5 s: '
             f'RMS {np.sqrt(np.mean(err ** 2)):.3f} Nm, '

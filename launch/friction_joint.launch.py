@@ -61,6 +61,8 @@ def generate_launch_description():
     # bringup gives controller and estimator rate 1000.0 in realtime only; 0.0 (their
     # default) means the gear file's simulation.rate, which is what lockstep runs at
     rate = PythonExpression(["1000.0 if '", mode, "' == 'realtime' else 0.0"])
+    # lockstep flow control: the simulator waits when the estimator's echo lags 300 steps
+    follow = PythonExpression(["'external_torque' if '", mode, "' == 'lockstep' else ''"])
 
     arguments = [
         DeclareLaunchArgument(
@@ -100,6 +102,7 @@ def generate_launch_description():
     joint_sim = Node(
         package=PACKAGE, executable='joint_sim', namespace=namespace, output='screen',
         parameters=[truth, {'mode': mode, 'duration': LaunchConfiguration('duration'),
-                            'wait_subscribers': 2, 'start_delay': 2.0}],
+                            'wait_subscribers': 2, 'start_delay': 2.0,
+                            'follow': follow, 'window': 300}],
         on_exit=Shutdown(reason='the simulator has finished'))
     return LaunchDescription(arguments + [estimator, controller, joint_sim])

@@ -40,3 +40,9 @@ def package_modules():
             rel = rel[:-len('.__init__')]
         out.append((rel, path))
     return out
+
+
+#: ``../shared`` beside the clone (CI puts it there): real data and the MCAP CLI
+SHARED = os.path.join(os.path.dirname(ROOT), 'shared')
+#: the upstream MCAP CLI (``mcap doctor``); FRICTION_JOINT_MCAP_CLI overrides
+MCAP_CLI = os.environ.get('FRICTION_JOINT_MCAP_CLI') or os.path.join(SHARED, 'tools', 'mcap')

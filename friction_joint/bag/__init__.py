@@ -22,9 +22,11 @@ Recordings (rosbag2 / MCAP) as numpy arrays, without ROS.
 * :mod:`~friction_joint.bag.checksums`: :func:`seal_recording` (CRCs into what rosbags
   wrote), :func:`verify_checksums`;
 * :mod:`~friction_joint.bag.stamps`: the header-stamp rules of reading;
-* :mod:`~friction_joint.bag.plausible`: :func:`check_values`, absurd samples.
+* :mod:`~friction_joint.bag.plausible`: :func:`check_values`, absurd samples;
+* :mod:`~friction_joint.bag.lockstep`: :func:`check_lockstep`, every step on every loop topic.
 """
 from .checksums import seal_recording, verify_checksums
+from .lockstep import check_lockstep, LockstepCheck, LoopTopicCount
 from .plausible import check_samples, check_values
 from .reader import iter_messages, read_recording, recording_topics
 from .topics import (CONTRACT_TYPES, ExternalTorque, JointCommand, JointStates, LinkTorque,
@@ -34,4 +36,5 @@ from .writer import write_recording
 __all__ = ['CONTRACT_TYPES', 'REQUIRED_TOPICS', 'JointStates', 'Temperature', 'LinkTorque',
            'JointCommand', 'ExternalTorque', 'Recording', 'read_recording', 'write_recording',
            'zero_order_hold', 'recording_topics', 'iter_messages', 'seal_recording',
-           'verify_checksums', 'check_values', 'check_samples']
+           'verify_checksums', 'check_values', 'check_samples', 'check_lockstep',
+           'LockstepCheck', 'LoopTopicCount']

@@ -23,7 +23,19 @@ file: each node is its own process (``python -m friction_joint.ros.nodes.<node>`
 with ``--ros-args --params-file``), the simulator on the truth gear, the
 controller and estimator on the model gear.  In ``lockstep`` mode (default)
 the simulator ends itself after ``--duration`` simulated seconds; in
-``realtime`` mode the command waits that long.  Then the other processes are
+``realtime`` mode the command waits that long.  The simulator starts last and
+waits for its subscribers to match before its first state.
+
+In lockstep the run is lossless by construction: the simulator advances on
+the controller's command (the controller is in the loop) and waits whenever
+the estimator's ``external_torque`` echo lags more than ``window`` steps
+(``follow:=external_torque``, see :mod:`~friction_joint.ros.nodes.joint_sim`);
+publishers keep every sample until the recorder has acknowledged it.  The
+recorder logs at ``/clock`` time (``--use-sim-time``), so the recording spans
+the simulated time and replays in it.  Controller and estimator stamp their
+answers with the stamp of the state they answer and need no clock; they are
+not put on ``use_sim_time`` (it would cost each of them one executor turn per
+step for ``/clock``), which they honour when it is set.  Then the other processes are
 stopped with SIGINT (the recorder last, after the others have flushed), so
 the recording is finalised with nothing lost, and the bag path is printed.
 """
@@ -36,7 +48,11 @@ import time
 from ..exceptions import FrictionJointError
 from ..gear import load_gear
 
-__all__ = ['bringup', 'NodeProcess']
+__all__ = ['bringup', 'NodeProcess', 'LOCKSTEP_WINDOW']
+
+#: steps the estimator may lag behind the lockstep simulator (0.1 s at 3 kHz; its
+#: input queue holds 1000 states and 1000 temperatures)
+LOCKSTEP_WINDOW = 300
 
 
 class NodeProcess:
@@ -118,8 +134,10 @@ def bringup(model, truth, duration, *, record=None, mode='lockstep', friction='l
         os.makedirs(log_dir, exist_ok=True)
     say = (lambda *a: None) if quiet else (lambda *a: print(*a, flush=True))
     # controller + estimator (+ recorder) must be matched before the loop starts
+    lockstep = mode == 'lockstep'
     sim_params = {'mode': mode, 'duration': float(duration),
                   'wait_subscribers': 2 + (1 if record else 0), 'start_delay': 2.0}
+    sim_params.update(follow='external_torque' if lockstep else '', window=LOCKSTEP_WINDOW)
     if xi0 is not None:
         sim_params['xi0'] = float(xi0)
     rate = {} if mode == 'lockstep' else {'rate': 1000.0}
@@ -127,13 +145,14 @@ def bringup(model, truth, duration, *, record=None, mode='lockstep', friction='l
     try:
         if record:
             procs.append(NodeProcess('record', [sys.executable, '-m', 'friction_joint', 'record',
-                                                record], env, log_dir))
+                                                record] + (['--use-sim-time'] if lockstep else []),
+                                     env, log_dir))
             time.sleep(1.0)                   # let the recorder discover before data flows
         procs.append(NodeProcess('estimator', _node('estimator', model, dict(
-            friction=friction, sync=mode == 'lockstep', **rate)), env, log_dir))
+            friction=friction, sync=lockstep, **rate)), env, log_dir))
         procs.append(NodeProcess('controller', _node('controller', model, dict(
             friction_ff=friction, amplitude=float(amplitude), omega=float(omega),
-            sync=mode == 'lockstep', **rate)), env, log_dir))
+            sync=lockstep, **rate)), env, log_dir))
         sim = NodeProcess('joint_sim', _node('joint_sim', truth, sim_params), env, log_dir)
         procs.append(sim)
         say(f'bringup: {len(procs)} processes up ({mode}, {duration:g} s)')

@@ -32,8 +32,9 @@ __all__ = ['QOS_DEPTH', 'CLOCK_QOS', 'stream_qos', 'recorder_qos', 'replay_qos',
 QOS_DEPTH = 1000
 
 #: /clock as published by the simulator (rclpy's use_sim_time subscriber is best effort)
-CLOCK_QOS = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=10,
-                       reliability=ReliabilityPolicy.RELIABLE,
+#: the lockstep simulator's /clock: reliable keep-all, so a recorder loses no tick
+#: (rclpy's own time source subscribes best effort and never slows it down)
+CLOCK_QOS = QoSProfile(history=HistoryPolicy.KEEP_ALL, reliability=ReliabilityPolicy.RELIABLE,
                        durability=DurabilityPolicy.VOLATILE)
 
 
@@ -58,17 +59,20 @@ def stream_qos(lossless=False):
                       reliability=ReliabilityPolicy.RELIABLE, durability=DurabilityPolicy.VOLATILE)
 
 
-def recorder_qos(topic):
+def recorder_qos(topic, offered=()):
     """
     Return the recorder's QoS for ``topic``.
 
     Reliable keep-all for every topic (a recorder that falls behind for a
-    moment must not let its queue overwrite messages it has acknowledged),
-    except ``/clock`` (best effort, keep-last :data:`QOS_DEPTH`, which matches
-    any publisher).  A reliable subscription does not match a best-effort
-    publisher.
+    moment must not let its queue overwrite messages it has acknowledged).
+    For ``/clock``, whose publishers differ (rclpy's time source and some
+    simulators publish it best effort), the reliability follows ``offered``
+    (the :class:`rclpy.qos.QoSProfile` of the publishers seen at subscription
+    time): best effort, keep-last :data:`QOS_DEPTH`, if any of them is best
+    effort (a reliable subscription would not match it), else reliable keep-all.
     """
-    if topic == '/clock':
+    best_effort = any(q.reliability == ReliabilityPolicy.BEST_EFFORT for q in offered)
+    if topic == '/clock' and best_effort:
         return QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=QOS_DEPTH,
                           reliability=ReliabilityPolicy.BEST_EFFORT,
                           durability=DurabilityPolicy.VOLATILE)

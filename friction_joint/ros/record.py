@@ -19,10 +19,12 @@ The recorder subscribes with ``raw=True`` (the serialized CDR bytes are written
 as received, nothing is deserialized) and writes every message with the rosbags
 ``Writer`` (version 9, MCAP), the DDS receive time as log (bag) time; with
 ``--use-sim-time`` (as ``ros2 bag record --use-sim-time``) the log time is the
-latest ``/clock`` time received before the message (matched by DDS receive
-times, so the batching below does not shift it), and a lockstep recording
-spans its simulated time: replay, which follows log times, then plays it at
-its simulated speed.  Each
+``/clock`` time current when the message was *sent* (the newest ``/clock``
+whose DDS source timestamp precedes the message's; a message waits until a
+later ``/clock`` has arrived, so neither the batching below nor a delay in
+delivery shifts it), and a lockstep recording spans its simulated time, each
+message at the step that produced it: replay, which follows log times, then
+plays it at its simulated speed.  Each
 subscription callback also takes whatever else is already queued on its
 subscription, and the spin loop pauses 2 ms between rounds so that messages
 arrive in batches: at 3 kHz the recorder costs about a fifth of a core instead
@@ -43,10 +45,12 @@ renamed when complete, so ``OUT`` is either a complete recording or absent.
 
 QoS (:func:`friction_joint.ros.qos.recorder_qos`): reliable with keep-all
 history for every topic (a recorder that falls behind for a moment must not
-let its queue overwrite messages it has acknowledged), except ``/clock``
-(best effort, keep-last 1000).  A reliable subscription does not match a
+let its queue overwrite messages it has acknowledged); ``/clock`` too unless a
+best-effort ``/clock`` publisher is there when the recorder starts (then best
+effort, keep-last 1000).  A reliable subscription does not match a
 best-effort publisher; record such a topic from a reliable republisher.
 """
+import bisect
 import collections
 import importlib
 import os
@@ -109,22 +113,46 @@ def qos_dict(profile):
 
 
 class _SimClock:
-    """The latest ``/clock`` time received before a given receive time."""
+    """
+    The ``/clock`` time at which a message was sent.
+
+    Each ``/clock`` sample is kept with its DDS source timestamp (the wall time
+    its publisher sent it).  A message sent at source time ``s`` gets the
+    newest ``/clock`` sent before ``s``: the simulated time current when the
+    message was published, whatever delays it met on the way to the recorder.
+    It is known once a ``/clock`` sent after ``s`` has been received (reliable
+    delivery is in order), so :meth:`at` answers None until then.
+    """
 
     def __init__(self):
-        self.now = 0                      # before the first /clock, as ros2 bag: 0
-        self.pending = collections.deque()   # (receive time, clock ns), in arrival order
+        self.sources = []                 # source timestamps of the kept samples, ascending
+        self.values = []                  # their clock times (ns)
+        self.before = 0                   # clock before the oldest kept sample (0: none yet)
 
-    def add(self, recv, ns):
-        self.pending.append((recv, ns))
-        if len(self.pending) > _CLOCK_KEEP:
-            self.now = self.pending.popleft()[1]
+    @property
+    def newest_source(self):
+        return self.sources[-1] if self.sources else -1
 
-    def at(self, recv):
-        pending = self.pending
-        while pending and pending[0][0] <= recv:
-            self.now = pending.popleft()[1]
-        return self.now
+    def add(self, source, ns):
+        if self.sources and source < self.sources[-1]:
+            source = self.sources[-1]     # a second /clock publisher: keep the order
+        self.sources.append(source)
+        self.values.append(ns)
+        if len(self.sources) > 2 * _CLOCK_KEEP:
+            self.before = self.values[_CLOCK_KEEP - 1]
+            del self.sources[:_CLOCK_KEEP], self.values[:_CLOCK_KEEP]
+
+    def at(self, source, final=False):
+        """Clock time (ns) when a message was sent at ``source``; None: not known yet."""
+        if source >= self.newest_source and not final:
+            return None
+        i = bisect.bisect_right(self.sources, source)
+        return self.values[i - 1] if i else self.before
+
+
+def _source_ns(info):
+    """Return the DDS source (send) timestamp of a taken message, else now."""
+    return info.get('source_timestamp') or time.time_ns()
 
 
 def parse_topics(specs):
@@ -177,9 +205,13 @@ class Recorder:
         reader missed before that as lost.
     sim_time : bool
         Log times from ``/clock`` instead of the receive (wall) time: each message
-        gets the latest ``/clock`` time received before it (0 before the first),
-        ``/clock`` messages their own time; ``/clock`` is subscribed best effort
-        (and not written unless it is one of ``topics``).
+        gets the ``/clock`` time current when it was sent (by DDS source
+        timestamps; 0 before the first), ``/clock`` messages their own time (not
+        written unless it is one of ``topics``); call :meth:`flush` before
+        closing.  ``/clock`` is subscribed reliable keep-all (nothing lost from
+        the lockstep simulator), or best effort if a best-effort publisher is
+        already there when the recorder starts (see
+        :func:`~friction_joint.ros.qos.recorder_qos`).
 
     Attributes
     ----------
@@ -199,6 +231,7 @@ class Recorder:
         self.connections = {}
         self._clock = _SimClock() if sim_time else None
         self._clock_take = None
+        self._deferred = collections.deque()     # (conn, topic, raw, source ns) awaiting /clock
         self._subs = []
         pairs = list(topics)
         if sim_time and '/clock' not in dict(pairs):
@@ -219,7 +252,8 @@ class Recorder:
                 callback = self._clock_callback(conn, cls, holder)
             else:
                 callback = self._callback(topic, cls, conn, holder)
-            sub = node.create_subscription(cls, topic, callback, recorder_qos(topic),
+            offered = [i.qos_profile for i in node.get_publishers_info_by_topic(topic)]
+            sub = node.create_subscription(cls, topic, callback, recorder_qos(topic, offered),
                                            raw=True, event_callbacks=events)
             holder.append(sub)
             self._subs.append(sub)
@@ -248,7 +282,7 @@ class Recorder:
 
         def take(raw, info):
             ns = _clock_ns(raw)
-            clock.add(info.get('received_timestamp') or time.time_ns(), ns)
+            clock.add(_source_ns(info), ns)
             if conn is not None:
                 write(conn, ns, raw)
                 written['/clock'] += 1
@@ -256,6 +290,7 @@ class Recorder:
         def pull():
             for taken in take_all(holder[0], cls, raw=True):
                 take(*taken)
+            self._release()
 
         def callback(raw, info):
             take(raw, info)
@@ -273,17 +308,36 @@ class Recorder:
             batch = [(raw, info)]
             batch.extend(take_all(holder[0], cls, raw=True))   # the rest of a burst, now
             if self._clock is not None:
-                self._clock_take()          # every /clock received so far, in order
-                for raw, info in batch:
-                    write(conn, self._clock.at(info.get('received_timestamp')
-                                               or time.time_ns()), raw)
+                self._deferred.extend((conn, topic, raw, _source_ns(info)) for raw, info in batch)
+                self._clock_take()          # every /clock received so far; writes what it can
             else:
                 for raw, info in batch:
                     write(conn, info.get('received_timestamp') or time.time_ns(), raw)
-            written[topic] += len(batch)
+                written[topic] += len(batch)
             self.last_message = time.monotonic()
 
         return callback
+
+    def _release(self, final=False):
+        """Write the deferred messages whose send-time clock is known (all if ``final``)."""
+        deferred, clock = self._deferred, self._clock
+        final = final or len(deferred) > _CLOCK_KEEP      # no /clock coming: do not hoard
+        keep = collections.deque()
+        while deferred:
+            conn, topic, raw, source = item = deferred.popleft()
+            ns = clock.at(source, final)
+            if ns is None:
+                keep.append(item)
+                continue
+            self.writer.write(conn, ns, raw)
+            self.written[topic] += 1
+        self._deferred = keep
+
+    def flush(self):
+        """Write every message still waiting for its ``/clock`` (before closing the bag)."""
+        if self._clock is not None:
+            self._clock_take()
+            self._release(final=True)
 
 
 def _seal(bag, out, log, offered_qos):
@@ -419,6 +473,7 @@ def record(out, *, topics=None, duration=None, args=None, log=None, stop=None,
                 if now - max(recorder.last_message, t_stop) > _DRAIN_QUIET or \
                         now - t_stop > _DRAIN_MAX:
                     break
+            recorder.flush()
             recorder.update_offered_qos()
             for i, conn in enumerate(writer.connections):   # into metadata.yaml at close
                 profiles = _qos_objects(recorder.offered_qos.get(conn.topic, ()))

@@ -27,10 +27,11 @@ from friction_joint.bag import read_recording, write_recording
 from friction_joint.exceptions import RecordingError
 import numpy as np
 import pytest
+import sourcetree
 
 ROOT = Path(__file__).resolve().parents[2]
 SAMPLE = ROOT / 'bags' / 'csd25_sample'
-MCAP_CLI = Path(os.environ.get('FRICTION_JOINT_MCAP_CLI', '/work/shared/tools/mcap'))
+MCAP_CLI = Path(sourcetree.MCAP_CLI)
 
 
 def _smooth(n=3000, rate=1000.0, t0=2.0, seed=0):
@@ -189,8 +190,8 @@ def test_plausible_extremes_are_accepted(tmp_path):
 
 
 def test_tribometer_data_are_plausible(tmp_path):
-    """Real measured data (200 Hz tribometer, see /work/shared/real-data) read as they are."""
-    src = Path('/work/shared/real-data/tribometer/test_data_2.txt')
+    """Real measured data (200 Hz tribometer, see ../shared/real-data) read as they are."""
+    src = Path(sourcetree.SHARED, 'real-data', 'tribometer', 'test_data_2.txt')
     if not src.exists():
         pytest.skip('real tribometer data not available')
     d = np.loadtxt(src, skiprows=1)

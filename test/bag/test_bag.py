@@ -23,6 +23,7 @@ from friction_joint.bag import (iter_messages, JointStates, read_recording, Reco
 from friction_joint.exceptions import FrictionJointError, RecordingError
 import numpy as np
 import pytest
+import sourcetree
 
 
 def _topics(n=2000, rate=1000.0, t0=5.0, seed=0):
@@ -381,7 +382,7 @@ def test_dataclass_input(tmp_path):
 
 # --------------------------------------------------------------------------- rosbag2 metadata
 
-MCAP_CLI = Path(os.environ.get('FRICTION_JOINT_MCAP_CLI', '/work/shared/tools/mcap'))
+MCAP_CLI = Path(sourcetree.MCAP_CLI)
 SAMPLE = Path(__file__).resolve().parents[2] / 'bags' / 'csd25_sample'
 
 

@@ -370,6 +370,26 @@ def test_states_before_the_first_temperature_wait_for_it(ros_env, monkeypatch):
         assert [stamp_ns(m) for m in sent] == stamps[3:8]
 
 
+def test_use_sim_time_checks_stamps_against_clock(ros_env, monkeypatch):
+    """``use_sim_time`` was accepted and changed nothing; stamps are now checked against /clock."""
+    from rclpy.time import Time
+    from friction_joint.ros.nodes.estimator import EstimatorNode
+    with node_here(EstimatorNode, MODEL, sync='false', use_sim_time='true') as node:
+        sent = []
+        monkeypatch.setattr(node.pub, 'publish', sent.append)
+        clock = node.get_clock()
+        assert clock.ros_time_is_active
+        node.on_temperature(temperature(1_000_000, 30.0))
+        node.on_state(joint_state(5_000_000_000, [0.1], [0.2], [1.0]))   # no /clock yet
+        assert len(sent) == 1 and node.rejected == 0
+        clock.set_ros_time_override(Time(nanoseconds=6_000_000_000))
+        node.on_state(joint_state(6_500_000_000, [0.1], [0.2], [1.0]))   # 0.5 s ahead: ok
+        node.on_state(joint_state(9_000_000_000, [0.1], [0.2], [1.0]))   # 3 s ahead of /clock
+        assert len(sent) == 2 and node.rejected == 1
+        node.on_state(joint_state(6_800_000_000, [0.1], [0.2], [1.0]))
+        assert len(sent) == 3 and node.rejected == 1
+
+
 def test_the_gate_uses_the_gear_limits(ros_env, monkeypatch):
     """Values just inside the gear's limits are used, just outside refused, stamps too."""
     from friction_joint.ros.nodes.estimator import EstimatorNode

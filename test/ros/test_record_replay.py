@@ -13,7 +13,6 @@
 # limitations under the License.
 
 """``friction_joint record`` / ``replay`` as processes on an isolated ROS 2 domain."""
-import os
 from pathlib import Path
 import re
 import subprocess
@@ -23,13 +22,14 @@ from friction_joint.bag import read_recording, write_recording
 import numpy as np
 import pytest
 from roshelpers import PYTHON, reliable_qos
+import sourcetree
 
 pytestmark = pytest.mark.ros
 
 pytest.importorskip('rclpy')
 
 CLI = [PYTHON, '-m', 'friction_joint']
-MCAP_CLI = Path(os.environ.get('FRICTION_JOINT_MCAP_CLI', '/work/shared/tools/mcap'))
+MCAP_CLI = Path(sourcetree.MCAP_CLI)
 
 
 def _joint_state(i, names=('joint',)):

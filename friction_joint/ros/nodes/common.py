@@ -255,15 +255,23 @@ class PairedInput(Rejects):
         return ns, values
 
     def stamp_problem(self, ns):
-        """Return why stamp ``ns`` is implausible (negative, or ahead of the wall clock)."""
+        """
+        Return why stamp ``ns`` is implausible (negative, or ahead of the node's clock).
+
+        The clock is the wall clock, or with ``use_sim_time`` the ``/clock`` time
+        (no check before the first ``/clock`` message); a stamp more than
+        ``MAX_STAMP_LEAD`` s ahead of it is refused.
+        """
         if ns < 0:
             return f'stamp {ns * 1e-9:.9f} s is negative'
         clock = self.get_clock()
-        if clock.ros_time_is_active:            # sim time comes from the data: no reference
+        now = clock.now().nanoseconds
+        if clock.ros_time_is_active and now == 0:       # no /clock yet: no reference
             return None
-        lead = ns - clock.now().nanoseconds
+        lead = ns - now
         if lead > MAX_STAMP_LEAD * 1e9:
-            return f'stamp {ns * 1e-9:.3f} s is {lead * 1e-9:.3g} s ahead of the clock'
+            kind = '/clock' if clock.ros_time_is_active else 'the clock'
+            return f'stamp {ns * 1e-9:.3f} s is {lead * 1e-9:.3g} s ahead of {kind}'
         return None
 
 

@@ -51,9 +51,24 @@ Modes (parameter ``mode``):
     starts.  With
     ``duration`` > 0 the node stops after that much simulated time and exits.
 
+    **Flow control** (``follow``, ``window``): the controller is in the loop,
+    so it can never fall behind; a node that only listens (the estimator)
+    could, until its input queue overflows.  ``follow`` names topics
+    (comma-separated, resolved like the node's own) on which followers echo
+    the state stamps they have processed (the estimator's
+    ``external_torque``).  The node does not advance past step k while a
+    follower's newest echo is older than step k - ``window``; it waits for it
+    (logged after 5 s, then every 5 s), so no follower holds more than
+    ``window`` unprocessed states and none is lost by construction.  At the
+    end the node waits up to ``FINAL_WAIT`` s for every follower to echo the
+    last state.  The time spent waiting is logged at the end.
+
 Own parameters: mode, publish_rate, duration, xi0 (NaN: the gear file's
 thermal.initial), q0, seed (-1: simulation.seed), friction_model ('' : the
-gear file's friction.model), resend_period, wait_subscribers, start_delay.
+gear file's friction.model), resend_period, wait_subscribers, start_delay,
+follow, window.  ``wait_subscribers`` and ``start_delay`` hold the first
+tick in realtime mode too (a state published before its subscribers have
+matched is lost to them).
 
 Implausible input is **rejected, keeping the last valid value**: a
 ``/joint_command`` effort or a ``/contact_torque`` that is not finite or
@@ -90,10 +105,12 @@ __all__ = ['JointSimNode', 'main']
 MAX_CATCH_UP = 20
 #: realtime: ticks between turns of the executor (parameter services)
 SPIN_EVERY = 20
+#: lockstep: seconds to wait at the end for the followers to echo the last state
+FINAL_WAIT = 20.0
 
 DEFAULTS = {'mode': 'realtime', 'publish_rate': 1000.0, 'duration': 0.0, 'xi0': float('nan'),
             'q0': 0.0, 'seed': -1, 'friction_model': '', 'resend_period': 0.2,
-            'wait_subscribers': 1, 'start_delay': 0.5}
+            'wait_subscribers': 1, 'start_delay': 0.5, 'follow': '', 'window': 300}
 VALIDATORS = {
     'mode': lambda v: (None if v in ('realtime', 'lockstep')
                        else "must be 'realtime' or 'lockstep'"),
@@ -104,6 +121,9 @@ VALIDATORS = {
     'resend_period': lambda v: None if v > 0 else 'must be > 0',
     'wait_subscribers': lambda v: None if v >= 0 else 'must be >= 0',
     'start_delay': lambda v: None if v >= 0 else 'must be >= 0',
+    'follow': lambda v: (None if all(t.strip() for t in v.split(',')) or not v.strip()
+                         else 'must be comma-separated topic names'),
+    'window': lambda v: None if v >= 1 else 'must be >= 1',
 }
 
 
@@ -122,6 +142,11 @@ DESCRIPTORS = {
     'wait_subscribers': describe('start when this many subscribers of joint_states have '
                                  'matched', low=0, high=1000, integer=True),
     'start_delay': describe('seconds to wait after the subscribers have matched, s'),
+    'follow': describe('lockstep: comma-separated topics on which followers echo the state '
+                       'stamps they processed (e.g. external_torque); the simulation waits '
+                       'for them'),
+    'window': describe('lockstep: steps a follower may lag behind before the simulation waits',
+                       low=1, high=10_000_000, integer=True),
 }
 
 
@@ -168,9 +193,19 @@ class JointSimNode(Rejects, Node):
         self.sub_contact = self.create_subscription(WrenchStamped, 'contact_torque',
                                                     self.on_contact, qos,
                                                     qos_overriding_options=opts)
+        self.started = False
+        self.ready_since = None
+        self.followers = {}
         if self.lockstep:
-            self.started = False
-            self.ready_since = None
+            for topic in (t.strip() for t in self.p['follow'].split(',') if t.strip()):
+                name = {}
+                sub = self.create_subscription(JointState, topic,
+                                               lambda m, n=name: self.on_echo(n['topic'], m), qos)
+                name['topic'] = sub.topic_name
+                self.followers[sub.topic_name] = -1
+            self.blocked_since = None
+            self.waited = 0.0
+            self.final_since = None
             self.resend = self.create_timer(min(0.05, self.p['resend_period']), self.on_resend)
             self.last_sent = None
         else:
@@ -211,7 +246,19 @@ class JointSimNode(Rejects, Node):
             if stamp_to_ns(msg.header.stamp) != self.stamp_ns(self.plant.k):
                 return                          # a stale or duplicate command
             self.started = True
-            self.advance()
+            self.commanded = True
+            self.try_advance()
+
+    def on_echo(self, topic, msg):
+        """Take a follower's echo (flow control): its newest processed state stamp."""
+        self.followers[topic] = max(self.followers[topic], stamp_to_ns(msg.header.stamp))
+        if self.blocked_since is not None:
+            self.try_advance()
+
+    def lagging(self, k):
+        """Return the followers whose newest echo is older than step ``k - window``."""
+        need = self.stamp_ns(k - self.p['window'])
+        return [t for t, ns in self.followers.items() if ns < need]
 
     def handle_contact(self, msg):
         tz = msg.wrench.torque.z
@@ -254,6 +301,23 @@ class JointSimNode(Rejects, Node):
         self.pub_state.publish(js)
 
     # ---------------------------------------------------------------- stepping
+    commanded = False
+
+    def try_advance(self):
+        """Advance on the command of the current step unless a follower lags (flow control)."""
+        if not self.commanded:
+            return
+        now = time.monotonic()
+        if self.followers and self.lagging(self.plant.k):
+            if self.blocked_since is None:
+                self.blocked_since = now
+            return
+        if self.blocked_since is not None:
+            self.waited += now - self.blocked_since
+            self.blocked_since = None
+        self.commanded = False
+        self.advance()
+
     def advance(self):
         s = self.plant.step(self.tau_cmd, self.contact)
         if self.n_end and self.plant.k >= self.n_end:
@@ -262,28 +326,64 @@ class JointSimNode(Rejects, Node):
         if self.done:
             self.get_logger().info(f'simulated {self.plant.t:.3f} s; done')
 
-    def on_resend(self):
-        if self.done:
-            raise SystemExit(0)
-        if self.started:
-            return
-        now = self.get_clock().now().nanoseconds * 1e-9
+    def ready(self):
+        """Return whether ``wait_subscribers`` have matched ``start_delay`` s ago."""
+        now = time.monotonic()
         if self.ready_since is None:
             need = self.p['wait_subscribers']
-            if min(self.pub_state.get_subscription_count(),
-                   self.pub_temp.get_subscription_count()) < need:
-                return
+            pubs = (self.pub_state, self.pub_temp) if self.lockstep else (self.pub_state,)
+            if min(p.get_subscription_count() for p in pubs) < need:
+                return False
             self.ready_since = now
-        if now - self.ready_since < self.p['start_delay']:
+            self.get_logger().info(f'{need} subscriber(s) matched; starting in '
+                                   f'{self.p["start_delay"]:g} s')
+        return now - self.ready_since >= self.p['start_delay']
+
+    def on_resend(self):
+        if self.done:
+            self.finish()
+        if self.blocked_since is not None:
+            self.warn_blocked()
+        if self.started or not self.ready():
             return
+        now = time.monotonic()
         if self.last_sent is None or now - self.last_sent >= self.p['resend_period']:
             self.last_sent = now
             self.publish(self.plant.last, temperature=True)
+
+    def warn_blocked(self):
+        """Log (throttled) which followers the simulation is waiting for."""
+        waiting = time.monotonic() - self.blocked_since
+        if waiting > 5.0 and self._log_due('blocked', 5.0):
+            lag = ', '.join(f'{t} (newest echo {ns * 1e-9:.4f} s)'
+                            for t, ns in self.followers.items())
+            self.get_logger().warning(
+                f'step {self.plant.k} waits {waiting:.0f} s for {lag}', throttle_duration_sec=2.5)
+
+    def finish(self):
+        """End the node once every follower has echoed the last state (or FINAL_WAIT)."""
+        now = time.monotonic()
+        if self.final_since is None:
+            self.final_since = now
+        behind = [t for t, ns in self.followers.items() if ns < self.stamp_ns(self.plant.k)]
+        if behind and now - self.final_since < FINAL_WAIT:
+            return
+        if behind:
+            self.get_logger().warning(f'{", ".join(behind)}: the last state was not echoed '
+                                      f'within {FINAL_WAIT:g} s')
+        if self.followers:
+            self.get_logger().info(f'flow control: waited {self.waited:.2f} s for '
+                                   f'{", ".join(self.followers)}')
+        raise SystemExit(0)
 
     def spin_step(self, executor):
         """One turn of the node's main loop (called by ``run_node``)."""
         if self.lockstep:
             executor.spin_once(timeout_sec=0.1)
+            return
+        if not self.started:
+            executor.spin_once(timeout_sec=0.02)
+            self.started = self.ready()
             return
         now = time.monotonic()
         if self.next_tick is None:
