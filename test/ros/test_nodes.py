@@ -176,6 +176,27 @@ def test_replay_into_estimator_equals_live(lockstep_bag, spawn, ros_node):
     assert abs(wall - DURATION / rate) < 0.1 * DURATION / rate, wall
 
 
+def test_realtime_simulator_waits_for_its_subscriber(spawn, ros_node):
+    """
+    Realtime joint_sim published before any subscriber had matched (0-100 % of 2000 lost).
+
+    A subscriber that is there first now gets every state from the first one on.
+    """
+    from sensor_msgs.msg import JointState
+    import roshelpers
+    stamps = []
+    sub = ros_node.node.create_subscription(
+        JointState, '/joint_states',
+        lambda m: stamps.append(m.header.stamp.sec * 10 ** 9 + m.header.stamp.nanosec),
+        roshelpers.reliable_qos(None))
+    sim = spawn(node_cmd('joint_sim', TRUTH, mode='realtime', duration=2.0, start_delay=0.5))
+    assert ros_node.wait_for_publishers(sub, timeout=30), sim.describe()
+    assert sim.wait_for('subscriber(s) matched', 30), sim.describe()
+    ros_node.spin_until(lambda: sim.popen.poll() is not None and len(stamps) >= 2000, 60)
+    assert len(stamps) == 2000, f'{len(stamps)} of 2000 states\n' + sim.describe()
+    assert np.all(np.diff(stamps) > 0)
+
+
 def test_topics_types_and_rates(spawn, ros_node):
     from sensor_msgs.msg import JointState
     import roshelpers
