@@ -15,18 +15,21 @@
 """
 Benchmark of the ROS 2 side: rates, latency, lockstep speed, recorder throughput.
 
-    .venv/bin/python benchmarks/bench_nodes.py [--quick]
+    .venv/bin/python benchmarks/bench_nodes.py [--quick] [--load N]
 
 1. realtime mode (joint_sim at 1 kHz + controller) for 60 s (10 s with
    --quick), recorded: achieved /joint_states rate, gaps, and the state ->
    command round-trip latency (the controller answers each state with a
    command carrying the state's stamp; latency = the recorder's receive time
-   of the command - stamp);
+   of the command - stamp); with ``--load N`` it runs again with N busy
+   processes (one busy loop each) loading the machine;
 2. lockstep mode (joint_sim + controller): simulated steps per wall second;
    then the full lockstep loop as ``bringup`` runs it (joint_sim + controller +
-   estimator at 3 kHz, all on /clock, recorded with ``record --use-sim-time``):
-   steps/s, sim time / wall time (x real time), and the recording's log-time
-   span and /joint_states rate (sim time: 3000 Hz over the simulated seconds);
+   estimator at 3 kHz with flow control on the estimator, recorded with
+   ``record --use-sim-time``): steps/s, sim time / wall time (x real time),
+   the recording's log-time span and /joint_states rate (sim time: 3000 Hz
+   over the simulated seconds) and its completeness (every step on every
+   loop topic); the wall time runs from the first step to the last;
 3. recorder throughput: a publisher floods /joint_states for 5 s; the
    recorder's count written is compared with the count published.
 
@@ -121,12 +124,12 @@ def realtime(seconds, e):
             'latency_p99_ms': float(np.percentile(lat, 99)), 'commands': int(csel.sum())}
 
 
-def _lockstep_wall(sim):
-    """Return the wall seconds from the simulator's first lockstep step to its 'done' line."""
+def _lockstep_wall(sim, start_delay):
+    """Return the wall seconds from the simulator's first step to its 'done' line."""
     t0 = None
     for line in sim.stdout:
-        if t0 is None and 'lockstep simulation' in line:
-            t0 = time.monotonic()
+        if t0 is None and 'subscriber(s) matched' in line:
+            t0 = time.monotonic() + start_delay
         if 'done' in line:
             break
     return time.monotonic() - t0
@@ -137,7 +140,7 @@ def lockstep(sim_seconds, e):
                      start_delay=0.5), e)
     ctrl = start(node('controller', MODEL), e)
     try:
-        wall = _lockstep_wall(sim)
+        wall = _lockstep_wall(sim, 0.5)
         sim.wait(30)
     finally:
         stop(ctrl)
@@ -148,19 +151,20 @@ def lockstep(sim_seconds, e):
 
 def lockstep_recorded(sim_seconds, e):
     """Sim + controller + estimator in lockstep (as bringup) with a --use-sim-time recorder."""
+    from friction_joint.bag import check_lockstep, read_recording
+    from friction_joint.ros.bringup import LOCKSTEP_WINDOW
     from rosbags.highlevel import AnyReader
     with tempfile.TemporaryDirectory() as d:
         out = os.path.join(d, 'ls')
         rec = start([PY, '-m', 'friction_joint', 'record', out, '--use-sim-time'], e)
         time.sleep(1.0)
-        est = start(node('estimator', MODEL, friction='lugre', sync='true', use_sim_time='true'),
-                    e)
-        ctrl = start(node('controller', MODEL, friction_ff='lugre', sync='true',
-                          use_sim_time='true'), e)
+        est = start(node('estimator', MODEL, friction='lugre', sync='true'), e)
+        ctrl = start(node('controller', MODEL, friction_ff='lugre', sync='true'), e)
         sim = start(node('joint_sim', TRUTH, mode='lockstep', duration=float(sim_seconds),
-                         wait_subscribers=3, start_delay=2.0), e)
+                         wait_subscribers=3, start_delay=2.0, follow='external_torque',
+                         window=LOCKSTEP_WINDOW), e)
         try:
-            wall = _lockstep_wall(sim)
+            wall = _lockstep_wall(sim, 2.0)
             sim.wait(30)
             time.sleep(0.5)
         finally:
@@ -169,12 +173,14 @@ def lockstep_recorded(sim_seconds, e):
             log = stop(rec, timeout=120)
         with AnyReader([__import__('pathlib').Path(out)]) as reader:
             js = [t for c, t, _ in reader.messages() if c.topic == '/joint_states']
+        check = check_lockstep(read_recording(out))
     steps = int(round(sim_seconds * 3000))
     span = (js[-1] - js[0]) * 1e-9
     return {'steps': steps, 'wall_s': wall, 'steps_per_s': steps / wall,
             'ratio': sim_seconds / wall, 'bag_span_s': span,
             'bag_rate_hz': (len(js) - 1) / span if span > 0 else float('nan'),
-            'recorded': len(js), 'log': log.strip().splitlines()[-1:]}
+            'recorded': len(js), 'log': log.strip().splitlines()[-1:],
+            'check': check.describe()}
 
 
 FLOOD = """
@@ -226,6 +232,8 @@ def recorder(rate, seconds, e):
 def main():
     ap = argparse.ArgumentParser(description=__doc__.strip().splitlines()[0])
     ap.add_argument('--quick', action='store_true', help='10 s instead of 60 s of real time')
+    ap.add_argument('--load', type=int, default=0, metavar='N',
+                    help='repeat the realtime run with N busy processes loading the machine')
     a = ap.parse_args()
     e = env()
     os.environ.update({k: e[k] for k in ('ROS_DOMAIN_ID', 'ROS_AUTOMATIC_DISCOVERY_RANGE')})
@@ -236,6 +244,19 @@ def main():
           f'state->command latency p50 {rt["latency_p50_ms"]:.3f} ms, '
           f'p99 {rt["latency_p99_ms"]:.3f} ms',
           flush=True)
+    loaded = None
+    if a.load > 0:
+        busy = [subprocess.Popen([PY, '-c', 'while True: pass']) for _ in range(a.load)]
+        try:
+            loaded = realtime(secs, e)
+        finally:
+            for p in busy:
+                p.kill()
+                p.wait()
+        print(f'realtime {secs:g} s with {a.load} busy processes: /joint_states '
+              f'{loaded["rate_hz"]:.1f} Hz, gap p99 {loaded["gap_p99_ms"]:.2f} ms, max '
+              f'{loaded["gap_max_ms"]:.2f} ms; latency p50 {loaded["latency_p50_ms"]:.3f} ms',
+              flush=True)
     ls = lockstep(1.0 if a.quick else 3.0, e)
     print(f'lockstep: {ls["steps"]} steps in {ls["wall_s"]:.2f} s = '
           f'{ls["steps_per_s"]:.0f} steps/s ({ls["steps_per_s"] / 3000:.3f} x real time)',
@@ -246,12 +267,15 @@ def main():
           f'{lr["wall_s"]:.2f} s = {lr["steps_per_s"]:.0f} steps/s, sim/wall '
           f'{lr["ratio"]:.3f} x real time; bag spans {lr["bag_span_s"]:.3f} s of log time, '
           f'/joint_states {lr["recorded"]} msgs at {lr["bag_rate_hz"]:.0f} Hz', flush=True)
+    print(f'  recording: {lr["check"]}', flush=True)
     r3 = recorder(3000.0, 5.0, e)
     rf = recorder(0.0, 5.0, e)
     for name, r in (('3 kHz', r3), ('flood', rf)):
         print(f'recorder {name}: published {r["published"]}, written {r["written"]}, '
               f'lost {r["lost"]} ({r["rate_msg_s"]:.0f} msg/s)', flush=True)
-    print(f'rate_hz={rt["rate_hz"]:.1f} latency_p50_ms={rt["latency_p50_ms"]:.3f} '
+    print(f'rate_hz={rt["rate_hz"]:.1f} '
+          + (f'rate_loaded_hz={loaded["rate_hz"]:.1f} ' if loaded else '')
+          + f'latency_p50_ms={rt["latency_p50_ms"]:.3f} '
           f'latency_p99_ms={rt["latency_p99_ms"]:.3f} '
           f'lockstep_steps_per_s={ls["steps_per_s"]:.0f} '
           f'lockstep_recorded_steps_per_s={lr["steps_per_s"]:.0f} '
