@@ -101,6 +101,15 @@ parameter is its log-space standard error.  They are approximate: model
 error (sensor lag, ripple, temperature lag) is treated as noise.  A
 parameter the data do not determine has a flat objective and a large (or
 infinite) standard error; sigma1 usually is one (see the tests).
+
+Because model error is treated as noise, a parameter whose whole effect is
+below the noise can still get a small standard error: it absorbs a
+systematic mismatch and the curvature of that is sharp.  The fit therefore
+also measures each parameter's **effect**: the relative rise of the RMS
+error when the parameter is moved an e-fold (x e and / e) from the optimum.
+An effect below ``EFFECT_FLOOR`` (1 % of the residual) marks the parameter
+undetermined whatever its standard error says (the data's own residual is
+the scale, so the rule holds for any gear and noise level).
 """
 import dataclasses
 import math
@@ -115,6 +124,10 @@ from .presliding_data import (batch_frictions, BatchData, check_presliding_excit
                               prepare_batch)
 from ..exceptions import ExcitationError, FrictionJointError, GearConfigWarning
 from ..output import json_clean
+
+#: relative rise of the RMS error over an e-fold change below which a parameter
+#: counts as undetermined (its effect hides in the residual)
+EFFECT_FLOOR = 0.01
 
 __all__ = ['PreslidingFit', 'fit_presliding', 'presliding_rmse', 'DEFAULT_BOUNDS', 'ZERO_START']
 
@@ -159,8 +172,11 @@ class PreslidingFit:
         ``n_samples``, ``n_segments``, ``evaluations``, ``batched_calls``,
         ``iterations``, ``wall_time`` (s), ``success``, ``message``,
         ``at_bound`` (parameters that ended on a search bound),
-        ``undetermined`` (free parameters with rel_stderr > 1 or on a bound:
-        the data do not fix them; their value is only the search's end),
+        ``effect`` (per parameter, the relative rise of the RMS error over an
+        e-fold change from the optimum), ``undetermined`` (free parameters
+        with rel_stderr > 1, on a bound, or with an effect below
+        ``EFFECT_FLOOR``: the data do not fix them; their value is only the
+        search's end),
         ``bounds``, ``autocorrelation_time`` (samples), ``warnings``
         (e.g. a fitted sigma1 above the passivity bound; also emitted).
 
@@ -199,6 +215,19 @@ def _bounds(names, start, bounds):
         lo.append(a)
         hi.append(b)
     return np.array(lo), np.array(hi)
+
+
+def _effects(rmse, x, names, lo, hi, base):
+    """Relative rise of ``rmse`` when each log-parameter moves by +-1 (within the bounds)."""
+    rows = []
+    for i in range(len(names)):
+        for d in (-1.0, 1.0):
+            row = np.array(x, dtype=float)
+            row[i] = np.clip(row[i] + d, lo[i], hi[i])
+            rows.append(row)
+    values = np.asarray(rmse(np.array(rows)), dtype=float).reshape(len(names), 2)
+    return {nm: float(max(np.max(v) - base, 0.0) / base) if base > 0 else math.inf
+            for nm, v in zip(names, values)}
 
 
 def _autocorr_time(r, max_lag=2000):
@@ -369,6 +398,7 @@ def fit_presliding(t, qd, tau_r, xi, tau_l, gear, *, model='lugre', segments=Non
     resid = data.residuals(batch_frictions(gear, model, [best]), model)[0]
     tau_ac = _autocorr_time(resid)
     m_best = float(np.mean(resid * resid))
+    effect = _effects(rmse, res.x, names, np.log(lo), np.log(hi), math.sqrt(m_best))
     cov, var = _covariance(hess, 2.0 * m_best * tau_ac / data.n)
     se_log = np.sqrt(var)
     sd = np.sqrt(np.where(np.isfinite(var) & (var > 0), var, np.nan))
@@ -388,7 +418,9 @@ def fit_presliding(t, qd, tau_r, xi, tau_l, gear, *, model='lugre', segments=Non
         'evaluations': res.nfev + n_h + 2, 'batched_calls': res.ncalls + 3,
         'iterations': res.nit, 'success': res.success, 'message': res.message,
         'at_bound': at_bound, 'autocorrelation_time': tau_ac,
-        'undetermined': [nm for nm, se in zip(names, se_log) if not se <= 1.0 or nm in at_bound],
+        'effect': effect,
+        'undetermined': [nm for nm, se in zip(names, se_log)
+                         if not se <= 1.0 or nm in at_bound or effect[nm] < EFFECT_FLOOR],
         'bounds': {nm: (float(a), float(b)) for nm, a, b in zip(names, lo, hi)},
         'wall_time': time.perf_counter() - t0,
     }

@@ -57,9 +57,35 @@ from .static import curve_params, g_abs, s_visc, sign
 from .._jit import njit
 from ..exceptions import GearConfigError
 
-__all__ = ['GMS', 'gms_update', 'pack_gms']
+__all__ = ['GMS', 'gms_update', 'gms_total', 'pack_gms']
 
 G_MIN = 1e-12
+
+
+@njit(inline='always')
+def _element(f, stuck, slipdir, ki, share, v, h, ga, lam):
+    """
+    One element over a step of constant velocity v: returns (torque, stick, slip direction).
+
+    ``f`` is its torque k_i z_i at the start, ``share`` alpha_i, ``lam`` C / |g|.
+    """
+    sv = sign(v)
+    if stuck == 0 and sv != slipdir:
+        stuck = 1                              # reversal or standstill: sticks again
+    if sv == 0.0:
+        return f, stuck, slipdir
+    target = sv * share * ga                   # alpha_i g(v), signed
+    if stuck == 1:
+        fnew = f + ki * v * h
+        if sv * fnew < sv * target:
+            return fnew, stuck, slipdir
+        if sv * f >= sv * target:              # reaches its share of g in this step
+            t_hit = 0.0
+        else:
+            t_hit = (target - f) / (ki * v)
+            f = target
+        return target + (f - target) * math.exp(-lam * (h - t_hit)), 0, sv
+    return target + (f - target) * math.exp(-lam * h), stuck, slipdir
 
 
 @njit(inline='always')
@@ -73,34 +99,27 @@ def gms_update(state, elements, v, h, gabs):
     """
     z, stick, slipdir = state
     k, alpha, c = elements
-    sv = sign(v)
     ga = max(gabs, G_MIN)
     lam = c / ga
     total = 0.0
     for i in range(z.shape[0]):
-        ki = k[i]
-        f = ki * z[i]
-        if stick[i] == 0 and sv != slipdir[i]:
-            stick[i] = 1                       # reversal or standstill: sticks again
-        if sv != 0.0:
-            target = sv * alpha[i] * ga        # alpha_i g(v), signed
-            if stick[i] == 1:
-                fnew = f + ki * v * h
-                if sv * fnew >= sv * target:   # reaches its share of g in this step
-                    if sv * f >= sv * target:
-                        t_hit = 0.0
-                    else:
-                        t_hit = (target - f) / (ki * v)
-                        f = target
-                    f = target + (f - target) * math.exp(-lam * (h - t_hit))
-                    stick[i] = 0
-                    slipdir[i] = sv
-                else:
-                    f = fnew
-            else:
-                f = target + (f - target) * math.exp(-lam * h)
-        z[i] = f / ki
+        f, stick[i], slipdir[i] = _element(k[i] * z[i], stick[i], slipdir[i], k[i], alpha[i],
+                                           v, h, ga, lam)
+        z[i] = f / k[i]
         total += f
+    return total
+
+
+@njit(inline='always')
+def gms_total(state, elements, v, h, gabs):
+    """Return what :func:`gms_update` would return, leaving the state unchanged."""
+    z, stick, slipdir = state
+    k, alpha, c = elements
+    ga = max(gabs, G_MIN)
+    lam = c / ga
+    total = 0.0
+    for i in range(z.shape[0]):
+        total += _element(k[i] * z[i], stick[i], slipdir[i], k[i], alpha[i], v, h, ga, lam)[0]
     return total
 
 
