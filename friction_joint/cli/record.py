@@ -39,7 +39,7 @@ def add_arguments(parser):
                         help='stop after S seconds (default: until Ctrl-C / SIGTERM)')
     parser.add_argument('--use-sim-time', action='store_true',
                         help='log times from /clock (as ros2 bag record --use-sim-time): each '
-                             'message at the latest /clock time received before it, so a '
+                             'message at the /clock time current when it was sent, so a '
                              'lockstep recording spans (and replays in) its simulated time; '
                              'default: receive (wall) time')
     return parser

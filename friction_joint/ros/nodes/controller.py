@@ -120,8 +120,9 @@ class ControllerNode(PairedInput, Node):
         self.sub_state = self.create_subscription(JointState, 'joint_states', self.on_state, qos,
                                                   qos_overriding_options=opts)
         self.stale = 0
-        self.create_subscription(Temperature, 'joint_temperature', self.on_temperature, qos,
-                                 qos_overriding_options=opts)
+        self.sub_temp = self.create_subscription(Temperature, 'joint_temperature',
+                                                 self.on_temperature, qos,
+                                                 qos_overriding_options=opts)
         parameter_guard(self, {k: DEFAULTS[k] for k in RUNTIME}, VALIDATORS, self.apply)
         self.get_logger().info(f'eq. 17 controller for {self.joint}: kp {self.kp:.1f} Nm/rad, '
                                f'kd {self.kd:.2f} Nm s/rad, friction feed-forward '

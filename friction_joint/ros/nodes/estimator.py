@@ -93,10 +93,11 @@ class EstimatorNode(PairedInput, Node):
         self.pub = self.create_publisher(JointState, 'external_torque',
                                          stream_qos(lossless=self.p['sync']),
                                          qos_overriding_options=opts)
-        self.create_subscription(JointState, 'joint_states', self.on_state, qos,
-                                 qos_overriding_options=opts)
-        self.create_subscription(Temperature, 'joint_temperature', self.on_temperature, qos,
-                                 qos_overriding_options=opts)
+        self.sub_state = self.create_subscription(JointState, 'joint_states', self.on_state, qos,
+                                                  qos_overriding_options=opts)
+        self.sub_temp = self.create_subscription(Temperature, 'joint_temperature',
+                                                 self.on_temperature, qos,
+                                                 qos_overriding_options=opts)
         parameter_guard(self, {'friction': DEFAULTS['friction']}, VALIDATORS, self.apply)
         self.get_logger().info(f'external torque observer for {self.joint}: '
                                f'beta {self.p["beta"]:g} '
