@@ -57,7 +57,7 @@ from .static import curve_params, g_abs, s_visc, sign
 from .._jit import njit
 from ..exceptions import GearConfigError
 
-__all__ = ['GMS', 'gms_update', 'gms_total', 'pack_gms']
+__all__ = ['GMS', 'gms_update', 'pack_gms']
 
 G_MIN = 1e-12
 
@@ -89,13 +89,14 @@ def _element(f, stuck, slipdir, ki, share, v, h, ga, lam):
 
 
 @njit(inline='always')
-def gms_update(state, elements, v, h, gabs):
+def gms_update(state, elements, v, h, gabs, commit=True):
     """
     Advance the N element states in place over a step of constant velocity v.
 
     ``state`` is ``(z, stick, slipdir)``: deflections (rad), 1/0, +1/-1;
     ``elements`` is ``(k, alpha, c)``: stiffnesses, torque shares, attraction
-    parameter; returns sum k_i z_i.
+    parameter; returns sum k_i z_i at the step's end.  ``commit=False`` only
+    returns it and leaves the state unchanged (a prediction).
     """
     z, stick, slipdir = state
     k, alpha, c = elements
@@ -103,23 +104,12 @@ def gms_update(state, elements, v, h, gabs):
     lam = c / ga
     total = 0.0
     for i in range(z.shape[0]):
-        f, stick[i], slipdir[i] = _element(k[i] * z[i], stick[i], slipdir[i], k[i], alpha[i],
-                                           v, h, ga, lam)
-        z[i] = f / k[i]
+        f, st, sd = _element(k[i] * z[i], stick[i], slipdir[i], k[i], alpha[i], v, h, ga, lam)
+        if commit:
+            z[i] = f / k[i]
+            stick[i] = st
+            slipdir[i] = sd
         total += f
-    return total
-
-
-@njit(inline='always')
-def gms_total(state, elements, v, h, gabs):
-    """Return what :func:`gms_update` would return, leaving the state unchanged."""
-    z, stick, slipdir = state
-    k, alpha, c = elements
-    ga = max(gabs, G_MIN)
-    lam = c / ga
-    total = 0.0
-    for i in range(z.shape[0]):
-        total += _element(k[i] * z[i], stick[i], slipdir[i], k[i], alpha[i], v, h, ga, lam)[0]
     return total
 
 

@@ -77,7 +77,7 @@ import math
 import numpy as np
 
 from ._expint import affine2_step, implicit_euler_v
-from .gms import gms_total, gms_update, pack_gms
+from .gms import gms_update, pack_gms
 from .lugre import G_MIN, lugre_torque
 from .static import broadcast_batch, curve_params, g_abs, pack_static, s_visc, sign
 from .._jit import njit
@@ -233,8 +233,8 @@ def _gms_substep(q, v, z, stick, slipdir, k, alpha, cc, f, jj,
                                 (0.0, (f - ftot - sc) / jj), (0.0, v), h)
     # what the elements' torque does beyond the sticking springs, predicted
     vbar = dn / h
-    extra = gms_total((z, stick, slipdir), (k, alpha, cc), vbar, h,
-                      g_abs(fc, fs, vs, ds, kap, vbar)) - ftot - kst * dn
+    extra = gms_update((z, stick, slipdir), (k, alpha, cc), vbar, h,
+                       g_abs(fc, fs, vs, ds, kap, vbar), False) - ftot - kst * dn
     c, sc = _chord(fv, dv, kap, v, vn, s0)
     dn, vn, _, _ = affine2_step((0.0, 1.0, -kst / jj, -c / jj),
                                 (0.0, (f - ftot - 0.5 * extra - sc) / jj), (0.0, v), h)
