@@ -39,7 +39,7 @@ from ..parameters import prepare_ros_args
 
 __all__ = ['stamp_to_ns', 'ns_to_stamp', 'joint_index', 'finite', 'take_queued',
            'StampPairing', 'Rejects', 'PairedInput', 'run_node', 'REJECT_LOG_PERIOD',
-           'MAX_STAMP_LEAD']
+           'MAX_STAMP_LEAD', 'EXECUTOR_EVERY']
 
 #: s a stopping node waits for reliable subscribers (a recorder on a loaded machine) to
 #: acknowledge its last samples; returns at once when they have
