@@ -429,10 +429,10 @@ def stick_slip(k=2.0, vp=0.1, duration=30.0, dt=5e-5, threshold=0.05, params=Non
     is ``k_ext = k`` and the external torque input is -k vp t (sampled at the
     step midpoints).
 
-    Step: the slip onsets of the joint integrator converge with second order
-    in the step; against a converged Radau solution they drift by about
-    0.075 ms per cycle at the default dt = 5e-5 s (0.3 ms at the fourth
-    onset; 1.2 ms at dt = 1e-4 s).  test/test_classic.py checks them to 1 ms.
+    Step: the joint integrator is second order in every term; against a
+    converged Radau solution the slip onsets are within 0.1 us at the
+    default dt = 5e-5 s (0.3 us at 1/3000 s).  test/experiments/test_classic.py
+    checks them to 5 us (the reference is converged to about 1 us).
 
     Parameters
     ----------
