@@ -118,3 +118,88 @@ def test_gms_joint_converges_faster_than_first_order():
         err.append(np.max(np.abs(traj.q - ref)))
     assert err[0] < 3e-5                       # was 7.2e-5 m holding the slipping torques
     assert err[0] / err[1] > 3.0, err          # first order: about 2
+
+
+# ------------------------------------------------- GMS against an event-driven reference
+
+def _gms_event_reference(gear, u, t_eval):
+    """
+    Integrate the GMS joint (J = 1, linear viscous) by Radau, restarted at every event.
+
+    Events: a sticking element reaching its share alpha_i g(qd) in the direction
+    of motion (it slips from then on), and a velocity zero crossing (every element
+    sticks again; the direction of motion flips).  Between events the modes are
+    fixed and the right-hand side is smooth.
+    """
+    f = gear.friction
+    k, alpha, c = np.array(f.gms.k), np.array(f.gms.alpha), f.gms.c
+    fc, fs, vs, fv = f.fc[0], f.fs[0], f.vs[0], f.fv[0]          # constants (no xi terms)
+
+    def g(v):
+        return fc + (fs - fc) * math.exp(-(v / vs) ** 2)
+
+    stick, sdir = np.ones(k.size, bool), 1.0
+    y, t = np.zeros(2 + k.size), 0.0
+    q = np.full(t_eval.size, np.nan)
+    while t < t_eval[-1]:
+        st, sd = stick.copy(), sdir
+
+        def rhs(time, yy, st=st, sd=sd):
+            gv = g(yy[1])
+            force = np.where(st, k * yy[1], (c / gv) * (sd * alpha * gv - yy[2:]))
+            return np.r_[yy[1], u(time) - yy[2:].sum() - fv * yy[1], force]
+
+        events = []
+        for i in np.flatnonzero(st):
+            def reach(time, yy, i=i, sd=sd):
+                return sd * yy[2 + i] - alpha[i] * g(yy[1])
+            reach.terminal, reach.direction = True, 1
+            events.append((i, reach))
+
+        def reverse(time, yy):
+            return yy[1]
+        reverse.terminal, reverse.direction = True, -sd
+        events.append((-1, reverse))
+        sol = solve_ivp(rhs, (t, t_eval[-1]), y, method='Radau', rtol=1e-10, atol=1e-13,
+                        events=[e for _, e in events], dense_output=True, max_step=2e-3)
+        inside = (t_eval >= t) & (t_eval <= sol.t[-1])
+        if inside.any():
+            q[inside] = sol.sol(t_eval[inside])[0]
+        t, y = sol.t[-1], sol.y[:, -1].copy()
+        if sol.status != 1:
+            break
+        for (i, _), hit in zip(events, sol.t_events):
+            if len(hit) and i < 0:
+                stick[:], sdir = True, -sd
+            elif len(hit):
+                stick[i] = False
+    return q
+
+
+@pytest.mark.slow
+def test_gms_joint_is_second_order_against_an_event_driven_reference():
+    """
+    Break-away from rest and sliding with a varying drive (three elements slip in turn).
+
+    Against the event-driven reference the error falls 7.8x from h = 1/1000 to
+    1/3000 s (second order: 9x; first order: 3x).  Runs with velocity reversals
+    are not second order yet (see ``friction_joint/models/joint.py``).
+    """
+    gear = _gms_gear()
+    duration = 3.0
+
+    def u(t):
+        return 1.2 + 0.6 * math.sin(2 * math.pi * 1.3 * t) + 0.3 * math.sin(2 * math.pi * 3.3 * t)
+
+    err = []
+    for h in (1e-3, 1.0 / 3000.0):
+        n = int(round(duration / h))
+        t = h * np.arange(1, n + 1)
+        traj = Joint(gear, model='gms').simulate(np.array([u(x) for x in t - 0.5 * h]), h,
+                                                 xi=25.0)
+        ref = _gms_event_reference(gear, u, t)
+        assert np.all(np.isfinite(ref))
+        assert np.max(ref) > 0.5                         # it slides
+        err.append(np.max(np.abs(traj.q - ref)))
+    assert err[1] < 1e-5, err                            # measured 4.9e-6 m
+    assert err[0] / err[1] > 6.0, err
