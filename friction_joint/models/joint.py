@@ -65,10 +65,11 @@ reversal splits the step at its zero crossing, so the elements stick again
 at the reversal and not a step late.  Against an event-driven reference
 (scipy Radau restarted at every stick/slip transition and reversal) the
 step is second order while the velocity keeps its sign (q error 3.8e-5,
-4.9e-6, 1.9e-6, 4.7e-7 m at 1/1000 ... 1/12000 s for three elements); runs
-with velocity reversals still converge at first order (2.1e-4 m at
-1/3000 s, 6.9e-5 m at 1/6000 s): what the reversal step leaves is not
-resolved yet.
+4.9e-6, 1.9e-6, 4.7e-7 m at 1/1000 ... 1/12000 s for three elements).  A
+run with reversals in pre-sliding, then a near stop (0.08 mm/s, no
+reversal) and a re-acceleration through the Stribeck range with the
+elements slipping, converges at first order (2.1e-4 m at 1/3000 s, 6.9e-5 m
+at 1/6000 s; the error builds up in the near stop): not resolved yet.
 
 The friction torque ``tau_r`` each step reports is the one at the step's
 **end**, evaluated from the end state (q, qd, z) it is returned with.
