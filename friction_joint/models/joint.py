@@ -142,7 +142,8 @@ def _lugre_joint_step(q, v, z, f, jj, sg0, sg1, fc, fs, fv, vs, dv, ds, kap, h):
     s0 = s_visc(fv, dv, kap, v)
     # predictor: implicit Euler, LuGre rate at v; s(vn) implicit where its slope
     # is stiff (h s'(v) > J/2, always near qd = 0), else held at s(v)
-    a = sg0 * abs(v) / max(g_abs(fc, fs, vs, ds, kap, v), G_MIN)
+    g0 = max(g_abs(fc, fs, vs, ds, kap, v), G_MIN)
+    a = sg0 * abs(v) / g0
     if v == 0.0 or h * dv * s0 / v > 0.5 * jj:
         dd = 1.0 + h * a
         vn = _implicit_visc(jj + h * (sg1 + h * sg0) / dd,
@@ -158,7 +159,6 @@ def _lugre_joint_step(q, v, z, f, jj, sg0, sg1, fc, fs, fv, vs, dv, ds, kap, h):
         # included; s by its chord.  Second order also where the bristle
         # relaxation is stiff (a h >> 1): the end state then sits on the
         # linearised quasi-equilibrium, which is exact to O(h^2)
-        g0 = max(g_abs(fc, fs, vs, ds, kap, v), G_MIN)
         a = sg0 * abs(v) / g0
         x = abs(kap * v / vs)
         u = x * x if ds == 2.0 else x ** ds
@@ -190,19 +190,12 @@ def _gms_joint_step(q, v, z, stick, slipdir, k, alpha, cc, f, jj,
     late (which would leave an O(h) error in every element's deflection).
     Returns (q, qd, tau_r) at the step's end.
     """
-    sv = sign(v)
-    if sv != 0.0:
-        kst, ftot = _gms_sticking(z, stick, slipdir, k, sv)
-        vn = implicit_euler_v((0.0, 1.0, -kst / jj, 0.0),
-                              (0.0, (f - ftot - s_visc(fv, dv, kap, v)) / jj), (0.0, v), h)
-        if vn * v < 0.0:
-            h1 = h * v / (v - vn)
-            if 1e-3 * h < h1 < (1.0 - 1e-3) * h:
-                q, v, _ = _gms_substep(q, v, z, stick, slipdir, k, alpha, cc, f, jj,
-                                       fc, fs, fv, vs, dv, ds, kap, h1)
-                h = h - h1
-    return _gms_substep(q, v, z, stick, slipdir, k, alpha, cc, f, jj,
-                        fc, fs, fv, vs, dv, ds, kap, h)
+    q, v, tau_r, rest = _gms_substep(q, v, z, stick, slipdir, k, alpha, cc, f, jj,
+                                     fc, fs, fv, vs, dv, ds, kap, h, True)
+    if rest > 0.0:                      # stopped at the predicted reversal: the rest
+        q, v, tau_r, _ = _gms_substep(q, v, z, stick, slipdir, k, alpha, cc, f, jj,
+                                      fc, fs, fv, vs, dv, ds, kap, rest, False)
+    return q, v, tau_r
 
 
 @njit(inline='always')
@@ -219,9 +212,13 @@ def _gms_sticking(z, stick, slipdir, k, sv):
 
 @njit
 def _gms_substep(q, v, z, stick, slipdir, k, alpha, cc, f, jj,
-                 fc, fs, fv, vs, dv, ds, kap, h):
+                 fc, fs, fv, vs, dv, ds, kap, h, split):
     """
-    Joint + GMS over h without a reversal.
+    Joint + GMS over h; returns (q, qd, tau_r, rest).
+
+    With ``split``, a velocity reversal predicted inside the step ends the
+    substep at the predicted zero crossing and ``rest`` is the time left of
+    the step (0 otherwise).
 
     The sticking elements are springs inside the exactly solved 2x2 system;
     the torque of the others (slipping, or changing state in the step) is a
@@ -233,6 +230,13 @@ def _gms_substep(q, v, z, stick, slipdir, k, alpha, cc, f, jj,
     s0 = s_visc(fv, dv, kap, v)
     vn = implicit_euler_v((0.0, 1.0, -kst / jj, 0.0),
                           (0.0, (f - ftot - s0) / jj), (0.0, v), h)
+    rest = 0.0
+    if split and vn * v < 0.0:
+        h1 = h * v / (v - vn)
+        if 1e-3 * h < h1 < (1.0 - 1e-3) * h:
+            rest, h = h - h1, h1
+            vn = implicit_euler_v((0.0, 1.0, -kst / jj, 0.0),
+                                  (0.0, (f - ftot - s0) / jj), (0.0, v), h)
     c, sc = _chord(fv, dv, kap, v, vn, s0)
     dn, vn, _, _ = affine2_step((0.0, 1.0, -kst / jj, -c / jj),
                                 (0.0, (f - ftot - sc) / jj), (0.0, v), h)
@@ -246,7 +250,7 @@ def _gms_substep(q, v, z, stick, slipdir, k, alpha, cc, f, jj,
     vbar = dn / h
     ga = g_abs(fc, fs, vs, ds, kap, vbar)
     tot = gms_update((z, stick, slipdir), (k, alpha, cc), vbar, h, ga)
-    return q + dn, vn, tot + s_visc(fv, dv, kap, vn)
+    return q + dn, vn, tot + s_visc(fv, dv, kap, vn), rest
 
 
 @njit
