@@ -52,7 +52,7 @@ setup(
         ('share/' + package_name + '/config', glob('config/*.yaml')),
         ('share/' + package_name + '/launch', glob('launch/*.launch.py')),
     ],
-    install_requires=['setuptools', 'numpy', 'scipy', 'PyYAML', 'matplotlib'],
+    install_requires=['setuptools', 'numpy', 'scipy', 'PyYAML', 'matplotlib', 'markdown'],
     extras_require={'fast': ['numba'], 'bags': ['rosbags', 'mcap', 'mcap-ros2-support']},
     zip_safe=True,
     maintainer='friction_joint maintainers',

@@ -32,7 +32,8 @@ The subpackages, one concept each (the tree is the architecture):
 
 and the modules shared by all of them: :mod:`~friction_joint.gear` (gear
 parameter files), :mod:`~friction_joint.exceptions`, :mod:`~friction_joint.output`
-(atomic result files) and :mod:`~friction_joint.demo` (the main job).
+(atomic result files), :mod:`~friction_joint.report_html` (a Markdown report as
+one self-contained HTML file) and :mod:`~friction_joint.demo` (the main job).
 """
 from ._version import __version__
 from .exceptions import (ExcitationError, ExperimentError, FrictionJointError, GearConfigError,

@@ -45,6 +45,11 @@ def add_arguments(parser):
     parser.add_argument('--duration-scale', type=float, default=1.0, metavar='X',
                         help='multiply all run durations by X (default 1; small values for '
                              'quick tests)')
+    parser.add_argument('--gains', metavar='DESIGN',
+                        help='gain design of the controller (compensation, estimation): a '
+                             'preset, paper (default: designed for 0.016 kg m^2, see README) or '
+                             "full-inertia (the model's joint inertia); J=<kg m^2>; or "
+                             'kp=<Nm/rad>,kd=<Nm s/rad>')
     parser.add_argument('--force', action='store_true',
                         help='replace an existing --out as a whole (an --out that is or '
                              'contains --model or --truth is an error even then)')
@@ -56,6 +61,6 @@ def run(args):
     from ..experiments.runner import run_experiment
     paths = run_experiment(args.name, args.model, args.truth, args.out,
                            duration_scale=args.duration_scale, progress=progress_printer(),
-                           force=args.force)
+                           force=args.force, gains=args.gains)
     print('wrote ' + ', '.join(paths))
     return 0

@@ -13,58 +13,91 @@
 # limitations under the License.
 
 """Friction compensation (seed Section V-C, Fig. 6-7): sine tracking with feed-forward."""
+import copy
 import math
 
 import numpy as np
 
 from ._common import (check_model, check_scale, closed_loop, COLORS, grid_on, json_key, LABELS,
                       MODELS, n_steps, rmse)
-from ..control.controller import Controller, pd_gains, SineTrajectory
+from .warmup import warm_up
+from ..control.controller import Controller, SineTrajectory
+from ..control.gains import gain_design, loop_metrics
 from ..output import ExperimentResult
 from ..testbed.plant import Plant
 
-__all__ = ['COMPENSATION', 'compensation']
+__all__ = ['COMPENSATION', 'compensation', 'warmed_plants']
 
 
 COMPENSATION = {
     'amplitudes': (0.4, 2.4),       # rad
     'omega': 1.5,                   # rad/s
-    'temperatures': (27.0, 35.0),   # degC, plant start temperature
-    'rise_time': 0.04,              # s
-    'overshoot': 0.06,
+    'temperatures': (27.0, 31.0, 35.0),   # degC, reached by self-heating (warm-up)
+    'gains': 'paper',               # gain design preset (control.gains)
+    'warm_up_friction': 'lugre',    # feed-forward of the controller during the warm-up
     'settle': 1.0,                  # s before the evaluation window
     'periods': 2,                   # evaluation window, periods of q_d
     'ff_velocity': ('measured', 'desired'),   # first: main result, others reported too
 }
 
 
-def _compensation_run(model, truth, kp, kd, kind, xi0, amp, n, ff_velocity):
-    c = COMPENSATION
-    plant = Plant(truth, xi0=xi0)
+def _compensation_run(model, warm, kp, kd, kind, amp, n, ff_velocity):
+    """Track a sin(omega t) from the warmed-up plant ``warm`` (copied, at rest at q = 0)."""
+    plant = copy.deepcopy(warm)
     ctrl = Controller(model, kp, kd, friction=kind, dt=plant.dt, ff_velocity=ff_velocity)
-    return closed_loop(plant, ctrl, SineTrajectory(amp, c['omega']), n)
+    sine = SineTrajectory(amp, COMPENSATION['omega'])
+    t0 = plant.t
+    r = closed_loop(plant, ctrl, lambda t: sine(t - t0), n)
+    r['t'] = r['t'] - t0
+    return r
 
 
-def compensation(model, truth, duration_scale=1.0):
+def warmed_plants(model, truth, kp, kd, temperatures):
+    """
+    Plants at rest at q = 0 whose gear self-heated to each temperature, in rising order.
+
+    One plant starts at the truth's ambient temperature and is warmed up
+    (:func:`~friction_joint.experiments.warmup.warm_up`) to the first
+    temperature, copied, warmed on to the next, and so on.  Returns
+    ``[(plant, warm_up_info), ...]`` in the order of ``temperatures``.
+    """
+    plant = Plant(truth)
+    ctrl = Controller(model, kp, kd, friction=COMPENSATION['warm_up_friction'], dt=plant.dt)
+    out = {}
+    for xi in sorted(temperatures):
+        info = warm_up(plant, ctrl, xi)
+        info['elapsed_s'] = float(plant.t)
+        out[xi] = (copy.deepcopy(plant), info)
+    return [out[xi] for xi in temperatures]
+
+
+def compensation(model, truth, duration_scale=1.0, *, gains=None):
     """
     Friction compensation with eq. 17 (paper Section V-C, Fig. 6-7).
 
-    For each start temperature (27, 35 degC), amplitude (0.4, 2.4 rad) and
+    The gear is first heated by its own friction losses to each operating
+    temperature (27, 31, 35 degC; :func:`warmed_plants`).  From each warm
+    state, at rest at q = 0, and for each amplitude (0.4, 2.4 rad) and
     friction feed-forward (none, LuGre, GMS) the plant tracks
-    q_d = a sin(1.5 t) from rest at q = 0 with the controller of eq. 17
-    (gains from :func:`~friction_joint.control.controller.pd_gains` for the model
-    inertia, 0.04 s rise time, 6 % overshoot; the same gains for all cases).
-    After a settling interval of 1 s the error q_d - q_true is evaluated
-    over two periods of q_d.  The friction feed-forward is driven by the
-    measured velocity as in eq. 17; the variant driven by the desired
-    velocity is run and reported as well.
+    q_d = a sin(1.5 t) with the controller of eq. 17 (gains of the design
+    ``gains``, default the ``paper`` preset of
+    :mod:`~friction_joint.control.gains`: 0.04 s rise time and 6 % overshoot
+    designed for 0.016 kg m^2; the same gains for all cases).  After a
+    settling interval of 1 s the error q_d - q_true is evaluated over two
+    periods of q_d.  The friction feed-forward is driven by the measured
+    velocity as in eq. 17; the variant driven by the desired velocity is run
+    and reported as well.
 
     Parameters
     ----------
     model, truth : GearParams
         Identified model and simulated hardware.
     duration_scale : float
-        Multiplies the settling interval and the evaluation window.
+        Multiplies the settling interval and the evaluation window (not the
+        warm-up, which lasts until the temperature is reached).
+    gains : GainDesign or str, optional
+        Gain design (a preset name, ``J=...`` or ``kp=...,kd=...``, see
+        :func:`~friction_joint.control.gains.gain_design`); default ``paper``.
 
     Returns
     -------
@@ -72,7 +105,11 @@ def compensation(model, truth, duration_scale=1.0):
         ``summary``: ``max_error_pct[model][temperature][amplitude]`` (max
         |q_d - q_true| in % of a), ``rmse[...]`` (rad), ``max_error[...]``
         (rad), ``temperature_end[...]`` (degC, true, end of run) for
-        model in none/lugre/gms, keys like ``'27'`` and ``'0.4'``; ``gains``;
+        model in none/lugre/gms, keys like ``'27'`` and ``'0.4'``; ``gains``
+        (the design and kp, kd), ``loop`` (omega_n, zeta, overshoot and rise
+        time of the PD loop on the truth's inertia), ``warm_up[temperature]``
+        (temperature reached, warm-up time), ``truth_model`` (the hardware's
+        friction model);
         ``ff_velocity`` (the variant of the main tables) and
         ``ff_velocity_variants[variant]`` with the same tables for the
         others (lugre and gms only).
@@ -81,7 +118,8 @@ def compensation(model, truth, duration_scale=1.0):
     scale = check_scale(duration_scale)
     check_model(model, ('lugre', 'gms'))
     c = COMPENSATION
-    kp, kd = pd_gains(model.inertia, c['rise_time'], c['overshoot'])
+    design = gain_design(c['gains'] if gains is None else gains)
+    kp, kd = design.gains(model.inertia)
     dt = 1.0 / truth.section('simulation')['rate']
     period = 2.0 * math.pi / c['omega']
     settle = c['settle'] * scale
@@ -99,8 +137,9 @@ def compensation(model, truth, duration_scale=1.0):
     summary = {'experiment': 'compensation', 'duration_scale': scale,
                'omega': c['omega'], 'amplitudes': list(c['amplitudes']),
                'temperatures': list(c['temperatures']),
-               'gains': {'kp': kp, 'kd': kd, 'rise_time': c['rise_time'],
-                         'overshoot': c['overshoot'], 'inertia': model.inertia},
+               'gains': design.to_dict(model.inertia),
+               'loop': loop_metrics(kp, kd, truth.inertia), 'truth_model': truth.friction.model,
+               'warm_up': {},
                'settle_s': settle, 'evaluation_s': window, 'ff_velocity': main,
                'max_error_pct': table(MODELS), 'rmse': table(MODELS),
                'max_error': table(MODELS), 'temperature_end': table(MODELS),
@@ -108,13 +147,15 @@ def compensation(model, truth, duration_scale=1.0):
                'ff_velocity_variants': {v: {'max_error_pct': table(('lugre', 'gms')),
                                             'rmse': table(('lugre', 'gms'))} for v in others}}
     traces = {}
-    for xi0, tk in zip(c['temperatures'], temps):
+    warm = warmed_plants(model, truth, kp, kd, c['temperatures'])
+    for (plant0, info), tk in zip(warm, temps):
+        summary['warm_up'][tk] = info
         for amp, ak in zip(c['amplitudes'], amps):
             for kind in MODELS:
                 for variant in c['ff_velocity']:
                     if variant != main and kind == 'none':
                         continue        # nothing to feed forward: identical to the main run
-                    r = _compensation_run(model, truth, kp, kd, kind, xi0, amp, n, variant)
+                    r = _compensation_run(model, plant0, kp, kd, kind, amp, n, variant)
                     e = (r['q_d'] - r['q_true'])[n_settle:]
                     pct = 100.0 * float(np.max(np.abs(e))) / amp
                     if variant == main:

@@ -19,7 +19,8 @@ import numpy as np
 from ._common import (check_model, check_scale, closed_loop, COLORS, grid_on, json_key, LABELS,
                       MODELS, n_steps, rmse, SumOfSines)
 from .compensation import COMPENSATION
-from ..control.controller import Controller, pd_gains
+from ..control.controller import Controller
+from ..control.gains import gain_design, loop_metrics
 from ..control.observer import DisturbanceObserver
 from ..output import ExperimentResult
 from ..testbed.plant import Plant
@@ -41,7 +42,7 @@ ESTIMATION = {
 }
 
 
-def estimation(model, truth, duration_scale=1.0):
+def estimation(model, truth, duration_scale=1.0, *, gains=None):
     """
     External torque estimation with eq. 15 (paper Section V-D, Fig. 8).
 
@@ -60,6 +61,10 @@ def estimation(model, truth, duration_scale=1.0):
     smooths the velocity noise.  A LuGre observer at 30 and 120 rad/s is run
     alongside and reported (``beta_sweep``).
 
+    ``gains`` is the controller's gain design as in
+    :func:`~friction_joint.experiments.compensation.compensation` (default
+    the ``paper`` preset); the observers do not depend on it.
+
     Returns
     -------
     ExperimentResult
@@ -74,7 +79,8 @@ def estimation(model, truth, duration_scale=1.0):
     scale = check_scale(duration_scale)
     check_model(model, ('lugre', 'gms'))
     c = ESTIMATION
-    kp, kd = pd_gains(model.inertia, COMPENSATION['rise_time'], COMPENSATION['overshoot'])
+    design = gain_design(COMPENSATION['gains'] if gains is None else gains)
+    kp, kd = design.gains(model.inertia)
     ref = SumOfSines(c['reference'])
     plant = Plant(truth, xi0=c['xi0'], q0=ref(0.0)[0])
     n = n_steps(c['duration'] * scale, plant.dt, 'estimation run')
@@ -98,6 +104,8 @@ def estimation(model, truth, duration_scale=1.0):
         return rmse(e), float(np.max(np.abs(e)))
 
     summary = {'experiment': 'estimation', 'duration_scale': scale, 'beta': c['beta'],
+               'gains': design.to_dict(model.inertia), 'loop': loop_metrics(kp, kd, truth.inertia),
+               'truth_model': truth.friction.model,
                'controller_friction': c['controller'], 'xi0': c['xi0'],
                'duration_s': n * plant.dt, 'settle_s': n_settle * plant.dt,
                'load_amplitude': load,

@@ -63,11 +63,11 @@ from ._common import check_scale, Experiment
 from .chirp import chirp
 from .compensation import compensation
 from .estimation import estimation
-from ..exceptions import ExperimentError
+from ..exceptions import ExperimentError, FrictionJointError
 from ..gear import load_gear
 from ..output import OutputSet, result_files
 
-__all__ = ['EXPERIMENTS', 'identification', 'run_experiment']
+__all__ = ['EXPERIMENTS', 'CLOSED_LOOP', 'identification', 'run_experiment']
 
 
 # --------------------------------------------------------- identification ---
@@ -94,12 +94,16 @@ def identification(model, truth, duration_scale=1.0, progress=None):
     return simulate_identification(truth, check_scale(duration_scale), progress=progress)
 
 
+#: experiments whose closed loop takes a gain design (``gains=``)
+CLOSED_LOOP = ('compensation', 'estimation')
+
 #: command-line name -> experiment
 EXPERIMENTS = {
     'chirp': Experiment(chirp, 'open-loop chirp torques, measured vs LuGre/GMS simulation '
                                '(Fig. 5)'),
     'compensation': Experiment(compensation, 'sine tracking with friction feed-forward '
-                                             'none/LuGre/GMS at 27 and 35 degC (Fig. 6-7)'),
+                                             'none/LuGre/GMS at 27, 31 and 35 degC reached by '
+                                             'self-heating (Fig. 6-7)'),
     'estimation': Experiment(estimation, 'external torque estimation with the disturbance '
                                          'observer, with and without friction model (Fig. 8)'),
     'identification': Experiment(identification, 'constant-velocity plateaus at several '
@@ -111,7 +115,7 @@ EXPERIMENTS = {
 
 
 def run_experiment(name, model_path, truth_path, out_dir, duration_scale=1.0, progress=None, *,
-                   force=False):
+                   force=False, gains=None):
     """
     Load the gear files, run experiment ``name`` and write its results.
 
@@ -122,6 +126,10 @@ def run_experiment(name, model_path, truth_path, out_dir, duration_scale=1.0, pr
     ``summary.json``.  Either is one output: an existing one (not an empty
     directory) is an error unless ``force``, which replaces it as a whole; one
     that is, contains or lies in ``model_path`` or ``truth_path`` always.
+    ``gains`` (a :class:`~friction_joint.control.gains.GainDesign` or its
+    text, e.g. ``paper``, ``J=0.05``, ``kp=40,kd=1``) is the controller's gain
+    design of the closed-loop experiments (:data:`CLOSED_LOOP`); default
+    their ``paper`` preset.  It is an error for the others.
 
     Returns
     -------
@@ -133,6 +141,16 @@ def run_experiment(name, model_path, truth_path, out_dir, duration_scale=1.0, pr
         raise ExperimentError(f'unknown experiment {name!r}; choose from {", ".join(EXPERIMENTS)}')
     exp = EXPERIMENTS[name]
     scale = check_scale(duration_scale)
+    options = {}
+    if gains is not None:
+        if name not in CLOSED_LOOP:
+            raise ExperimentError(f'experiment {name} has no controller: --gains applies to '
+                                  f'{" and ".join(CLOSED_LOOP)} only')
+        from ..control.gains import gain_design
+        try:
+            options['gains'] = gain_design(gains)
+        except FrictionJointError as exc:
+            raise ExperimentError(str(exc)) from None
     if exp.needs_model and model_path is None:
         raise ExperimentError(f'experiment {name} needs --model (the identified model gear file)')
     out_dir = os.fspath(out_dir)
@@ -157,7 +175,7 @@ def run_experiment(name, model_path, truth_path, out_dir, duration_scale=1.0, pr
                          f'{summary.get("duration_s", 0.0):.1f} s simulated in '
                          f'{summary["wall_time_s"]:.1f} s')
             return written
-        result = exp.func(model, truth, scale)
+        result = exp.func(model, truth, scale, **options)
         result.summary['model_file'] = os.path.abspath(model_path)
         result.summary['truth_file'] = os.path.abspath(truth_path)
         result.summary['wall_time_s'] = time.perf_counter() - start

@@ -481,6 +481,12 @@ class Joint:
             outs = [o[0] for o in outs]
         return JointTrajectory(t, *outs)
 
+    def __getstate__(self):
+        """Drop the cached step arguments: they hold views of arrays a copy replaces."""
+        state = self.__dict__.copy()
+        state['_step_args'] = None
+        return state
+
     def step(self, tau, dt, xi, tau_ext=0.0):
         """
         Advance a single gear by one step; low-overhead path for real-time loops.

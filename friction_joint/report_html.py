@@ -1,0 +1,328 @@
+# Copyright 2026 friction_joint maintainers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""
+Markdown reports as self-contained HTML: one file that opens in a browser, figures inside.
+
+The reports of ``friction_joint demo`` (``DIR/report.md``) and ``diagnose``
+name their figures by relative paths (``![fig](classic/stick_slip.png)``).
+:func:`markdown_to_html` renders such a report with Python-Markdown (tables,
+fenced code, sane lists, heading anchors) into a complete HTML5 document with a
+small inline style sheet, and replaces every local image by a ``data:`` URI of
+the file's bytes (PNG, SVG, JPEG, GIF, WebP), so the page needs neither the
+result directory nor the network:
+
+* a local image is a ``src`` without a URL scheme (or a ``file:`` URL), taken
+  relative to ``base_dir``; ``%20``-style escapes are decoded, a query or
+  fragment is ignored; remote (``http(s):``, ``//host``) and ``data:``
+  sources are left as they are;
+* a missing or unreadable image, or one of an unknown type, is a one-line
+  :class:`~friction_joint.exceptions.FrictionJointError` naming the file and
+  the Markdown file (or ``base_dir``) it was looked up from;
+* links (``[summary](compensation/summary.json)``) are kept as written: they
+  resolve when the HTML file lies beside the Markdown file, as
+  :func:`write_html_report` writes it by default;
+* inline math ``$...$`` stays text (``<span class="math">``), protected from
+  Markdown's emphasis (``$a*b$``), and a backslash before ``$`` makes it a plain
+  dollar sign; no MathJax, nothing is loaded;
+* table cells that hold a single number are right-aligned (class ``num``).
+
+:func:`write_html_report` converts a Markdown file and writes the HTML
+atomically (a hidden temporary sibling, then :func:`os.replace`), so a reader
+sees the old file or the complete new one, never a part.
+
+This module imports Python-Markdown; :mod:`friction_joint` does not import
+it, so ``import friction_joint`` does not load it.
+"""
+import base64
+import html
+import os
+import re
+import secrets
+from urllib.parse import unquote, urlsplit
+from urllib.request import url2pathname
+import xml.etree.ElementTree as etree
+
+import markdown
+from markdown.inlinepatterns import InlineProcessor
+from markdown.treeprocessors import Treeprocessor
+from markdown.util import AtomicString
+
+from .exceptions import FrictionJointError
+
+__all__ = ['markdown_to_html', 'write_html_report']
+
+#: Python-Markdown extensions the reports are written for
+EXTENSIONS = ('tables', 'fenced_code', 'sane_lists', 'toc')
+
+#: file suffix -> MIME type of the images that are embedded
+IMAGE_TYPES = {'.png': 'image/png', '.svg': 'image/svg+xml', '.jpg': 'image/jpeg',
+               '.jpeg': 'image/jpeg', '.gif': 'image/gif', '.webp': 'image/webp'}
+
+DEFAULT_TITLE = 'friction_joint report'
+
+CSS = """
+body { margin: 0; background: #fff; color: #1f2328; font: 16px/1.5 -apple-system,
+  'Segoe UI', Helvetica, Arial, sans-serif; }
+main { max-width: 1100px; margin: 0 auto; padding: 1.5em 2em 4em; }
+h1, h2, h3 { line-height: 1.25; margin: 1.4em 0 0.6em; }
+h1 { border-bottom: 2px solid #d0d7de; padding-bottom: 0.3em; }
+h2 { border-bottom: 1px solid #d0d7de; padding-bottom: 0.2em; }
+img { max-width: 100%; height: auto; display: block; margin: 0.5em 0; }
+table { border-collapse: collapse; margin: 1em 0; display: block; overflow-x: auto; }
+th, td { border: 1px solid #d0d7de; padding: 0.3em 0.7em; }
+th { background: #f6f8fa; }
+tbody tr:nth-child(even) { background: #fafbfc; }
+td.num { text-align: right; font-variant-numeric: tabular-nums; white-space: nowrap; }
+code, pre { font-family: ui-monospace, 'SFMono-Regular', Menlo, Consolas, monospace;
+  font-size: 0.9em; }
+code { background: #f6f8fa; padding: 0.1em 0.3em; border-radius: 4px; }
+pre { background: #f6f8fa; padding: 0.8em 1em; overflow-x: auto; border-radius: 6px; }
+pre code { background: none; padding: 0; }
+.math { font-family: 'Latin Modern Math', 'STIX Two Math', 'Cambria Math', serif; }
+a { color: #0969da; }
+"""
+
+_PAGE = """<!DOCTYPE html>
+<html lang="en">
+<head>
+<meta charset="utf-8">
+<meta name="viewport" content="width=device-width, initial-scale=1">
+<meta name="generator" content="friction_joint.report_html">
+<title>{title}</title>
+<style>{css}</style>
+</head>
+<body>
+<main>
+{body}
+</main>
+</body>
+</html>
+"""
+
+# $$...$$, and $...$ as pandoc reads it: no blank right after the opening $ nor before
+# the closing one, the closing $ not followed by a digit; an escaped \$ is no delimiter
+_MATH = (r'(?<![\\$])(?:\$\$(?:[^$\\]|\\.)+?\$\$'
+         r'|\$(?=[^\s$])(?:[^$\n\\]|\\.)*?[^\s\\$]\$(?!\d))')
+_NUMBER = re.compile(r'[-+\u2212]?(?:\d[\d,_]*\.?\d*|\.\d+)(?:[eE][-+]?\d+)?\s*%?')
+_IMG = re.compile(r'<img\b[^>]*>', re.IGNORECASE)
+_SRC = re.compile(r"""(?<=\s)(src\s*=\s*)(?:"([^"]*)"|'([^']*)'|([^\s"'=<>`]+))""",
+                  re.IGNORECASE)
+
+
+class _MathProcessor(InlineProcessor):
+    """``$...$`` becomes a ``<span class="math">`` whose text Markdown leaves alone."""
+
+    def handleMatch(self, m, data):  # noqa: N802 (Python-Markdown's name)
+        span = etree.Element('span', {'class': 'math'})
+        span.text = AtomicString(m.group(0))
+        return span, m.start(0), m.end(0)
+
+
+class _NumericCells(Treeprocessor):
+    """Mark table cells that hold a single number (class ``num``, right-aligned)."""
+
+    def run(self, root):
+        for cell in root.iter('td'):
+            text = (cell.text or '').strip()
+            if len(cell) == 0 and text and _NUMBER.fullmatch(text):
+                cell.set('class', 'num')
+
+
+class _ReportExtension(markdown.Extension):
+    """The report's additions to Python-Markdown: inline math as text, numeric cells."""
+
+    def extendMarkdown(self, md):  # noqa: N802 (Python-Markdown's name)
+        # after code spans (190), before backslash escapes (180)
+        md.inlinePatterns.register(_MathProcessor(_MATH, md), 'friction_joint_math', 185)
+        if '$' not in md.ESCAPED_CHARS:     # \$ is a literal dollar sign, as in pandoc
+            md.ESCAPED_CHARS.append('$')
+        # after the inline patterns (20), before prettify (10)
+        md.treeprocessors.register(_NumericCells(md), 'friction_joint_numeric_cells', 15)
+
+
+def _error_prefix(where):
+    return f'{where}: ' if where else ''
+
+
+def _data_uri(src, base_dir, where):
+    """``src`` as a ``data:`` URI if it names a local file, else None (left alone)."""
+    parts = urlsplit(src)
+    if parts.scheme.lower() == 'file':
+        path = url2pathname(parts.path)
+    elif parts.scheme or parts.netloc or not parts.path:
+        return None
+    else:
+        path = os.path.join(base_dir, unquote(parts.path))
+    suffix = os.path.splitext(path)[1].lower()
+    mime = IMAGE_TYPES.get(suffix)
+    if mime is None:
+        raise FrictionJointError(
+            f'{_error_prefix(where)}cannot embed image {src!r}: unknown image type '
+            f'{suffix or "(no suffix)"!r} (known: {", ".join(sorted(IMAGE_TYPES))})')
+    try:
+        with open(path, 'rb') as fh:
+            data = fh.read()
+    except FileNotFoundError:
+        raise FrictionJointError(f'{_error_prefix(where)}image {src!r} not found: no file '
+                                 f'{path}') from None
+    except OSError as exc:
+        raise FrictionJointError(f'{_error_prefix(where)}cannot read image {src!r} ({path}): '
+                                 f'{exc.strerror or exc}') from None
+    return f'data:{mime};base64,{base64.b64encode(data).decode("ascii")}'
+
+
+def _embed_images(body, base_dir, where):
+    """Replace the ``src`` of every ``<img>`` in ``body`` that names a local file."""
+    def one_src(m):
+        raw = next(g for g in m.groups()[1:] if g is not None)
+        uri = _data_uri(html.unescape(raw).strip(), base_dir, where)
+        return m.group(0) if uri is None else f'{m.group(1)}"{uri}"'
+
+    return _IMG.sub(lambda tag: _SRC.sub(one_src, tag.group(0), count=1), body)
+
+
+def _render(text, base_dir, title, where):
+    """
+    Render ``text``; ``title`` None takes the first level-1 heading (or the default).
+
+    ``where`` names the Markdown file (or ``base_dir``) in error messages.
+    """
+    md = markdown.Markdown(extensions=[*EXTENSIONS, _ReportExtension()],
+                           output_format='html')
+    body = md.convert(text)
+    if title is None:
+        first = md.toc_tokens[0] if md.toc_tokens else None
+        # toc's 'name' is already escaped for HTML
+        shown = first['name'] if first and first['level'] == 1 and first['name'] else \
+            html.escape(DEFAULT_TITLE)
+    else:
+        shown = html.escape(str(title))
+    body = _embed_images(body, os.fspath(base_dir), where)
+    return _PAGE.format(title=shown, css=CSS.strip(), body=body)
+
+
+def markdown_to_html(text, *, base_dir, title=DEFAULT_TITLE):
+    """
+    Render Markdown as a complete, self-contained HTML5 document.
+
+    Parameters
+    ----------
+    text : str
+        The Markdown source (Python-Markdown with tables, fenced code, sane
+        lists and heading anchors; ``$...$`` is kept as text).
+    base_dir : str or os.PathLike
+        Directory that relative image paths are taken from (the Markdown
+        file's directory).
+    title : str
+        The document's ``<title>`` (escaped here).
+
+    Returns
+    -------
+    str
+        The HTML document; every local image is a ``data:`` URI, remote and
+        ``data:`` images and all links are left as written.
+
+    Raises
+    ------
+    FrictionJointError
+        An image is missing, unreadable or of an unknown type; the message
+        names it and ``base_dir``.
+
+    """
+    return _render(text, base_dir, title, f'base_dir {os.fspath(base_dir)}')
+
+
+def _write_atomic(path, data):
+    """Write ``data`` (bytes) to ``path`` via a hidden temporary sibling and a rename."""
+    folder = os.path.dirname(os.path.abspath(path))
+    name = os.path.basename(path)
+    for _ in range(100):
+        tmp = os.path.join(folder, f'.{name}.{secrets.token_hex(4)}.tmp')
+        try:
+            fd = os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o666)
+            break
+        except FileExistsError:
+            continue
+        except OSError as exc:
+            raise FrictionJointError(f'cannot write {path}: {exc.strerror or exc}') from None
+    else:
+        raise FrictionJointError(f'cannot write {path}: no free temporary name in {folder}')
+    try:
+        with os.fdopen(fd, 'wb') as fh:
+            fh.write(data)
+            fh.flush()
+            os.fsync(fh.fileno())
+        os.replace(tmp, path)
+    except BaseException as exc:
+        try:
+            os.unlink(tmp)
+        except OSError:
+            pass
+        if isinstance(exc, OSError):
+            raise FrictionJointError(f'cannot write {path}: {exc.strerror or exc}') from None
+        raise
+
+
+def write_html_report(md_path, html_path=None):
+    """
+    Convert a Markdown report into a self-contained HTML file beside it.
+
+    Images are taken relative to the Markdown file's directory and embedded
+    (see :func:`markdown_to_html`); the ``<title>`` is the first level-1
+    heading (else ``'friction_joint report'``).  Links are kept as written,
+    so they resolve when ``html_path`` lies in the Markdown file's directory.
+
+    Parameters
+    ----------
+    md_path : str or os.PathLike
+        The Markdown file (UTF-8).
+    html_path : str or os.PathLike, optional
+        Where to write the HTML; default: ``md_path`` with the suffix
+        ``.html``.  An existing file there is replaced (atomically: a
+        temporary sibling renamed into place).
+
+    Returns
+    -------
+    str
+        The path of the HTML file written.
+
+    Raises
+    ------
+    FrictionJointError
+        The Markdown file cannot be read, an image is missing, unreadable or
+        of an unknown type, ``html_path`` is ``md_path`` or cannot be written;
+        nothing is written then.
+
+    """
+    md_path = os.fspath(md_path)
+    if html_path is None:
+        html_path = os.path.splitext(md_path)[0] + '.html'
+    html_path = os.fspath(html_path)
+    if os.path.abspath(html_path) == os.path.abspath(md_path) or \
+            (os.path.exists(html_path) and os.path.exists(md_path) and
+             os.path.samefile(html_path, md_path)):
+        raise FrictionJointError(f'{md_path}: the HTML report would overwrite the Markdown '
+                                 'file; give another html_path')
+    try:
+        with open(md_path, encoding='utf-8') as fh:
+            text = fh.read()
+    except OSError as exc:
+        raise FrictionJointError(f'cannot read {md_path}: {exc.strerror or exc}') from None
+    except UnicodeDecodeError as exc:
+        raise FrictionJointError(f'{md_path}: not UTF-8 ({exc.reason} at byte '
+                                 f'{exc.start})') from None
+    page = _render(text, os.path.dirname(os.path.abspath(md_path)), None, md_path)
+    _write_atomic(html_path, page.encode('utf-8'))
+    return html_path
