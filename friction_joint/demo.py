@@ -20,10 +20,13 @@
    recorder), runs the closed loop in lockstep and records it to
    ``DIR/bag`` (rosbag2, MCAP);
 2. plots the recording (tracking, torques, estimated vs measured link torque);
-3. runs the classic LuGre experiments and the paper's three test-bed
-   experiments;
+3. runs the classic LuGre experiments, and the paper's three test-bed
+   experiments against a LuGre and a GMS hardware model, with the sweep of
+   the controller's design inertia;
+4. records the identification excitation and identifies the model from it;
 
-and collects figures and key numbers in ``DIR/report.md``.
+and explains figures and key numbers, the paper's beside ours, in
+``DIR/report.md`` and the self-contained ``DIR/report.html``.
 
 DIR is one output (:class:`~friction_joint.output.OutputSet`): checked before
 anything runs (an existing non-empty DIR is an error unless ``force``; one
@@ -39,13 +42,18 @@ from .exceptions import FrictionJointError
 from .experiments.classic import EXPERIMENTS as CLASSIC_EXPERIMENTS
 from .experiments.classic_report import write_experiment
 from .experiments.runner import run_experiment
+from .experiments.testbed_report import testbed_markdown
+from .gear import load_gear
 from .identification.pipeline import run_identify
 from .output import OutputSet
+from .report_html import write_html_report
 
 __all__ = ['run_demo']
 
 CLASSIC = ('presliding', 'lag', 'breakaway', 'stick-slip')
-TESTBED = ('chirp', 'compensation', 'estimation')
+TESTBED = ('compensation', 'estimation', 'chirp')
+#: the simulated hardware of the test bed: LuGre and GMS friction
+TRUTHS = ('csd25_truth.yaml', 'csd25_truth_gms.yaml')
 
 
 def _config(name):
@@ -63,25 +71,55 @@ def _figures(d):
 
 
 def run_demo(out, model=None, truth=None, duration_scale=1.0, *, force=False):
-    """Run all experiments into ``out`` and write ``out/report.md``; returns its path."""
+    """
+    Run all experiments into ``out`` and write ``out/report.md`` and ``out/report.html``.
+
+    ``truth`` is the simulated hardware; by default the test-bed experiments
+    run against both ``config/csd25_truth.yaml`` (LuGre friction) and
+    ``config/csd25_truth_gms.yaml`` (GMS friction), the ROS run and the
+    identification against the first.  Returns the path of ``report.md``.
+    """
     model = model or _config('csd25.yaml')
-    truth = truth or _config('csd25_truth.yaml')
-    with OutputSet(force=force, inputs=[('--model', model), ('--truth', truth)]) as outputs:
+    truths = [truth] if truth else [_config(name) for name in TRUTHS]
+    inputs = [('--model', model)] + [('--truth', t) for t in truths]
+    with OutputSet(force=force, inputs=inputs) as outputs:
         outputs.add_directory(out)
         outputs.check()
         stage = outputs.staging_path(out)
         os.mkdir(stage)
-        _run_all(stage, model, truth, duration_scale, outputs.final_path)
+        _run_all(stage, model, truths, duration_scale, outputs.final_path)
         outputs.publish()
     return os.path.join(out, 'report.md')
 
 
-def _run_all(out, model, truth, duration_scale, relocate):
+def _hardware_keys(truths):
+    """Name each truth by its friction model (``lugre``, ``gms``), numbered if repeated."""
+    keys = []
+    for path in truths:
+        kind = load_gear(path).friction.model
+        key, i = kind, 2
+        while key in keys:
+            key, i = f'{kind}{i}', i + 1
+        keys.append(key)
+    return keys
+
+
+def _run_all(out, model, truths, duration_scale, relocate):
     """Run everything into the (staged) directory ``out``."""
+    start = time.perf_counter()
+    truth = truths[0]
     lines = ['# friction_joint demo report', '',
-             f'Model gear: `{model}`  ', f'Truth (simulated hardware): `{truth}`', '']
+             'The main job of friction_joint: a simulated Harmonic Drive CSD-25 joint with the '
+             'temperature- and load-dependent friction model of the seed paper, run as ROS 2 '
+             "nodes and through the paper's experiments. Model gear file "
+             f'`{os.path.basename(model)}`; simulated hardware '
+             + ', '.join(f'`{os.path.basename(t)}`' for t in truths) + '. Every figure is in '
+             'this directory; `report.html` is this report with the figures embedded.', '']
     lines += _ros_run(out, model, truth, max(0.5, 3.0 * duration_scale))
-    lines += ['## Classic LuGre experiments (Canudas de Wit et al. 1995)', '']
+    lines += ['## Classic LuGre experiments (Canudas de Wit et al. 1995)', '',
+              'The LuGre model of `friction_joint.models` on the textbook unit-mass system of '
+              'Canudas de Wit et al. (1995), to check it against known behaviour before it is '
+              'used on the gear.', '']
     for name in CLASSIC:
         t0 = time.perf_counter()
         d = os.path.join(out, 'classic')
@@ -89,23 +127,57 @@ def _run_all(out, model, truth, duration_scale, relocate):
         with open(os.path.join(d, f'{name}.json'), encoding='utf-8') as fh:
             numbers = json.load(fh)
         lines += [f'### {name} ({time.perf_counter() - t0:.1f} s)', '',
-                  f'![{name}](classic/{name}.png)', '', '```json',
-                  json.dumps({k: v for k, v in numbers.items()
-                              if not isinstance(v, list) or len(v) < 12},
-                             indent=1), '```', '']
-    lines += ["## Simulated test bed: the paper's three applications", '']
-    for name in TESTBED:
-        t0 = time.perf_counter()
-        d = os.path.join(out, name)
-        run_experiment(name, model, truth, d, duration_scale=duration_scale)
-        with open(os.path.join(d, 'summary.json'), encoding='utf-8') as fh:
-            summary = json.load(fh)
-        lines += [f'### {name} ({time.perf_counter() - t0:.1f} s)', '']
-        lines += [f'![{f}]({name}/{f})' for f in _figures(d)]
-        lines += ['', '```json', json.dumps(summary, indent=1), '```', '']
+                  CLASSIC_TEXT.get(name, ''), '', f'![{name}](classic/{name}.png)', '']
+        lines += _number_table(numbers) + ['']
+    if TESTBED:
+        lines += _testbed(out, model, truths, duration_scale)
     lines += _identification(out, model, truth, duration_scale, relocate=relocate)
-    with open(os.path.join(out, 'report.md'), 'w', encoding='utf-8') as fh:
+    lines += [f'The whole demo took {time.perf_counter() - start:.0f} s.', '']
+    path = os.path.join(out, 'report.md')
+    with open(path, 'w', encoding='utf-8') as fh:
         fh.write('\n'.join(lines))
+    write_html_report(path)
+
+
+#: one sentence per classic experiment: what it shows
+CLASSIC_TEXT = {
+    'presliding': 'A force below the break-away force gives a spring-like displacement: the '
+                  'slope at zero force is the bristle stiffness sigma0.',
+    'lag': 'A sinusoidal velocity through zero gives a friction-velocity loop (frictional '
+           'lag): friction is larger for increasing than for decreasing velocity.',
+    'breakaway': 'A ramped force: the break-away force depends on the rate at which the '
+                 'force is applied.',
+    'stick-slip': 'A spring pulled at constant velocity: stick-slip cycles between the '
+                  'static and the sliding friction level.',
+}
+
+
+def _number_table(numbers):
+    """Scalar numbers of a result as a two-column Markdown table, 3 significant digits."""
+    rows = []
+    for key, value in numbers.items():
+        if isinstance(value, bool) or isinstance(value, str):
+            rows.append(f'| {key} | {value} |')
+        elif isinstance(value, (int, float)):
+            rows.append(f'| {key} | {value:.3g} |')
+    return ['| quantity | value |', '|---|---|'] + rows if rows else []
+
+
+def _testbed(out, model, truths, duration_scale):
+    """Run the test-bed experiments against every truth; returns report lines."""
+    results = {}
+    for key, truth in zip(_hardware_keys(truths), truths):
+        results[key] = {}
+        for name in TESTBED:
+            d = os.path.join(out, 'testbed', key, name)
+            run_experiment(name, model, truth, d, duration_scale=duration_scale)
+            with open(os.path.join(d, 'summary.json'), encoding='utf-8') as fh:
+                results[key][name] = json.load(fh)
+    d = os.path.join(out, 'testbed', 'gain_sweep')
+    run_experiment('gain_sweep', model, truths[0], d, duration_scale=duration_scale)
+    with open(os.path.join(d, 'summary.json'), encoding='utf-8') as fh:
+        sweep = json.load(fh)
+    return testbed_markdown(results, sweep, rel='testbed')
 
 
 def _identification(out, model, truth, duration_scale, *, relocate=None):

@@ -168,14 +168,15 @@ def loop_metrics(kp, kd, inertia):
     -------
     dict
         ``omega_n`` (rad/s), ``zeta``, ``overshoot`` (fraction of a step;
-        0 for zeta >= 1), ``rise_time`` (s, 10-90 %, of the linear loop).
+        0 for zeta >= 1), ``rise_time`` (s, 10-90 %, of the linear loop),
+        ``inertia`` (the plant inertia they hold for).
 
     """
     wn = math.sqrt(kp / inertia)
     zeta = kd / (2.0 * math.sqrt(kp * inertia))
     over = math.exp(-math.pi * zeta / math.sqrt(1.0 - zeta ** 2)) if zeta < 1.0 else 0.0
     return {'omega_n': wn, 'zeta': zeta, 'overshoot': over,
-            'rise_time': _rise_time(wn, zeta)}
+            'rise_time': _rise_time(wn, zeta), 'inertia': float(inertia)}
 
 
 def _rise_time(wn, zeta):

@@ -21,8 +21,8 @@ import numpy as np
 from ..exceptions import ExperimentError, GearConfigError
 
 __all__ = ['MODELS', 'MIN_SAMPLES', 'Experiment', 'json_key', 'n_steps',
-           'check_scale', 'check_model', 'rmse', 'corr', 'grid_on', 'COLORS', 'LABELS',
-           'SumOfSines', 'closed_loop']
+           'check_scale', 'check_model', 'rmse', 'corr', 'grid_on', 'STYLES', 'COLORS',
+           'LABELS', 'SumOfSines', 'closed_loop']
 
 #: friction feed-forward / observer models compared
 MODELS = ('none', 'lugre', 'gms')
@@ -89,7 +89,15 @@ def grid_on(ax):
     ax.grid(True, alpha=0.3)
 
 
-COLORS = {'none': 'C3', 'lugre': 'C0', 'gms': 'C2', 'measured': 'k', 'truth': 'k'}
+#: line style per model (matplotlib keyword arguments) in every figure: LuGre
+#: solid under GMS dashed stay apart where the two curves coincide; the
+#: measured / true signal is black and thicker, drawn first (underneath)
+STYLES = {'none': {'color': 'C3', 'linestyle': '-', 'linewidth': 1.0},
+          'lugre': {'color': 'C0', 'linestyle': '-', 'linewidth': 1.4},
+          'gms': {'color': 'C2', 'linestyle': '--', 'linewidth': 1.4},
+          'measured': {'color': 'k', 'linestyle': '-', 'linewidth': 2.0},
+          'truth': {'color': 'k', 'linestyle': '-', 'linewidth': 2.0}}
+COLORS = {k: v['color'] for k, v in STYLES.items()}
 LABELS = {'none': 'no friction model', 'lugre': 'LuGre', 'gms': 'GMS'}
 
 

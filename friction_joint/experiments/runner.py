@@ -63,6 +63,7 @@ from ._common import check_scale, Experiment
 from .chirp import chirp
 from .compensation import compensation
 from .estimation import estimation
+from .gain_sweep import gain_sweep
 from ..exceptions import ExperimentError, FrictionJointError
 from ..gear import load_gear
 from ..output import OutputSet, result_files
@@ -106,6 +107,9 @@ EXPERIMENTS = {
                                              'self-heating (Fig. 6-7)'),
     'estimation': Experiment(estimation, 'external torque estimation with the disturbance '
                                          'observer, with and without friction model (Fig. 8)'),
+    'gain_sweep': Experiment(gain_sweep, 'maximum tracking error without and with LuGre '
+                                         "feed-forward against the gains' design inertia: "
+                                         "where the paper's 29-35 % regime lies"),
     'identification': Experiment(identification, 'constant-velocity plateaus at several '
                                                  'temperatures and loads plus pre-sliding '
                                                  'sinusoids, written as a recording (--out BAG) '

@@ -259,8 +259,11 @@ def _step3(gear, recordings, mode, progress):
                 gear = gear.replace({'friction': {'gms': {
                     'k': list(old.k if 'k_total' in kept else sec.k),
                     'c': old.c if 'c' in kept else sec.c}}})
+            structure_values = ({'sigma0': old.sigma0, 'sigma1': old.sigma1} if model == 'lugre'
+                                else {'k_total': float(sum(old.k)), 'c': old.c})
             result['models'][model] = {
                 'status': 'done', 'params': fit.params, 'initial': fit.initial,
+                'kept_values': {k: structure_values[k] for k in kept if k in structure_values},
                 'stderr': fit.stderr, 'rel_stderr': fit.rel_stderr, 'segments': len(cols['t']),
                 'kept_from_structure': kept, 'report': fit.report,
                 'time_s': time.perf_counter() - t0}
@@ -385,10 +388,13 @@ def _header(run, paths, structure_path):
             if r.get('status') == 'rejected':
                 lines.append(f'step 3 ({model}) rejected: {r["reason"]}')
                 continue
+            kept = r.get('kept_values', {})
             lines.append(f'step 3 ({model}, pattern search): ' + ', '.join(
-                f'{k} = {v:.6g} +- {r["stderr"][k]:.2g}'
-                + (' (undetermined by the data: structure value kept)'
-                   if k in r['kept_from_structure'] else '')
+                (f'{k} = {kept[k]:.6g} written, kept from the structure: undetermined by the '
+                 f'data (fit {v:.3g} +- {r["stderr"][k]:.2g})' if k in kept else
+                 f'{k} = {v:.6g} +- {r["stderr"][k]:.2g}'
+                 + (' (undetermined by the data: structure value kept)'
+                    if k in r['kept_from_structure'] else ''))
                 for k, v in r['params'].items() if k in r['stderr'])
                 + f'; RMS {r["report"]["objective_final"]:.4f} Nm')
     else:

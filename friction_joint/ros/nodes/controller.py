@@ -22,7 +22,7 @@ Subscribes ``/joint_states`` and ``/joint_temperature``, publishes
 ``/joint_command`` (effort = commanded torque, position/velocity = q_d, qd_d)
 with the stamp of the state it answers.  The reference is
 q_d = offset + amplitude sin(omega t), t from the first state's stamp.
-Gains come from ``rise_time`` and ``overshoot``
+Gains come from ``rise_time`` and ``overshoot`` for ``design_inertia`` (0: the gear's inertia)
 (:func:`~friction_joint.control.controller.pd_gains`).
 
 Run-time parameters (validated; a bad value is rejected with a reason and
@@ -59,7 +59,8 @@ from ...testbed.plant import InputLimits
 __all__ = ['ControllerNode', 'main']
 
 DEFAULTS = {'friction_ff': 'lugre', 'ff_velocity': 'measured', 'amplitude': 0.4, 'omega': 1.5,
-            'offset': 0.0, 'rise_time': 0.04, 'overshoot': 0.06, 'rate': 0.0, 'sync': True}
+            'offset': 0.0, 'rise_time': 0.04, 'overshoot': 0.06, 'design_inertia': 0.0,
+            'rate': 0.0, 'sync': True}
 RUNTIME = ('friction_ff', 'ff_velocity', 'amplitude', 'omega', 'offset')
 VALIDATORS = {
     'friction_ff': lambda v: (None if v in FRICTION_KINDS
@@ -71,6 +72,7 @@ VALIDATORS = {
     'offset': lambda v: None if abs(v) <= 3.2 else 'must be within +-3.2 rad',
     'rise_time': lambda v: None if v > 0 else 'must be > 0',
     'overshoot': lambda v: None if 0 < v < 1 else 'must be in (0, 1)',
+    'design_inertia': lambda v: None if v >= 0 else "must be >= 0 (0: the gear's inertia)",
     'rate': lambda v: None if v >= 0 else 'must be >= 0 (0: simulation.rate)',
 }
 
@@ -87,6 +89,8 @@ DESCRIPTORS = {
     'rise_time': describe('rise time the PD gains are designed for, s'),
     'overshoot': describe('overshoot the PD gains are designed for (fraction)', low=0.0,
                           high=1.0),
+    'design_inertia': describe('inertia the PD gains are designed for, kg m^2 (0: the gear\'s '
+                               'joint inertia; 0.016: the paper preset, see README)'),
     'rate': describe("control rate, Hz (0: the gear's simulation.rate)"),
     'sync': describe('pair each state with the temperature of the same stamp and answer every '
                      'state (lockstep); false: answer the newest state (real time)'),
@@ -103,7 +107,8 @@ class ControllerNode(PairedInput, Node):
         self.joint = self.gear.joint_name
         self.limits = InputLimits(self.gear)
         rate = self.p['rate'] or self.gear.section('simulation')['rate']
-        self.kp, self.kd = pd_gains(self.gear.inertia, self.p['rise_time'], self.p['overshoot'])
+        self.kp, self.kd = pd_gains(self.p['design_inertia'] or self.gear.inertia,
+                                    self.p['rise_time'], self.p['overshoot'])
         self.dt = 1.0 / rate
         self.ctrl = self._controller()
         self.ctrl(0.0, 0.0, 25.0, 0.0)              # compile the kernels before data flows
