@@ -421,8 +421,8 @@ def test_demo_force_replaces_the_whole_directory(fast_demo, tmp_path):
     (out / 'chirp').mkdir(parents=True)
     (out / 'chirp' / 'summary.json').write_text('{}\n')
     assert main(['demo', '--out', str(out), '--force']) == 0
-    assert sorted(os.listdir(out)) == ['classic', 'identification', 'report.html', 'report.md',
-                                      'ros_run.png']
+    assert sorted(os.listdir(out)) == ['classic', 'identification', 'report.html',
+                                       'report.md', 'ros_run.png']
     assert sorted(os.listdir(out / 'classic')) == ['lag.json', 'lag.png']
     assert 'ros run (stub)' in (out / 'report.md').read_text()
     assert leftovers(tmp_path, out, out / 'classic') == []

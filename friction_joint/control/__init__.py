@@ -24,7 +24,7 @@ Control and estimation with the friction model.
   estimating the external torque.
 """
 from .controller import Controller, pd_gains, SineTrajectory, step_metrics
-from .gains import GAIN_PRESETS, gain_design, GainDesign, loop_metrics
+from .gains import gain_design, GAIN_PRESETS, GainDesign, loop_metrics
 from .observer import DisturbanceObserver
 
 __all__ = ['Controller', 'SineTrajectory', 'pd_gains', 'step_metrics', 'DisturbanceObserver',

@@ -22,7 +22,8 @@ from ..exceptions import ExperimentError, GearConfigError
 
 __all__ = ['MODELS', 'MIN_SAMPLES', 'Experiment', 'json_key', 'n_steps',
            'check_scale', 'check_model', 'rmse', 'corr', 'grid_on', 'STYLES', 'COLORS',
-           'LABELS', 'SumOfSines', 'closed_loop']
+           'LABELS', 'SETTLING_LABEL', 'paper_suptitle', 'add_headroom', 'peak_window',
+           'reversal_window', 'zoom_inset', 'SumOfSines', 'closed_loop']
 
 #: friction feed-forward / observer models compared
 MODELS = ('none', 'lugre', 'gms')
@@ -99,6 +100,108 @@ STYLES = {'none': {'color': 'C3', 'linestyle': '-', 'linewidth': 1.0},
           'truth': {'color': 'k', 'linestyle': '-', 'linewidth': 2.0}}
 COLORS = {k: v['color'] for k, v in STYLES.items()}
 LABELS = {'none': 'no friction model', 'lugre': 'LuGre', 'gms': 'GMS'}
+
+#: label of the shaded settling interval at the start of a run
+SETTLING_LABEL = 'settling, not evaluated'
+
+
+def paper_suptitle(fig, number, what, truth_model):
+    """Figure title naming the seed paper's figure ``number`` and the hardware's friction."""
+    name = {'lugre': 'LuGre', 'gms': 'GMS'}.get(truth_model, truth_model)
+    fig.suptitle(f'Fig. {number} (reproduced): {what}, hardware with {name} friction',
+                 fontsize='large', fontweight='bold')
+
+
+def add_headroom(ax, frac):
+    """Raise the top of the y axis so that the data fill the lower ``1 - frac`` of ``ax``."""
+    lo, hi = ax.get_ylim()
+    ax.set_ylim(lo, hi + frac / (1.0 - frac) * (hi - lo))
+
+
+def _clip_window(t, t0, t1):
+    """Shift ``(t0, t1)`` to lie inside the time range of ``t`` (width kept if possible)."""
+    if t0 < t[0]:
+        t0, t1 = t[0], min(t1 + t[0] - t0, t[-1])
+    if t1 > t[-1]:
+        t0, t1 = max(t0 - (t1 - t[-1]), t[0]), t[-1]
+    return float(t0), float(t1)
+
+
+def peak_window(t, errors, start, half_width):
+    """
+    Zoom window ``(t0, t1)``: ``half_width`` either side of the largest |error|.
+
+    ``errors`` is a sequence of arrays on ``t``; only samples at ``t >= start``
+    (after a settling interval) count and the window is shifted to lie among
+    them (all samples if there are none).
+    """
+    t = np.asarray(t)
+    mag = np.max(np.abs(np.vstack([np.asarray(e) for e in errors])), axis=0)
+    idx = np.flatnonzero(t >= start)
+    if idx.size == 0:
+        idx = np.arange(t.size)
+    k = idx[np.argmax(mag[idx])]
+    return _clip_window(t[idx], t[k] - half_width, t[k] + half_width)
+
+
+def reversal_window(t, v, half_width, moving=0.05):
+    """
+    Zoom window ``(t0, t1)`` on the first velocity reversal of ``v``, or None.
+
+    Samples with |v| below ``moving`` times the peak |v| count as standing
+    still (stiction); the window is centred on the first moving sample after
+    the first change of sign -- the break-away into the new direction --
+    ``half_width`` either side.  None if ``v`` never reverses.
+    """
+    t, v = np.asarray(t), np.asarray(v)
+    peak = float(np.max(np.abs(v))) if v.size else 0.0
+    mv = np.flatnonzero(np.abs(v) > moving * peak) if peak > 0.0 else np.array([], int)
+    sign = np.sign(v[mv])
+    flips = np.flatnonzero(sign[1:] != sign[:-1])
+    if flips.size == 0:
+        return None
+    k = mv[flips[0] + 1]
+    return _clip_window(t, t[k] - half_width, t[k] + half_width)
+
+
+def zoom_inset(ax, window, curves, *, scale_by=None, width=0.42, height=0.36, margin=0.08,
+               title='zoom'):
+    """
+    Inset axes on ``ax`` zooming on the time ``window``: ``(inset, legend corner)``.
+
+    ``curves`` is a sequence of ``(t, y, style)`` drawn again in the inset
+    (``style``: matplotlib keyword arguments, any ``label`` dropped); the
+    y range covers the curves whose indices are in ``scale_by`` (all by
+    default) over the window.  The inset sits in the top corner away from the
+    window (call :func:`add_headroom` first to keep the curves below it) and
+    the zoomed region is marked on ``ax``.  Returns the inset axes and
+    ``'upper left'`` or ``'upper right'``, the other top corner, for the
+    legend of ``ax``.
+    """
+    t0, t1 = window
+    x_lo, x_hi = ax.get_xlim()
+    centre = (0.5 * (t0 + t1) - x_lo) / max(x_hi - x_lo, 1e-12)
+    left = centre > 0.5
+    x = 0.01 if left else 0.99 - width
+    inset = ax.inset_axes([x, 0.95 - height, width, height])
+    lo, hi = math.inf, -math.inf
+    for i, (t, y, style) in enumerate(curves):
+        t, y = np.asarray(t), np.asarray(y)
+        k0 = max(int(np.searchsorted(t, t0)) - 1, 0)
+        k1 = int(np.searchsorted(t, t1, side='right')) + 1
+        inset.plot(t[k0:k1], y[k0:k1], **{k: v for k, v in style.items() if k != 'label'})
+        if (scale_by is None or i in scale_by) and k1 > k0:
+            lo, hi = min(lo, float(np.min(y[k0:k1]))), max(hi, float(np.max(y[k0:k1])))
+    if math.isfinite(lo) and math.isfinite(hi):
+        pad = margin * (hi - lo) if hi > lo else max(abs(hi), 1.0) * margin
+        inset.set_ylim(lo - pad, hi + pad)
+    inset.set_xlim(t0, t1)
+    inset.tick_params(labelsize='x-small')
+    inset.set_title(title, fontsize='x-small', pad=2)
+    inset.set_facecolor('white')
+    grid_on(inset)
+    ax.indicate_inset_zoom(inset, edgecolor='0.4')
+    return inset, ('upper right' if left else 'upper left')
 
 
 class SumOfSines:

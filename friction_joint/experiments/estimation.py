@@ -16,8 +16,9 @@
 
 import numpy as np
 
-from ._common import (check_model, check_scale, closed_loop, COLORS, grid_on, json_key, LABELS,
-                      MODELS, n_steps, rmse, SumOfSines)
+from ._common import (add_headroom, check_model, check_scale, closed_loop, grid_on, json_key,
+                      LABELS, MODELS, n_steps, paper_suptitle, peak_window, rmse, SETTLING_LABEL,
+                      STYLES, SumOfSines, zoom_inset)
 from .compensation import COMPENSATION
 from ..control.controller import Controller
 from ..control.gains import gain_design, loop_metrics
@@ -133,30 +134,42 @@ def estimation(model, truth, duration_scale=1.0, *, gains=None):
                                               'max_error_pct': 100.0 * mx / load}
 
     def draw(fig):
-        a0, a1, a2 = fig.subplots(3, 1, sharex=True, gridspec_kw={'height_ratios': [3, 2, 1.3]})
+        a0, a1, a2 = fig.subplots(3, 1, sharex=True, gridspec_kw={'height_ratios': [3, 3, 1.3]})
         t = r['t']
+        settle_s = summary['settle_s']
         a0.plot(t, r['tau_link'], color='0.6', lw=0.5, label='link torque sensor')
-        a0.plot(t, r['tau_ext'], color='k', lw=1.4, label=r'applied $\tau_{ext}$ (true)')
+        a0.plot(t, r['tau_ext'], **STYLES['truth'], label=r'applied $\tau_{ext}$ (true)')
         for kind in MODELS:
-            a0.plot(t, r['estimates'][kind], color=COLORS[kind], lw=0.9,
-                    label=f'estimate, {LABELS[kind]}')
+            a0.plot(t, r['estimates'][kind], **STYLES[kind], label=f'estimate, {LABELS[kind]}')
         a0.set_ylabel('external torque (Nm)')
-        a0.set_title(f'external torque estimation, observer eq. 15, '
-                     f'$\\beta$ = {c["beta"]:g} rad/s, gravity as unknown load')
-        for kind in MODELS:
-            a1.plot(t, r['estimates'][kind] - r['tau_ext'], color=COLORS[kind], lw=0.8,
-                    label=f'{LABELS[kind]} (RMS {summary["rms_error"][kind]:.2f} Nm, '
-                          f'{summary["rms_error_pct"][kind]:.1f} %)')
-        a1.axhline(1.0, color='k', ls=':', lw=0.8)
-        a1.axhline(-1.0, color='k', ls=':', lw=0.8, label='$\\pm$1 Nm')
+        a0.set_title(f'disturbance observer eq. 15, $\\beta$ = {c["beta"]:g} rad/s, gravity '
+                     f'as unknown load; controller eq. 17 with {LABELS[c["controller"]]} '
+                     'feed-forward', fontsize='medium')
+        curves = [(t, r['estimates'][kind] - r['tau_ext'], dict(
+            STYLES[kind], label=f'{LABELS[kind]} (RMS {summary["rms_error"][kind]:.2f} Nm, '
+                                f'{summary["rms_error_pct"][kind]:.1f} %)'))
+            for kind in MODELS]
+        for tt, y, style in curves:
+            a1.plot(tt, y, **style)
+        bound = {'color': 'k', 'linestyle': ':', 'linewidth': 1.0}
+        a1.axhline(1.0, **bound, label='paper: error < 1 Nm')
+        a1.axhline(-1.0, **bound)
         a1.set_ylabel(r'error $\hat\tau_{ext} - \tau_{ext}$ (Nm)')
+        a1.set_title('estimation error against the true external torque', fontsize='medium')
+        add_headroom(a1, 0.45)
+        window = peak_window(t, [c_[1] for c_ in curves[1:]], settle_s, 0.15)
+        inset, loc1 = zoom_inset(a1, window, curves, scale_by=(1, 2), width=0.4, height=0.38,
+                          title='zoom: largest LuGre / GMS error after settling')
+        inset.axhline(1.0, **bound)
+        inset.axhline(-1.0, **bound)
         a2.plot(t, r['q'], color='C4', lw=0.9, label='position (rad)')
         a2.plot(t, r['qd'], color='C5', lw=0.7, label='velocity (rad/s)')
         a2.set_ylabel('q (rad), $\\dot q$ (rad/s)')
         a2.set_xlabel('time (s)')
-        for ax in (a0, a1, a2):
-            ax.axvspan(0.0, summary['settle_s'], color='0.85', lw=0)
-            ax.legend(fontsize='x-small', loc='upper right', ncol=2)
+        for ax, loc in ((a0, 'upper right'), (a1, loc1), (a2, 'upper right')):
+            ax.axvspan(0.0, settle_s, color='0.85', lw=0, label=SETTLING_LABEL)
+            ax.legend(fontsize='x-small', loc=loc, ncol=2)
             grid_on(ax)
+        paper_suptitle(fig, 8, 'external torque estimation', summary['truth_model'])
 
-    return ExperimentResult(summary, {'estimation.png': (draw, (12, 10))})
+    return ExperimentResult(summary, {'estimation.png': (draw, (13, 12))})

@@ -50,7 +50,7 @@ def _loop_sentence(s):
     design = (f'designed for {g["design_inertia"]:.3g} kg m² (preset `{g["preset"]}`)'
               if g.get('design_inertia') else f'given directly (`{g["preset"]}`)')
     return (f'Gains k_p = {g["kp"]:.1f} Nm/rad, k_d = {g["kd"]:.2f} Nm s/rad, {design} '
-            f'for 0.04 s rise time and 6 % overshoot; on the hardware\'s '
+            f'for 0.04 s rise time and 6 % overshoot; on the hardware’s '
             f'{lp["inertia"]:.3g} kg m² they make a loop with '
             f'ω_n = {lp["omega_n"]:.1f} rad/s, ζ = {lp["zeta"]:.2f}, '
             f'{100 * lp["overshoot"]:.0f} % overshoot and {1e3 * lp["rise_time"]:.0f} ms '
@@ -65,7 +65,7 @@ def _compensation(runs, rel):
                      f'{first["warm_up"][t]["elapsed_s"]:.0f} s' for t in temps)
     lo, hi = PAPER['uncompensated_band']
     lines += [
-        'The joint tracks q_d = a sin(1.5 t) for a = 0.4 rad (peak 0.6 rad/s, the paper\'s low '
+        'The joint tracks q_d = a sin(1.5 t) for a = 0.4 rad (peak 0.6 rad/s, the paper’s low '
         'velocity) and a = 2.4 rad (3.6 rad/s) with the controller of eq. 17, without friction '
         'feed-forward and with LuGre or GMS feed-forward, the same gains in every run. '
         + _loop_sentence(first) + ' The gear is heated to the three operating temperatures by '
@@ -108,7 +108,7 @@ def _compensation(runs, rel):
 def _estimation(runs, rel):
     first = next(iter(runs.values()))
     lines = ['### External torque estimation (paper Fig. 8)', '',
-             'The joint follows a sum of two sinusoids over most of ±1.5 rad, so the lever\'s '
+             'The joint follows a sum of two sinusoids over most of ±1.5 rad, so the lever’s '
              f'gravity sweeps about ±{first["load_amplitude"]:.1f} Nm at varying speed, at '
              f'{first["xi0"]:g} °C. The disturbance observer of eq. 15 (β = '
              f'{first["beta"]:g} rad/s) leaves gravity out, so the lever load is the external '
@@ -140,7 +140,7 @@ def _chirp(runs, rel):
     lines = ['### Dynamic simulation (paper Fig. 5)', '',
              f'Two chirp torques ({first["f0_hz"]:g} → {first["f1_hz"]:g} Hz over '
              f'{first["duration_s"]:g} s, {amps[0]} Nm and {amps[1]} Nm) drive the hardware '
-             'open loop against the lever\'s gravity; the low one gives stick-slip with long '
+             'open loop against the lever’s gravity; the low one gives stick-slip with long '
              'stiction phases, the high one reaches higher velocity. The LuGre and GMS joint '
              'models are then simulated with the measured applied torque and temperature as '
              'inputs, as in the paper, and their velocity is compared with the measured one. '
@@ -155,11 +155,12 @@ def _chirp(runs, rel):
             lines.append(f'| {HARDWARE[hw]} | {NAMES[m]}{match} | ' + ' | '.join(
                 f'{_f(s["velocity_rmse"][m][a], 3)} | {_f(s["velocity_corr"][m][a], 3)}'
                 for a in amps) + ' |')
-    lines += ['', 'Measured peak velocity: ' + '; '.join(
-        f'{HARDWARE[hw]} ' + ', '.join(f'{_f(s["peak_velocity"][a], 2)} rad/s at {a} Nm'
-                                      for a in amps) for hw, s in runs.items())
-              + '; share of time in stiction at the low amplitude: ' + ', '.join(
-        f'{100 * s["stiction_fraction"][amps[0]]:.0f} %' for s in runs.values()) + '.', '']
+    peaks = '; '.join(f'{HARDWARE[hw]} ' + ', '.join(
+        f'{_f(s["peak_velocity"][a], 2)} rad/s at {a} Nm' for a in amps)
+        for hw, s in runs.items())
+    stiction = ', '.join(f'{100 * s["stiction_fraction"][amps[0]]:.0f} %' for s in runs.values())
+    lines += ['', f'Measured peak velocity: {peaks}; share of time in stiction at the low '
+              f'amplitude: {stiction}.', '']
     for hw in runs:
         lines += [f'**{HARDWARE[hw]}**', ''] + _images(f'{rel}/{hw}/chirp',
                                                        ['chirp.png']) + ['']
@@ -172,15 +173,15 @@ def _sweep(s, rel):
     edges = '; '.join(
         f'at {t} °C between {_f(s["band_inertia"][t][1], 3)} and '
         f'{_f(s["band_inertia"][t][0], 3)} kg m²' for t in temps)
-    return ['### Where the paper\'s regime lies: the design inertia of the gains', '',
+    return ['### Where the paper’s regime lies: the design inertia of the gains', '',
             'The paper designs its gains for 0.04 s rise time and 6 % overshoot but does not '
             'say for which inertia. Designed for the whole joint '
             f'({s["model_inertia"]:g} kg m²) they leave only a few % of tracking error '
             'without compensation; the sweep below runs the uncompensated and the '
             'LuGre-compensated tracking at a = 0.4 rad for design inertias from 1/40 of the '
-            'joint inertia up to all of it. The uncompensated error is in the paper\'s '
+            'joint inertia up to all of it. The uncompensated error is in the paper’s '
             f'{lo:g}-{hi:g} % band ({edges}); the `paper` preset, 0.016 kg m², is inside it '
-            'and is of the order of the drive\'s own inertia ("the torque constant and the '
+            'and is of the order of the drive’s own inertia ("the torque constant and the '
             'motor inertia", Section V-B). This is an inference, not a number of the paper.',
             ''] + _images(f'{rel}/gain_sweep', ['gain_sweep.png']) + ['']
 

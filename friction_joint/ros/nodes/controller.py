@@ -89,7 +89,7 @@ DESCRIPTORS = {
     'rise_time': describe('rise time the PD gains are designed for, s'),
     'overshoot': describe('overshoot the PD gains are designed for (fraction)', low=0.0,
                           high=1.0),
-    'design_inertia': describe('inertia the PD gains are designed for, kg m^2 (0: the gear\'s '
+    'design_inertia': describe("inertia the PD gains are designed for, kg m^2 (0: the gear's "
                                'joint inertia; 0.016: the paper preset, see README)'),
     'rate': describe("control rate, Hz (0: the gear's simulation.rate)"),
     'sync': describe('pair each state with the temperature of the same stamp and answer every '
