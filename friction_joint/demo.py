@@ -115,6 +115,8 @@ def _run_all(out, model, truths, duration_scale, relocate):
              f'`{os.path.basename(model)}`; simulated hardware '
              + ', '.join(f'`{os.path.basename(t)}`' for t in truths) + '. Every figure is in '
              'this directory; `report.html` is this report with the figures embedded.', '']
+    if TESTBED:
+        lines += _testbed(out, model, truths, duration_scale)
     lines += _ros_run(out, model, truth, max(0.5, 3.0 * duration_scale))
     lines += ['## Classic LuGre experiments (Canudas de Wit et al. 1995)', '',
               'The LuGre model of `friction_joint.models` on the textbook unit-mass system of '
@@ -129,8 +131,6 @@ def _run_all(out, model, truths, duration_scale, relocate):
         lines += [f'### {name} ({time.perf_counter() - t0:.1f} s)', '',
                   CLASSIC_TEXT.get(name, ''), '', f'![{name}](classic/{name}.png)', '']
         lines += _number_table(numbers) + ['']
-    if TESTBED:
-        lines += _testbed(out, model, truths, duration_scale)
     lines += _identification(out, model, truth, duration_scale, relocate=relocate)
     lines += [f'The whole demo took {time.perf_counter() - start:.0f} s.', '']
     path = os.path.join(out, 'report.md')
@@ -180,6 +180,14 @@ def _testbed(out, model, truths, duration_scale):
     return testbed_markdown(results, sweep, rel='testbed')
 
 
+def _relative(line, out, model):
+    """Return ``line`` with the absolute paths of the output and the model file made relative."""
+    for path, short in ((os.path.abspath(model), os.path.basename(model)),
+                        (os.path.abspath(out) + os.sep, '')):
+        line = line.replace(path, short)
+    return line
+
+
 def _identification(out, model, truth, duration_scale, *, relocate=None):
     """Record the paper's identification excitation on the simulator and identify."""
     d = os.path.join(out, 'identification')
@@ -192,7 +200,9 @@ def _identification(out, model, truth, duration_scale, *, relocate=None):
     run_identify([bag], model, gear, report_dir=report, relocate=relocate)
     t2 = time.perf_counter()
     with open(gear, encoding='utf-8') as fh:
-        header = [ln[2:].rstrip() for ln in fh if ln.startswith('# ')]
+        final = relocate(out) if relocate is not None else out
+        header = [_relative(_relative(ln[2:].rstrip(), out, model), final, model)
+                  for ln in fh if ln.startswith('# ')]
     lines = ["## Identification from a recording (the paper's three steps)", '',
              f'`friction_joint experiment identification --truth {os.path.basename(truth)}` '
              f'recorded the excitation in {t1 - t0:.1f} s; `friction_joint identify` fitted the '

@@ -23,7 +23,8 @@ from ..exceptions import ExperimentError, GearConfigError
 __all__ = ['MODELS', 'MIN_SAMPLES', 'Experiment', 'json_key', 'n_steps',
            'check_scale', 'check_model', 'rmse', 'corr', 'grid_on', 'STYLES', 'COLORS',
            'LABELS', 'SETTLING_LABEL', 'paper_suptitle', 'add_headroom', 'peak_window',
-           'reversal_window', 'zoom_inset', 'SumOfSines', 'closed_loop']
+           'reversal_peak_window', 'sign_changes', 'reversal_window', 'zoom_inset',
+           'SumOfSines', 'closed_loop']
 
 #: friction feed-forward / observer models compared
 MODELS = ('none', 'lugre', 'gms')
@@ -112,9 +113,20 @@ def paper_suptitle(fig, number, what, truth_model):
                  fontsize='large', fontweight='bold')
 
 
-def add_headroom(ax, frac):
-    """Raise the top of the y axis so that the data fill the lower ``1 - frac`` of ``ax``."""
-    lo, hi = ax.get_ylim()
+def add_headroom(ax, frac, data=None, margin=0.05):
+    """
+    Raise the top of the y axis so that the data fill the lower ``1 - frac`` of ``ax``.
+
+    ``data``: arrays whose range (plus ``margin``) sets the y axis first
+    instead of the current limits, e.g. the evaluated part of the curves.
+    """
+    if data is not None:
+        lo = min(float(np.min(d)) for d in data)
+        hi = max(float(np.max(d)) for d in data)
+        pad = margin * (hi - lo) if hi > lo else 1.0
+        lo, hi = lo - pad, hi + pad
+    else:
+        lo, hi = ax.get_ylim()
     ax.set_ylim(lo, hi + frac / (1.0 - frac) * (hi - lo))
 
 
@@ -142,6 +154,34 @@ def peak_window(t, errors, start, half_width):
         idx = np.arange(t.size)
     k = idx[np.argmax(mag[idx])]
     return _clip_window(t[idx], t[k] - half_width, t[k] + half_width)
+
+
+def reversal_peak_window(t, errors, reversals, start, before, after):
+    """
+    Zoom window ``(t_r - before, t_r + after)`` on the reversal with the largest |error|.
+
+    ``reversals`` are the times t_r of velocity reversals; those whose window
+    lies in the evaluated part (``t >= start``) compete by the largest |error|
+    of ``errors`` (arrays on ``t``) inside their window.  Without such a
+    reversal: :func:`peak_window` with half width ``(before + after) / 2``.
+    """
+    t = np.asarray(t)
+    mag = np.max(np.abs(np.vstack([np.asarray(e) for e in errors])), axis=0)
+    best, window = -1.0, None
+    for tr in reversals:
+        t0, t1 = tr - before, tr + after
+        if t0 < start or t1 > t[-1]:
+            continue
+        m = (t >= t0) & (t <= t1)
+        if m.any() and float(np.max(mag[m])) > best:
+            best, window = float(np.max(mag[m])), (float(t0), float(t1))
+    return window or peak_window(t, errors, start, 0.5 * (before + after))
+
+
+def sign_changes(t, v):
+    """Return the times where ``v`` changes sign (the later sample of each pair)."""
+    t, v = np.asarray(t), np.asarray(v)
+    return t[1:][np.sign(v[1:]) * np.sign(v[:-1]) < 0]
 
 
 def reversal_window(t, v, half_width, moving=0.05):
@@ -197,6 +237,8 @@ def zoom_inset(ax, window, curves, *, scale_by=None, width=0.42, height=0.36, ma
         inset.set_ylim(lo - pad, hi + pad)
     inset.set_xlim(t0, t1)
     inset.tick_params(labelsize='x-small')
+    if left:                # tick labels inside ax, not over its own y tick labels
+        inset.yaxis.tick_right()
     inset.set_title(title, fontsize='x-small', pad=2)
     inset.set_facecolor('white')
     grid_on(inset)

@@ -148,7 +148,7 @@ def chirp(model, truth, duration_scale=1.0):
             if window is not None:
                 add_headroom(a1, 0.42)
                 _, loc1 = zoom_inset(a1, window, curves, width=0.4, height=0.36,
-                                  title='zoom: break-away at the first velocity reversal')
+                                     title='zoom: break-away at the first velocity reversal')
             a2.plot(t, meas['tau_r'], **STYLES['truth'], label='true friction (incl. ripple)')
             for m in models:
                 a2.plot(t, sims[m].tau_r, **STYLES[m], label=LABELS[m])

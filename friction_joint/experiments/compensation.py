@@ -19,15 +19,15 @@ import math
 import numpy as np
 
 from ._common import (add_headroom, check_model, check_scale, closed_loop, grid_on, json_key,
-                      LABELS, MODELS, n_steps, paper_suptitle, peak_window, rmse, SETTLING_LABEL,
-                      STYLES, zoom_inset)
+                      LABELS, MODELS, n_steps, paper_suptitle, reversal_peak_window, rmse,
+                      SETTLING_LABEL, STYLES, zoom_inset)
 from .warmup import warm_up
 from ..control.controller import Controller, SineTrajectory
 from ..control.gains import gain_design, loop_metrics
 from ..output import ExperimentResult
 from ..testbed.plant import Plant
 
-__all__ = ['COMPENSATION', 'compensation', 'warmed_plants']
+__all__ = ['COMPENSATION', 'compensation', 'tracking_run', 'warmed_plants']
 
 
 COMPENSATION = {
@@ -42,7 +42,7 @@ COMPENSATION = {
 }
 
 
-def _compensation_run(model, warm, kp, kd, kind, amp, n, ff_velocity):
+def tracking_run(model, warm, *, kp, kd, kind, amp, n, ff_velocity='measured'):
     """Track a sin(omega t) from the warmed-up plant ``warm`` (copied, at rest at q = 0)."""
     plant = copy.deepcopy(warm)
     ctrl = Controller(model, kp, kd, friction=kind, dt=plant.dt, ff_velocity=ff_velocity)
@@ -156,7 +156,8 @@ def compensation(model, truth, duration_scale=1.0, *, gains=None):
                 for variant in c['ff_velocity']:
                     if variant != main and kind == 'none':
                         continue        # nothing to feed forward: identical to the main run
-                    r = _compensation_run(model, plant0, kp, kd, kind, amp, n, variant)
+                    r = tracking_run(model, plant0, kp=kp, kd=kd, kind=kind, amp=amp, n=n,
+                                     ff_velocity=variant)
                     e = (r['q_d'] - r['q_true'])[n_settle:]
                     pct = 100.0 * float(np.max(np.abs(e))) / amp
                     if variant == main:
@@ -193,11 +194,14 @@ def compensation(model, truth, duration_scale=1.0, *, gains=None):
                     ax.set_ylabel('position error $q_d - q$ (mrad)')
                 if i == len(amps) - 1:
                     ax.set_xlabel('time since the start of tracking (s)')
-                add_headroom(ax, 0.45)
                 t = curves[0][0]
-                window = peak_window(t, [y for _, y, _ in curves[1:]], settle, 0.3)
+                add_headroom(ax, 0.45, [y[t >= settle] for _, y, _ in curves])
+                reversals = (0.5 + np.arange(int(t[-1] * c['omega'] / math.pi) + 1)) \
+                    * math.pi / c['omega']     # of q_d = a sin(omega t)
+                window = reversal_peak_window(t, [y for _, y, _ in curves[1:]], reversals,
+                                              settle, 0.15, 0.5)
                 _, loc = zoom_inset(ax, window, curves, scale_by=(1, 2), width=0.46,
-                                    height=0.36, title='zoom: largest LuGre / GMS error')
+                                    height=0.36, title='zoom: worst reversal of $q_d$')
                 ax.legend(fontsize='x-small', loc=loc)
                 grid_on(ax)
         paper_suptitle(fig, 6, 'position error of the friction compensation, low (top) and '
@@ -225,7 +229,10 @@ def compensation(model, truth, duration_scale=1.0, *, gains=None):
             ax.bar(pos, rm, w * 0.22, color='k',
                    label='RMSE (thin bars)' if i == len(MODELS) - 1 else None)
             for p_, v_ in zip(pos, mx):
-                ax.text(p_, v_, f'{v_:.1f}', ha='center', va='bottom', fontsize='small')
+                ax.annotate(f'{v_:.1f}', (p_, v_), xytext=(0, 3), textcoords='offset points',
+                            ha='center', va='bottom', fontsize='small',
+                            bbox={'facecolor': 'white', 'edgecolor': 'none', 'alpha': 0.7,
+                                  'pad': 0.5})
         split = len(low) - 0.5
         ax.axvline(split, color='0.5', lw=0.8)
         top = ax.get_ylim()[1] * 1.12

@@ -17,8 +17,8 @@
 import numpy as np
 
 from ._common import (add_headroom, check_model, check_scale, closed_loop, grid_on, json_key,
-                      LABELS, MODELS, n_steps, paper_suptitle, peak_window, rmse, SETTLING_LABEL,
-                      STYLES, SumOfSines, zoom_inset)
+                      LABELS, MODELS, n_steps, paper_suptitle, reversal_peak_window, rmse,
+                      SETTLING_LABEL, sign_changes, STYLES, SumOfSines, zoom_inset)
 from .compensation import COMPENSATION
 from ..control.controller import Controller
 from ..control.gains import gain_design, loop_metrics
@@ -41,6 +41,21 @@ ESTIMATION = {
     'beta_sweep': (30.0, 60.0, 120.0),   # LuGre observer, reported for the choice of beta
     'controller': 'lugre',  # friction feed-forward of the controller running the motion
 }
+
+
+#: errors above this fraction of the maximum count as large (``large_error_reversal_span``)
+LARGE_ERROR = 0.25
+
+
+def _distance_to_reversal(qd, dt):
+    """Time (s) from each sample to the nearest sign change of ``qd`` (inf if none)."""
+    rev = np.flatnonzero(np.diff(np.sign(qd)) != 0)
+    if rev.size == 0:
+        return np.full(len(qd), np.inf)
+    k = np.arange(len(qd))
+    i = np.clip(np.searchsorted(rev, k), 1, rev.size) - 1
+    j = np.clip(i + 1, 0, rev.size - 1)
+    return np.minimum(np.abs(k - rev[i]), np.abs(k - rev[j])) * dt
 
 
 def estimation(model, truth, duration_scale=1.0, *, gains=None):
@@ -74,7 +89,10 @@ def estimation(model, truth, duration_scale=1.0, *, gains=None):
         observer model (none/lugre/gms) against the true tau_ext,
         ``vs_link_sensor`` (the same against the sensor),
         ``link_sensor_rms_error`` (Nm), ``beta``, ``beta_sweep``, ``q_range``,
-        ``peak_velocity``.
+        ``peak_velocity``; per model ``reversal_distance_of_max_error`` (s from
+        the largest error to the nearest velocity reversal of the joint) and
+        ``large_error_reversal_span`` (s: every error above 25 % of the
+        maximum lies this close to a reversal).
 
     """
     scale = check_scale(duration_scale)
@@ -116,7 +134,10 @@ def estimation(model, truth, duration_scale=1.0, *, gains=None):
                'rms_error': {}, 'max_error': {}, 'rms_error_pct': {}, 'max_error_pct': {},
                'vs_link_sensor': {'rms_error': {}, 'max_error': {}},
                'link_sensor_rms_error': rmse(r['tau_link'][w] - te),
-               'beta_sweep': {}}
+               'beta_sweep': {}, 'reversal_distance_of_max_error': {},
+               'large_error_reversal_span': {}}
+    # where the errors are: distance (s) to the nearest velocity reversal of the joint
+    dist = _distance_to_reversal(r['qd_true'], plant.dt)[w]
     for kind in MODELS:
         rms, mx = errors(r['estimates'][kind], te)
         summary['rms_error'][kind] = rms
@@ -126,6 +147,10 @@ def estimation(model, truth, duration_scale=1.0, *, gains=None):
         rms_l, mx_l = errors(r['estimates'][kind], r['tau_link'][w])
         summary['vs_link_sensor']['rms_error'][kind] = rms_l
         summary['vs_link_sensor']['max_error'][kind] = mx_l
+        err = np.abs(r['estimates'][kind][w] - te)
+        summary['reversal_distance_of_max_error'][kind] = float(dist[np.argmax(err)])
+        large = err > LARGE_ERROR * mx
+        summary['large_error_reversal_span'][kind] = float(np.max(dist[large]))
     for b in c['beta_sweep']:
         name = 'lugre' if b == c['beta'] else f'lugre@{b:g}'
         rms, mx = errors(r['estimates'][name], te)
@@ -145,10 +170,12 @@ def estimation(model, truth, duration_scale=1.0, *, gains=None):
         a0.set_title(f'disturbance observer eq. 15, $\\beta$ = {c["beta"]:g} rad/s, gravity '
                      f'as unknown load; controller eq. 17 with {LABELS[c["controller"]]} '
                      'feed-forward', fontsize='medium')
-        curves = [(t, r['estimates'][kind] - r['tau_ext'], dict(
-            STYLES[kind], label=f'{LABELS[kind]} (RMS {summary["rms_error"][kind]:.2f} Nm, '
-                                f'{summary["rms_error_pct"][kind]:.1f} %)'))
-            for kind in MODELS]
+        curves = []
+        for kind in MODELS:
+            label = (f'{LABELS[kind]} (RMS {summary["rms_error"][kind]:.2f} Nm, '
+                     f'{summary["rms_error_pct"][kind]:.1f} %)')
+            curves.append((t, r['estimates'][kind] - r['tau_ext'],
+                           dict(STYLES[kind], label=label)))
         for tt, y, style in curves:
             a1.plot(tt, y, **style)
         bound = {'color': 'k', 'linestyle': ':', 'linewidth': 1.0}
@@ -157,9 +184,11 @@ def estimation(model, truth, duration_scale=1.0, *, gains=None):
         a1.set_ylabel(r'error $\hat\tau_{ext} - \tau_{ext}$ (Nm)')
         a1.set_title('estimation error against the true external torque', fontsize='medium')
         add_headroom(a1, 0.45)
-        window = peak_window(t, [c_[1] for c_ in curves[1:]], settle_s, 0.15)
+        window = reversal_peak_window(t, [y for _, y, _ in curves[1:]],
+                                      sign_changes(t, r['qd_d']), settle_s, 0.1, 0.3)
         inset, loc1 = zoom_inset(a1, window, curves, scale_by=(1, 2), width=0.4, height=0.38,
-                          title='zoom: largest LuGre / GMS error after settling')
+                                 title='zoom: velocity reversal with the largest LuGre/GMS '
+                                       'error')
         inset.axhline(1.0, **bound)
         inset.axhline(-1.0, **bound)
         a2.plot(t, r['q'], color='C4', lw=0.9, label='position (rad)')

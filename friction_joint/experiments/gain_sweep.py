@@ -29,7 +29,7 @@ import math
 import numpy as np
 
 from ._common import check_model, check_scale, grid_on, json_key, n_steps, STYLES
-from .compensation import _compensation_run, COMPENSATION
+from .compensation import COMPENSATION, tracking_run
 from ..control.gains import GAIN_PRESETS, GainDesign, loop_metrics
 from ..output import ExperimentResult
 from ..testbed.plant import Plant
@@ -100,7 +100,7 @@ def gain_sweep(model, truth, duration_scale=1.0):
         for xi in temps:
             warm = Plant(truth, xi0=xi)
             for kind in c['models']:
-                r = _compensation_run(model, warm, kp, kd, kind, amp, n, 'measured')
+                r = tracking_run(model, warm, kp=kp, kd=kd, kind=kind, amp=amp, n=n)
                 e = (r['q_d'] - r['q_true'])[n_settle:]
                 table[kind][json_key(xi)].append(100.0 * float(np.max(np.abs(e))) / amp)
     summary = {'experiment': 'gain_sweep', 'duration_scale': scale, 'amplitude': amp,

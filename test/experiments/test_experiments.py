@@ -96,7 +96,7 @@ def test_compensation_beats_no_compensation(results):
     assert 0.1 < s['loop']['zeta'] < 0.3                   # the soft loop of the paper regime
     for t in ('27', '31', '35'):
         # reached by self-heating from the 25 degC ambient, not imposed
-        assert float(t) <= s['warm_up'][t]['reached'] < float(t) + 0.5
+        assert float(t) <= s['warm_up'][t]['reached'] < float(t) + 1.0
         assert s['warm_up'][t]['heating_s'] > 1.0
         for a in ('0.4', '2.4'):
             # the model matching the hardware (LuGre) compensates; GMS is only reported
