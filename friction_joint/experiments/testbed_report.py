@@ -218,6 +218,7 @@ def _headline(runs):
         rows.append(f'| {label} | {paper} | ' + ' | '.join(vals) + ' |')
 
     def span(values, digits=1, unit=' %'):
+        values = list(values)
         lo_text, hi_text = (f'{x:.{digits}f}' for x in (min(values), max(values)))
         return f'{lo_text}{unit}' if lo_text == hi_text else f'{lo_text}-{hi_text}{unit}'
 
