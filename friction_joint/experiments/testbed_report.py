@@ -98,6 +98,21 @@ def _compensation(runs, rel):
                                       for m in ('none', 'lugre', 'gms'))
                           + f' % at {temps[0]} °C' for hw, s in runs.items())
               + ' (the paper shows this case in Fig. 6(c, d) without a number).', '']
+    for hw, s in runs.items():
+        for m in ('lugre', 'gms'):
+            if m == hw or 'gms' not in (m, hw):
+                continue
+            worst = max(t['0.4'] for t in s['max_error_pct'][m].values())
+            matching = max(t['0.4'] for t in s['max_error_pct'][hw].values())
+            if m == 'gms' and worst > 2.0 * matching:
+                lines += [
+                    f'GMS feed-forward on the LuGre hardware does much worse (up to '
+                    f'{worst:.1f} % against {matching:.1f} % for LuGre). At a reversal of q_d '
+                    'the joint sticks while the measured velocity still flickers around zero; '
+                    'slipping GMS elements relax at a rate that does not depend on the speed, '
+                    'so every small flicker in the old direction pulls the feed-forward back '
+                    "towards the old direction's friction level, and it holds the joint for a "
+                    'few tenths of a second (the zoom in Fig. 6).', '']
     for hw in runs:
         lines += [f'**{HARDWARE[hw]}**', '']
         lines += _images(f'{rel}/{hw}/compensation',
