@@ -45,6 +45,14 @@ def _images(rel_dir, names):
     return [f'![{n}]({rel_dir}/{n})' for n in names]
 
 
+def _figures(runs, rel, experiment, names):
+    """Figures of ``experiment`` for every hardware model, each under a bold label."""
+    lines = []
+    for hw in runs:
+        lines += [f'**{HARDWARE[hw]}**', ''] + _images(f'{rel}/{hw}/{experiment}', names) + ['']
+    return lines
+
+
 def _loop_sentence(s):
     g, lp = s['gains'], s['loop']
     design = (f'designed for {g["design_inertia"]:.3g} kg m² (preset `{g["preset"]}`)'
@@ -113,11 +121,8 @@ def _compensation(runs, rel):
                     'so every small flicker in the old direction pulls the feed-forward back '
                     "towards the old direction's friction level, and it holds the joint for a "
                     'few tenths of a second (the zoom in Fig. 6).', '']
-    for hw in runs:
-        lines += [f'**{HARDWARE[hw]}**', '']
-        lines += _images(f'{rel}/{hw}/compensation',
-                         ['compensation_error.png', 'compensation_bars.png']) + ['']
-    return lines
+    return lines + _figures(runs, rel, 'compensation',
+                            ['compensation_error.png', 'compensation_bars.png'])
 
 
 def _estimation(runs, rel):
@@ -159,10 +164,7 @@ def _estimation(runs, rel):
                       'depend on the speed; the model that does not match the hardware '
                       f'mispredicts the friction jump there. The matching {NAMES[hw]} '
                       f'observer stays at {s["max_error"][hw]:.2f} Nm.', '']
-    for hw in runs:
-        lines += [f'**{HARDWARE[hw]}**', ''] + _images(f'{rel}/{hw}/estimation',
-                                                       ['estimation.png']) + ['']
-    return lines
+    return lines + _figures(runs, rel, 'estimation', ['estimation.png'])
 
 
 def _chirp(runs, rel):
@@ -192,10 +194,7 @@ def _chirp(runs, rel):
     stiction = ', '.join(f'{100 * s["stiction_fraction"][amps[0]]:.0f} %' for s in runs.values())
     lines += ['', f'Measured peak velocity: {peaks}; share of time in stiction at the low '
               f'amplitude: {stiction}.', '']
-    for hw in runs:
-        lines += [f'**{HARDWARE[hw]}**', ''] + _images(f'{rel}/{hw}/chirp',
-                                                       ['chirp.png']) + ['']
-    return lines
+    return lines + _figures(runs, rel, 'chirp', ['chirp.png'])
 
 
 def _sweep(s, rel):
