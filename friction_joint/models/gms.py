@@ -46,7 +46,10 @@ For a velocity held constant over a step both laws are solved exactly: a
 sticking element moves linearly until it reaches its threshold (the crossing
 time inside the step is computed) and then relaxes exponentially,
 F -> alpha_i g + (F - alpha_i g) exp(-C t / |g|), which is its exact
-solution.  Nothing here can diverge.
+solution.  Nothing here can diverge.  :func:`gms_update_ramp` does the same
+for a velocity ramping linearly over the step (the joint integrator's):
+there the slip onset is where the element torque meets alpha_i g(qd) at
+the velocity of that instant, not at the step's mean velocity.
 """
 import math
 
@@ -57,7 +60,7 @@ from .static import curve_params, g_abs, s_visc, sign
 from .._jit import njit
 from ..exceptions import GearConfigError
 
-__all__ = ['GMS', 'gms_update', 'pack_gms']
+__all__ = ['GMS', 'gms_update', 'gms_update_ramp', 'pack_gms']
 
 G_MIN = 1e-12
 
@@ -111,6 +114,102 @@ def gms_update(state, elements, v, h, gabs, commit=True):
             slipdir[i] = sd
         total += f
     return total
+
+
+@njit(inline='always')
+def _onset(f, ki, share, sv, v0, v1, dn, h, curve, p0, p1):
+    """
+    Slip onset of a sticking element over a step with velocity ramping v0 -> v1.
+
+    The element reaches its share of g where
+    p(t) = sv (f + ki x(t)) - share |g(v(t))| = 0, x(t) = v0 t + (dn - v0 h) (t/h)^2
+    (x(h) = dn) and v linear in t; p0 < 0 <= p1 are its values at the ends.
+    Regula falsi; returns the onset and the velocity there.
+    """
+    fc, fs, vs, ds, kap = curve
+    ta, tb, t = 0.0, h, 0.0
+    for _ in range(3):
+        t = (ta * p1 - tb * p0) / (p1 - p0)
+        s = t / h
+        p = sv * (f + ki * (v0 * t + (dn - v0 * h) * s * s)) - share * g_abs(
+            fc, fs, vs, ds, kap, v0 + (v1 - v0) * s)
+        if p < 0.0:
+            ta, p0 = t, p
+        else:
+            tb, p1 = t, p
+    return t, v0 + (v1 - v0) * t / h
+
+
+@njit(inline='always')
+def gms_update_ramp(state, elements, ramp, h, curve, commit=True):
+    """
+    :func:`gms_update` over a step whose velocity ramps linearly.
+
+    ``ramp`` is ``(v0, v1, dn)``: the velocity at the step's start and end
+    and the displacement over the step; ``curve`` is
+    ``(F_c, F_s, v_s, delta_s, kappa)``.  A sticking element that
+    reaches its share of g in the step slips from the located onset, the
+    threshold g taken at the velocity there and the rest of the step at the
+    velocity in its middle.  (A constant-velocity step at the mean velocity
+    dn / h puts both at the mean velocity: an O(h) error in the onset and in
+    the element's torque from then on, a first-order global error.)  A step
+    in which the velocity changes sign falls back to :func:`gms_update`.
+
+    Returns sum k_i z_i at the step's end and the earliest onset in the step
+    (h if none).
+    """
+    fc, fs, vs, ds, kap = curve
+    v0, v1, dn = ramp
+    vbar = dn / h
+    ga = max(g_abs(fc, fs, vs, ds, kap, vbar), G_MIN)
+    sv = sign(vbar)
+    if sv == 0.0 or v0 * sv < 0.0 or v1 * sv < 0.0:
+        return gms_update(state, elements, vbar, h, ga, commit), h
+    z, stick, slipdir = state
+    k, alpha, c = elements
+    decay = -1.0
+    g0 = -1.0
+    g1 = -1.0
+    first = h
+    total = 0.0
+    for i in range(z.shape[0]):
+        f = k[i] * z[i]
+        st = stick[i]
+        sd = slipdir[i]
+        if st == 0 and sv != sd:
+            st = 1
+        if st == 1:
+            if g1 < 0.0:                   # the curve at the step's end, once
+                g1 = g_abs(fc, fs, vs, ds, kap, v1)
+            p1 = sv * (f + k[i] * dn) - alpha[i] * g1
+            if p1 < 0.0:
+                f += k[i] * dn
+            else:
+                if g0 < 0.0:
+                    g0 = g_abs(fc, fs, vs, ds, kap, v0)
+                p0 = sv * f - alpha[i] * g0
+                t_hit = 0.0
+                vh = v0
+                if p0 < 0.0:
+                    t_hit, vh = _onset(f, k[i], alpha[i], sv, v0, v1, dn, h, curve, p0, p1)
+                    f = sv * alpha[i] * g_abs(fc, fs, vs, ds, kap, vh)
+                first = min(first, t_hit)
+                st, sd = 0, sv
+                vm = 0.5 * (vh + v1)
+                gm = max(g_abs(fc, fs, vs, ds, kap, vm), G_MIN)
+                target = sv * alpha[i] * gm
+                f = target + (f - target) * math.exp(-c / gm * (h - t_hit))
+        else:
+            if decay < 0.0:
+                decay = math.exp(-c / ga * h)
+            target = sv * alpha[i] * ga
+            f = target + (f - target) * decay
+        if commit:
+            z[i] = f / k[i]
+            stick[i] = st
+            slipdir[i] = sd
+        total += f
+    return total, first
 
 
 @njit

@@ -59,17 +59,28 @@ from rest) freezes a at the mid-step velocity instead (|qd| has a kink).
 GMS: sticking elements act as springs in A; the torque of the others
 (slipping, or changing state in the step) is a load taken linear in time
 over the step (predicted by a first pass, trapezoidal in the second); the
-element laws are then advanced exactly with the step's mean velocity
-(:func:`friction_joint.models.gms.gms_update`).  A predicted velocity
-reversal splits the step at its zero crossing, so the elements stick again
-at the reversal and not a step late.  Against an event-driven reference
-(scipy Radau restarted at every stick/slip transition and reversal) the
-step is second order while the velocity keeps its sign (q error 3.8e-5,
-4.9e-6, 1.9e-6, 4.7e-7 m at 1/1000 ... 1/12000 s for three elements).  A
-run with reversals in pre-sliding, then a near stop (0.08 mm/s, no
-reversal) and a re-acceleration through the Stribeck range with the
-elements slipping, converges at first order (2.1e-4 m at 1/3000 s, 6.9e-5 m
-at 1/6000 s; the error builds up in the near stop): not resolved yet.
+element laws are then advanced exactly with the velocity ramping from the
+step's start to its end (:func:`friction_joint.models.gms.gms_update_ramp`).
+A predicted velocity reversal splits the step at its zero crossing, so the
+elements stick again at the reversal and not a step late; a predicted slip
+onset splits it there too.  The onset is where the element torque meets
+alpha_i g(qd) at the velocity of that instant: taking g at the step's mean
+velocity put it O(h) off wherever g changes within the step (pre-sliding
+oscillation, break-away through the Stribeck range), and the element
+torque with it, which then decays only at the rate C / g: a first-order
+global error (numbers below).  The split keeps the elements' torque
+smooth inside each substep (a kink inside a step leaves an O(h^2) velocity
+error proportional to the stiffness).
+Against an event-driven reference (scipy Radau restarted at every stick/slip
+transition and reversal, three elements) the step is second order: sliding
+with the velocity keeping its sign 4.1e-7, 5.8e-8, 6.7e-9 m at 1/1000,
+1/3000, 1/9000 s (was 3.8e-5, 4.9e-6, 8.7e-7 m); 1 s of pre-sliding
+reversals (two elements slipping and sticking again), then a break-away,
+a near stop at 0.6 mm/s and a re-acceleration through the Stribeck range
+1.9e-4, 1.9e-5, 1.9e-6 m (was 3.5e-4, 4.5e-4, 9.5e-5 m).  Where the near
+stop is much slower (0.08 mm/s) the unstable Stribeck range amplifies every
+error by orders of magnitude: 7.1e-3, 8.5e-4, 1.3e-4 m at 1/3000, 1/9000,
+1/27000 s (was 1.2e-2, 9.5e-3, 7.0e-3 m).
 
 The friction torque ``tau_r`` each step reports is the one at the step's
 **end**, evaluated from the end state (q, qd, z) it is returned with.
@@ -82,7 +93,7 @@ import math
 import numpy as np
 
 from ._expint import affine2_step, implicit_euler_v
-from .gms import gms_update, pack_gms
+from .gms import gms_update_ramp, pack_gms
 from .lugre import G_MIN, lugre_torque
 from .static import broadcast_batch, curve_params, g_abs, pack_static, s_visc, sign
 from .._jit import njit
@@ -185,16 +196,19 @@ def _gms_joint_step(q, v, z, stick, slipdir, k, alpha, cc, f, jj,
     """
     One coupled step of joint + GMS (element arrays updated in place).
 
-    A velocity reversal inside the step (predicted) splits it at the predicted
-    zero crossing, so the elements stick again at the reversal and not a step
-    late (which would leave an O(h) error in every element's deflection).
-    Returns (q, qd, tau_r) at the step's end.
+    A velocity reversal or an element's slip onset predicted inside the step
+    splits it there, so the elements stick again at the reversal and not a
+    step late (which would leave an O(h) error in every element's
+    deflection), and the element torques are smooth inside each substep (a
+    kink inside leaves an O(h^2) velocity error, large with stiff elements).
+    At most three splits per step.  Returns (q, qd, tau_r) at the step's end.
     """
-    q, v, tau_r, rest = _gms_substep(q, v, z, stick, slipdir, k, alpha, cc, f, jj,
-                                     fc, fs, fv, vs, dv, ds, kap, h, True)
-    if rest > 0.0:                      # stopped at the predicted reversal: the rest
-        q, v, tau_r, _ = _gms_substep(q, v, z, stick, slipdir, k, alpha, cc, f, jj,
-                                      fc, fs, fv, vs, dv, ds, kap, rest, False)
+    tau_r = 0.0
+    for n in range(4):
+        q, v, tau_r, h = _gms_substep(q, v, z, stick, slipdir, k, alpha, cc, f, jj,
+                                      fc, fs, fv, vs, dv, ds, kap, h, n < 3)
+        if h <= 0.0:
+            break
     return q, v, tau_r
 
 
@@ -216,8 +230,8 @@ def _gms_substep(q, v, z, stick, slipdir, k, alpha, cc, f, jj,
     """
     Joint + GMS over h; returns (q, qd, tau_r, rest).
 
-    With ``split``, a velocity reversal predicted inside the step ends the
-    substep at the predicted zero crossing and ``rest`` is the time left of
+    With ``split``, a velocity reversal or an element's slip onset predicted
+    inside the step ends the substep there and ``rest`` is the time left of
     the step (0 otherwise).
 
     The sticking elements are springs inside the exactly solved 2x2 system;
@@ -228,29 +242,33 @@ def _gms_substep(q, v, z, stick, slipdir, k, alpha, cc, f, jj,
     """
     kst, ftot = _gms_sticking(z, stick, slipdir, k, sign(v))
     s0 = s_visc(fv, dv, kap, v)
-    vn = implicit_euler_v((0.0, 1.0, -kst / jj, 0.0),
-                          (0.0, (f - ftot - s0) / jj), (0.0, v), h)
-    rest = 0.0
+    a = (0.0, 1.0, -kst / jj, 0.0)
+    vn = implicit_euler_v(a, (0.0, (f - ftot - s0) / jj), (0.0, v), h)
+    full = h
     if split and vn * v < 0.0:
         h1 = h * v / (v - vn)
         if 1e-3 * h < h1 < (1.0 - 1e-3) * h:
-            rest, h = h - h1, h1
-            vn = implicit_euler_v((0.0, 1.0, -kst / jj, 0.0),
-                                  (0.0, (f - ftot - s0) / jj), (0.0, v), h)
-    c, sc = _chord(fv, dv, kap, v, vn, s0)
-    dn, vn, _, _ = affine2_step((0.0, 1.0, -kst / jj, -c / jj),
-                                (0.0, (f - ftot - sc) / jj), (0.0, v), h)
-    # what the elements' torque does beyond the sticking springs, predicted
-    vbar = dn / h
-    extra = gms_update((z, stick, slipdir), (k, alpha, cc), vbar, h,
-                       g_abs(fc, fs, vs, ds, kap, vbar), False) - ftot - kst * dn
+            h = h1
+            vn = implicit_euler_v(a, (0.0, (f - ftot - s0) / jj), (0.0, v), h)
+    curve = (fc, fs, vs, ds, kap)
+    elements = (k, alpha, cc)
+    for n in range(2):
+        c, sc = _chord(fv, dv, kap, v, vn, s0)
+        dn, vn, _, _ = affine2_step((0.0, 1.0, -kst / jj, -c / jj),
+                                    (0.0, (f - ftot - sc) / jj), (0.0, v), h)
+        # what the elements' torque does beyond the sticking springs, predicted
+        pred, onset = gms_update_ramp((z, stick, slipdir), elements, (v, vn, dn), h, curve,
+                                      False)
+        if n == 1 or not (split and 1e-3 * h < onset < (1.0 - 1e-3) * h):
+            break
+        h = onset                        # a slip onset inside: end the substep there
+        vn = implicit_euler_v(a, (0.0, (f - ftot - s0) / jj), (0.0, v), h)
+    extra = pred - ftot - kst * dn
     c, sc = _chord(fv, dv, kap, v, vn, s0)
     dn, vn, _, _ = affine2_step((0.0, 1.0, -kst / jj, -c / jj),
                                 (0.0, (f - ftot - 0.5 * extra - sc) / jj), (0.0, v), h)
-    vbar = dn / h
-    ga = g_abs(fc, fs, vs, ds, kap, vbar)
-    tot = gms_update((z, stick, slipdir), (k, alpha, cc), vbar, h, ga)
-    return q + dn, vn, tot + s_visc(fv, dv, kap, vn), rest
+    tot, _ = gms_update_ramp((z, stick, slipdir), elements, (v, vn, dn), h, curve)
+    return q + dn, vn, tot + s_visc(fv, dv, kap, vn), full - h
 
 
 @njit
