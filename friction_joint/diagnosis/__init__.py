@@ -18,16 +18,22 @@ Diagnosis: what a friction model gets wrong on measured data, and the extension 
 * :mod:`~friction_joint.diagnosis.data`: recordings -> measured friction torque on bins;
 * :mod:`~friction_joint.diagnosis.structures`: candidate model structures, linear
   least squares with grids over their nonlinear parameters, block cross-validation;
+* :mod:`~friction_joint.diagnosis.testability`: which candidates the data can tell
+  (:func:`untestable`: a one-line reason per untestable effect);
 * :mod:`~friction_joint.diagnosis.pipeline`: base fit, candidates, the criterion,
   greedy extension (:func:`diagnose`);
+* :mod:`~friction_joint.diagnosis.gears`: gear files of fitted structures, the
+  physical ``extended.yaml`` (:func:`extended_model`);
 * :mod:`~friction_joint.diagnosis.report`: figures, ``report.md`` and the files
   of the ``diagnose`` command (:func:`run_diagnose`).
 """
 from .data import DiagnosisData, load_data
+from .gears import extended_model
 from .pipeline import ALPHA, base_structure, diagnose, Diagnosis, EFFECTS, extend, MIN_GAIN
 from .report import run_diagnose
 from .structures import CandidateStructure, cross_validate_structures
+from .testability import untestable
 
 __all__ = ['EFFECTS', 'ALPHA', 'MIN_GAIN', 'Diagnosis', 'diagnose', 'base_structure', 'extend',
            'DiagnosisData', 'load_data', 'CandidateStructure', 'cross_validate_structures',
-           'run_diagnose']
+           'untestable', 'extended_model', 'run_diagnose']

@@ -40,12 +40,31 @@ samples.  Averaging is linear, so a model linear in its coefficients fits
 the averaged data with the averaged regressors *exactly* as it fits the raw
 samples, at a tenth of the cost and with a tenth of the noise per point.
 A bin is used only when the joint slides throughout it: every sample has
-``|qd| >= V_STICK`` (2 mrad/s), with a margin of :data:`STICK_MARGIN` around
+``|qd| >= v_stick``, with a margin of :data:`STICK_MARGIN` around
 stick phases, and :data:`EDGE` (0.1 s) away from the ends of a piece (where
 the zero-phase filter's edge effects spoil the acceleration).  While a joint
 sticks its friction torque is whatever balances the applied torque (Karnopp),
 which no friction *curve* predicts; leaving those samples out keeps every
 candidate model on the same footing.
+
+Scales taken from the data
+--------------------------
+No threshold is in rad/s, Nm or Nm/rad: every one derives from the data
+(so a device 100 times slower or weaker is treated alike):
+
+* ``resolution`` (rad): the position resolution, the larger of the smallest
+  nonzero encoder step and the (robust) width of the encoder noise
+  ``sqrt(12) * 1.4826 * median|q - q_filtered|``;
+* ``v_stick`` (rad/s): the sliding threshold, the larger of
+  :data:`V_STICK_FRACTION` of the 99th percentile of ``|qd|`` and
+  :data:`V_NOISE` times the velocity noise ``resolution * cutoff`` of the
+  zero-phase derivative;
+* ``friction_level`` (Nm): the median of ``|y|`` over the sliding bins;
+* ``stroke`` (rad): the largest position range of a piece.
+
+A recording without ``/joint_temperature`` has no temperature signal
+(``has_temperature`` False): its ``xi`` is the middle of the base gear's
+``friction.temperature_range`` and ``thermal`` cannot be tested.
 
 Cross-validation blocks
 -----------------------
@@ -53,6 +72,7 @@ The used bins are split into :data:`N_BLOCKS` contiguous time blocks of
 equal size (over all recordings, in the order given).
 """
 import dataclasses
+import math
 
 import numpy as np
 
@@ -60,12 +80,15 @@ from .._filters import zero_phase_derivatives
 from ..bag import read_recording
 from ..exceptions import ExcitationError, PreslidingDataError, RecordingError
 
-__all__ = ['BIN', 'V_STICK', 'STICK_MARGIN', 'N_BLOCKS', 'DiagnosisData', 'load_data']
+__all__ = ['BIN', 'V_STICK_FRACTION', 'V_NOISE', 'STICK_MARGIN', 'N_BLOCKS', 'DiagnosisData',
+           'load_data']
 
 #: bin length (s) over which samples are averaged
 BIN = 0.01
-#: |qd| below this (rad/s) counts as sticking
-V_STICK = 2e-3
+#: |qd| below this fraction of its 99th percentile counts as sticking (2 mrad/s on the CSD-25)
+V_STICK_FRACTION = 7e-4
+#: ... or below this many times the velocity noise (resolution x filter cutoff)
+V_NOISE = 10.0
 #: margin (s) around sticking samples also left out
 STICK_MARGIN = 0.005
 #: number of contiguous cross-validation blocks
@@ -93,6 +116,10 @@ class DiagnosisData:
 
     Bin arrays (used bins only): ``y`` (mean friction torque with the base
     inertia), ``count``, ``t_bin``, ``block``.
+
+    Scales (module docstring): ``v_stick`` (rad/s), ``resolution`` (rad),
+    ``friction_level`` (Nm), ``stroke`` (rad); ``has_temperature``: every
+    recording has ``/joint_temperature``.
     """
 
     t: np.ndarray
@@ -117,6 +144,11 @@ class DiagnosisData:
     mgl_sim: float
     link_torque: bool
     recordings: list
+    has_temperature: bool = True
+    v_stick: float = 2e-3
+    resolution: float = 0.0
+    friction_level: float = 1.0
+    stroke: float = 0.0
 
     @property
     def n_bins(self):
@@ -184,8 +216,10 @@ def load_data(paths, gear, joint_name=None, n_blocks=N_BLOCKS, progress=None):
     joint = gear.joint_name if joint_name is None else joint_name
     recs = [read_recording(path, joint_name=joint) for path in paths]
     cols = {k: [] for k in ('t', 'q', 'qf', 'qd', 'qdd', 'effort', 'tau_ext', 'xi', 'dt',
-                            'piece')}
+                            'piece', 'cutoff')}
     have_link = all(r.link_torque is not None and len(r.link_torque) > 1 for r in recs)
+    have_temp = all(_temperature(r) is not None for r in recs)
+    xi_none = float(np.mean(gear.friction.temperature_range))
     n_piece = 0
     for rec in recs:
         js = rec.joint_states
@@ -212,18 +246,21 @@ def load_data(paths, gear, joint_name=None, n_blocks=N_BLOCKS, progress=None):
                 te = np.interp(t, rec.link_torque.t, rec.link_torque.tau)
             else:
                 te = gear.mgl * np.sin(q)
+            xi = (rec.temperature_at(t) if _temperature(rec) is not None
+                  else np.full(len(t), xi_none))
             for k, v in (('t', t), ('q', q), ('qf', qf), ('qd', qd), ('qdd', qdd),
-                         ('effort', effort), ('tau_ext', te),
-                         ('xi', rec.temperature_at(t)), ('dt', np.full(len(t), dt)),
-                         ('piece', np.full(len(t), n_piece))):
+                         ('effort', effort), ('tau_ext', te), ('xi', xi),
+                         ('dt', np.full(len(t), dt)), ('piece', np.full(len(t), n_piece)),
+                         ('cutoff', np.full(len(t), cutoff))):
                 cols[k].append(v)
             n_piece += 1
     c = {k: np.concatenate(v) for k, v in cols.items()}
     n = len(c['t'])
+    res, v_stick, stroke = _scales(c, n_piece)
     # bins: per piece, consecutive samples, BIN long
     bin_raw = np.full(n, -1, dtype=np.int64)
     nb_total = 0
-    stick = np.abs(c['qd']) < V_STICK
+    stick = np.abs(c['qd']) < v_stick
     for p in range(n_piece):
         idx = np.flatnonzero(c['piece'] == p)
         dt = c['dt'][idx[0]]
@@ -246,8 +283,10 @@ def load_data(paths, gear, joint_name=None, n_blocks=N_BLOCKS, progress=None):
     if nb_total < 20 * n_blocks:
         raise ExcitationError(
             f'too little sliding motion to diagnose: {nb_total * BIN:.1f} s of the recordings '
-            f'have the joint sliding (|qd| >= {V_STICK:g} rad/s), at least '
-            f'{20 * n_blocks * BIN:.0f} s are needed ({n_blocks} cross-validation blocks)')
+            f'have the joint sliding (|qd| >= {v_stick:.3g} rad/s, the larger of '
+            f'{V_STICK_FRACTION:g} x the 99th percentile of |qd| and {V_NOISE:g} x the velocity '
+            f'noise), at least {20 * n_blocks * BIN:.0f} s are needed ({n_blocks} '
+            'cross-validation blocks)')
     sel = bin_raw >= 0
     count = np.bincount(bin_raw[sel], minlength=nb_total).astype(float)
 
@@ -264,15 +303,38 @@ def load_data(paths, gear, joint_name=None, n_blocks=N_BLOCKS, progress=None):
     first_sample[bin_raw[sel][::-1]] = np.flatnonzero(sel)[::-1]
     edges = [first_sample[np.argmax(block == k)] for k in range(1, n_blocks)]
     block_of = np.searchsorted(np.asarray(edges), np.arange(n), side='right')
-    qdv = avg(c['qd'])
-    for sgn, word in ((1, 'positive'), (-1, 'negative')):
-        if np.count_nonzero(np.sign(qdv) == sgn) < 0.05 * nb_total:
-            raise ExcitationError(f'too little excitation: the joint hardly moves in the {word} '
-                                  'direction (less than 5 % of the sliding time); direction-'
-                                  'dependent friction cannot be told apart from an offset')
     return DiagnosisData(
         t=c['t'], q=c['q'], qf=c['qf'], qd=c['qd'], qdd=c['qdd'], effort=c['effort'],
         tau_ext=c['tau_ext'], xi=c['xi'], tl=np.abs(c['tau_ext']), piece=c['piece'],
         dt=c['dt'], bin_of=bin_raw, block_of=block_of, y=y, count=count, t_bin=t_bin,
         block=block, n_blocks=n_blocks, inertia=inertia,
-        mgl_sim=0.0 if have_link else gear.mgl, link_torque=have_link, recordings=recs)
+        mgl_sim=0.0 if have_link else gear.mgl, link_torque=have_link, recordings=recs,
+        has_temperature=have_temp, v_stick=v_stick, resolution=res,
+        friction_level=max(float(np.median(np.abs(y))), 1e-12), stroke=stroke)
+
+
+def _temperature(rec):
+    """Return the recording's ``/joint_temperature`` series, None when it has none."""
+    temp = getattr(rec, 'temperature', None)
+    if temp is None or len(getattr(temp, 't', ())) == 0:
+        return None
+    return temp
+
+
+def _scales(c, n_piece):
+    """Position resolution, sliding threshold and stroke from the samples (module docstring)."""
+    steps, widths, stroke = [], [], 0.0
+    for p in range(n_piece):
+        m = c['piece'] == p
+        dq = np.abs(np.diff(c['q'][m]))
+        pos = dq[dq > 0]
+        if len(pos):
+            steps.append(float(pos.min()))
+        widths.append(float(np.median(np.abs(c['q'][m] - c['qf'][m]))))
+        stroke = max(stroke, float(np.ptp(c['q'][m])))
+    res = max(min(steps) if steps else 0.0, math.sqrt(12.0) * 1.4826 * max(widths))
+    res = max(res, 1e-12 * max(stroke, 1.0))
+    aq = np.abs(c['qd'])
+    v_stick = max(V_STICK_FRACTION * float(np.percentile(aq, 99)),
+                  V_NOISE * res * float(np.max(c['cutoff'])))
+    return res, v_stick, stroke

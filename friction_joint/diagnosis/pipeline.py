@@ -22,9 +22,15 @@ Method
 1. **Data** (:mod:`friction_joint.diagnosis.data`): the measured friction
    torque ``y = tau - tau_ext - J q̈`` averaged over 10 ms bins while the joint
    slides; K = 10 contiguous time blocks for cross-validation.
+   Which candidates the data can tell is decided first
+   (:mod:`friction_joint.diagnosis.testability`); an untestable candidate is
+   reported with its reason, never named, and does not stop the run, which
+   fails only when no candidate is testable or nothing slides.
 2. **Base fit**: BASE's structure (polynomial lengths, Stribeck term, delta_v,
    ripple, pre-sliding model) is refitted to the data by linear least squares
-   with grids over its few nonlinear parameters (:mod:`friction_joint.diagnosis.structures`).
+   with grids over its few nonlinear parameters (:mod:`friction_joint.diagnosis.structures`);
+   every fit is bounded to F_c, F_s, F_v >= 0 over the data's temperature and
+   load range.
 3. **Candidates**: every effect of :data:`EFFECTS` extends the current
    structure (``thermal``: temperature orders of F_c and F_v (and F_s) + 1;
    ``load``: load orders + 1; ``position_ripple``: 3 harmonics of 2 N, else N,
@@ -57,23 +63,28 @@ Method
    temperature and external torque; velocity RMSE against the zero-phase
    differentiated encoder.
 
+7. **Extended model**: the final structure fitted on all data; an extension
+   that still cannot be fitted physically (the gear file check fails) is left
+   out of ``extended.yaml`` -- walking back over the greedy sequence -- and its
+   candidate entry says ``"physical": false`` with the reason; the report is
+   always written (:func:`~friction_joint.diagnosis.gears.extended_model`).
+
 Outputs: ``report.json`` (named causes, candidate table, baseline/extended
 held-out RMSE, per-round tables, timing), ``extended.yaml`` (a gear file of
 the final model fitted on all data, loadable by every node), ``report.md``
 and figures; all written atomically (:mod:`friction_joint.output`).
 """
 import dataclasses
-import math
 import time
-import warnings
 
 import numpy as np
 from scipy import stats
 
 from . import structures as dm
 from .data import load_data
-from ..exceptions import ExcitationError, GearConfigError, GearConfigWarning
-from ..gear import gear_from_dict, GMSParams, LuGreParams, passivity_bound, RippleParams
+from .gears import extended_model, sim_gear
+from .testability import untestable
+from ..exceptions import ExcitationError, GearConfigError
 from ..output import json_clean
 
 __all__ = ['EFFECTS', 'ALPHA', 'MIN_GAIN', 'WINDOW', 'Diagnosis', 'diagnose',
@@ -179,49 +190,6 @@ def _compare(cur, cand):
             'heldout_torque_rmse': cand.rmse, 'mean_log_mse_ratio': float(np.mean(d))}
 
 
-def _testability(data, ctx, effects):
-    """Reasons why the data cannot tell an effect, per effect."""
-    why = {}
-    xi = data.average(data.xi)
-    qd = data.average(data.qd)
-    if 'thermal' in effects:
-        span = float(np.percentile(xi, 97.5) - np.percentile(xi, 2.5))
-        if span < 0.5:
-            why['thermal'] = (f'the housing temperature spans only {span:.2f} degC while the '
-                              'joint slides (at least 0.5 degC needed)')
-    if 'load' in effects:
-        tl = data.average(data.tl)
-        span = float(np.percentile(tl, 97.5) - np.percentile(tl, 2.5))
-        if span < 0.5:
-            why['load'] = (f'the load |tau_ext| spans only {span:.2f} Nm while the joint slides '
-                           '(at least 0.5 Nm needed)')
-    if 'position_ripple' in effects:
-        period = 2 * math.pi / (2 * ctx.gear_ratio)
-        phase = np.mod(data.average(data.q), period) / period
-        hist = np.bincount(np.minimum((phase * 8).astype(int), 7), minlength=8)
-        travel = float(np.ptp(data.q))
-        if travel < 2 * period or np.any(hist < 5):
-            why['position_ripple'] = (f'the joint travels {travel:.4f} rad, too little to cover '
-                                      f'the ripple period 2 pi / (2 N) = {period:.4f} rad')
-    aq = np.abs(qd)
-    lo, hi = np.percentile(aq, 5), np.percentile(aq, 95)
-    for eff in ('nonlinear_viscous', 'stribeck'):
-        if eff in effects and (hi < 5 * lo or lo > 0.2):
-            why[eff] = (f'sliding speeds span only {lo:.3g}..{hi:.3g} rad/s (5-95 %); need '
-                        'low speeds (< 0.2 rad/s) and a ratio of at least 5')
-    if 'presliding' in effects:
-        s = np.sign(data.qd[np.abs(data.qd) > 1e-4])
-        rev = int(np.count_nonzero(s[1:] != s[:-1]))
-        if rev < 4:
-            why['presliding'] = f'only {rev} velocity reversals (at least 4 needed)'
-    if 'inertia' in effects:
-        qdd = data.average(data.qdd)
-        if float(np.std(qdd)) * data.inertia < 0.02:
-            why['inertia'] = (f'accelerations too small: std(J qdd) = '
-                              f'{float(np.std(qdd)) * data.inertia:.3g} Nm (need >= 0.02 Nm)')
-    return why
-
-
 def _g_nom(ctx, s, beta, names):
     g = 0.0
     for (kind, i), b in zip(names, beta):
@@ -229,7 +197,7 @@ def _g_nom(ctx, s, beta, names):
             g += b * float(np.mean(ctx.u ** i))
         elif kind == 'fc_load':
             g += b * float(np.mean(ctx.vl ** i))
-    return max(g, 0.05)
+    return max(g, 0.05 * ctx.data.friction_level)
 
 
 def _refine(s, ctx, y):
@@ -238,116 +206,6 @@ def _refine(s, ctx, y):
         s, beta, names, _ = dm.fit_all(dm.grid_of(s, p, ctx), ctx, y)
     s, beta, names, pred = dm.fit_all([s], ctx, y)
     return s, beta, names, pred
-
-
-# ---------------------------------------------------------------- gears ----
-
-def _sim_gear(base, s, coef):
-    """Return an unvalidated GearParams for simulation (coefficients as fitted)."""
-    f = base.friction
-    kw = {'fc': tuple(coef['fc']), 'fv': tuple(coef['fv']), 'fc_load': tuple(coef['fc_load']),
-          'fv_load': tuple(coef['fv_load']), 'fs': None, 'vs': None, 'fs_load': ()}
-    if s.nfs:
-        kw.update(fs=tuple(coef['fs']), vs=tuple(coef['vs']), fs_load=tuple(coef['fs_load']))
-    kw['delta_v'] = tuple(coef['delta_v']) if 'delta_v' in coef else (1.0,)
-    if s.ripple:
-        r = coef['position_ripple']
-        kw['position_ripple'] = RippleParams(r['cycles_per_rev'], tuple(r['amplitude']),
-                                             tuple(r['phase']))
-    else:
-        kw['position_ripple'] = None
-    if s.presliding:
-        model, stiff = s.ps
-        kw['model'] = model
-        if model == 'lugre':
-            kw['lugre'] = LuGreParams(stiff, f.lugre.sigma1 if f.lugre else 0.0)
-        else:
-            kw['gms'] = GMSParams(tuple(float(v) for v in stiff * _ctx_ratios(base)),
-                                  tuple(_ctx_alpha(base)), f.gms.c if f.gms else 400.0)
-    else:
-        kw['model'] = 'static'
-    if hasattr(f, 'offset'):
-        kw['offset'] = 0.0            # applied through the drive torque in simulation
-    fr = dataclasses.replace(f, **kw)
-    return dataclasses.replace(base, friction=fr,
-                               inertia=base.inertia + coef.get('d_inertia', 0.0))
-
-
-def _ctx_ratios(base):
-    g = base.friction.gms
-    r = np.asarray(g.k, float) if g is not None else dm.GMS_RATIOS
-    return r / r.sum()
-
-
-def _ctx_alpha(base):
-    g = base.friction.gms
-    if g is not None:
-        return list(g.alpha)
-    return [1.0 / len(dm.GMS_RATIOS)] * len(dm.GMS_RATIOS)
-
-
-def extended_gear(base, s, coef, data):
-    """Return the validated gear file of the extended model (base sections kept)."""
-    fr = {'fc': coef['fc'], 'fv': coef['fv'], 'fc_load': coef['fc_load'],
-          'fv_load': coef['fv_load']}
-    if s.nfs:
-        fr.update(fs=coef['fs'], vs=coef['vs'], fs_load=coef['fs_load'])
-    if 'delta_v' in coef:
-        fr['delta_v'] = coef['delta_v']
-    if s.ripple:
-        fr['position_ripple'] = coef['position_ripple']
-    if s.offset:
-        fr['offset'] = coef['offset']
-    changes = {'friction': fr}
-    if s.inertia:
-        changes['inertia'] = base.inertia + coef['d_inertia']
-    if s.presliding:
-        model, stiff = s.ps
-        fr['model'] = model
-        if model == 'lugre':
-            fr['lugre'] = {'sigma0': float(stiff),
-                           'sigma1': base.friction.lugre.sigma1 if base.friction.lugre else 0.0}
-        else:
-            g = base.friction.gms
-            fr['gms'] = {'k': [float(v) for v in stiff * _ctx_ratios(base)],
-                         'alpha': [float(a) for a in _ctx_alpha(base)],
-                         'c': g.c if g is not None else 400.0}
-    lo, hi = base.friction.temperature_range
-    if max(s.nfc, s.nfv, s.nfs) > 1:
-        xlo, xhi = float(np.min(data.xi)), float(np.max(data.xi))
-        nlo, nhi = max(lo, math.floor(xlo * 10) / 10), min(hi, math.ceil(xhi * 10) / 10)
-        if nhi > nlo:
-            fr['temperature_range'] = [nlo, nhi]
-    gear = _validated(base, changes, quiet=True)
-    f = gear.friction
-    if f.lugre is not None and f.fs is not None:
-        # a Stribeck dip added to a LuGre base can make the base's sigma1 non-passive
-        # (Astrom & Canudas de Wit 2008): keep sigma1 below the bound with a margin
-        bound = float(np.min(passivity_bound(f, np.linspace(*f.temperature_range, 21))))
-        if f.lugre.sigma1 >= bound:
-            sigma1 = float(f'{PASSIVITY_MARGIN * bound:.4g}')
-            fr['lugre'] = {'sigma0': f.lugre.sigma0, 'sigma1': sigma1}
-            coef['sigma1_passivity'] = {'from': f.lugre.sigma1, 'to': sigma1, 'bound': bound}
-            gear = _validated(base, changes)
-    return gear
-
-
-#: sigma1 of an extended LuGre model is set to this fraction of the passivity bound
-#: when the base's value exceeds it
-PASSIVITY_MARGIN = 0.9
-
-
-def _validated(base, changes, quiet=False):
-    new = base.replace(changes)
-    data_d = new.to_dict()['/**']['ros__parameters']
-    try:
-        with warnings.catch_warnings():
-            if quiet:
-                warnings.simplefilter('ignore', GearConfigWarning)
-            return gear_from_dict(data_d, source='extended model', given=new.given)
-    except GearConfigError as exc:
-        raise ExcitationError(f'the extended model fitted to the recordings is not physical '
-                              f'({exc}); the recordings do not determine it well') from None
 
 
 # --------------------------------------------------------------- velocity --
@@ -428,7 +286,7 @@ def _fold_gears(base, cv, ctx, data):
     for f, s in enumerate(cv.structures):
         beta, names = cv.betas[f], cv.names[f]
         coef = dm.coefficients(s, beta, names, ctx)
-        gears.append(_sim_gear(base, s, coef))
+        gears.append(sim_gear(base, s, coef))
         offsets.append(coef.get('offset', 0.0))
     return gears, offsets
 
@@ -456,7 +314,12 @@ def diagnose(paths, base, effects=EFFECTS, joint_name=None, progress=None):
 
     Raises
     ------
-    RecordingError, ExcitationError, GearConfigError
+    RecordingError
+        Unreadable or bad recordings.
+    ExcitationError
+        Nothing slides, or no candidate of ``effects`` is testable on the data.
+    GearConfigError
+        An unknown effect.
 
     """
     say = progress or (lambda m: None)
@@ -473,10 +336,13 @@ def diagnose(paths, base, effects=EFFECTS, joint_name=None, progress=None):
     timing['read_s'] = time.perf_counter() - t0
     say(f'read {len(paths)} recording(s): {data.n_bins} sliding bins of {1e3 * 0.01:.0f} ms, '
         f'xi {data.xi.min():.2f}..{data.xi.max():.2f} degC ({timing["read_s"]:.2f} s)')
-    why = _testability(data, ctx, effects)
+    why = untestable(data, base.gear_ratio, effects)
+    testable = [e for e in effects if e not in why]
+    if not testable:
+        raise ExcitationError('no candidate effect is testable on these recordings: ' + '; '.join(
+            f'{k}: {v}' for k, v in why.items()))
     if why:
-        raise ExcitationError('too little excitation to tell ' + '; '.join(
-            f'{k}: {v}' for k, v in why.items()) + ' (restrict the candidates with --effects)')
+        say('untestable: ' + '; '.join(f'{k}: {v}' for k, v in why.items()))
 
     t0 = time.perf_counter()
     y, block, k = data.y, data.block, data.n_blocks
@@ -494,7 +360,7 @@ def diagnose(paths, base, effects=EFFECTS, joint_name=None, progress=None):
     last_table = {}
     for rnd in range(1, MAX_ROUNDS + 1):
         table, cvs = {}, {}
-        for eff in effects:
+        for eff in testable:
             if eff in named:
                 continue
             ext = extend(cur, eff)
@@ -532,15 +398,21 @@ def diagnose(paths, base, effects=EFFECTS, joint_name=None, progress=None):
     timing['candidates_s'] = time.perf_counter() - t0
 
     t0 = time.perf_counter()
-    final, beta, names, pred_all = dm.fit_all([cur], ctx, y)
-    coef = dm.coefficients(final, beta, names, ctx)
-    gear = extended_gear(base, final, coef, data)
+    sequence = [r['structure'] for r in rounds]
+    if not sequence or sequence[-1] is not cur:
+        sequence.append(cur)
+    ext = extended_model(base, sequence, ctx, y)
+    gear, final, coef = ext['gear'], ext['structure'], ext['coef']
+    kept = max(ext['kept'], 0)
+    physical = {e: i < kept for i, e in enumerate(named)}
+    if kept < len(named):
+        cur_cv = _cv(final, None, ctx, y, block, k) if kept else base_cv
     timing['extended_fit_s'] = time.perf_counter() - t0
 
     t0 = time.perf_counter()
     gb, ob = _fold_gears(base, base_cv, ctx, data)
     vb_sim, meas, folds = simulate_windows(data, gb, ob)
-    if named:
+    if kept:
         ge, oe = _fold_gears(base, cur_cv, ctx, data)
         ve_sim, _, _ = simulate_windows(data, ge, oe)
     else:
@@ -550,12 +422,13 @@ def diagnose(paths, base, effects=EFFECTS, joint_name=None, progress=None):
     def vrmse(sim):
         return float(np.sqrt(np.mean((sim - meas) ** 2))) if sim.size else None
 
-    candidates = []
-    for eff in effects:
-        entry = dict(added_entries.get(eff) or last_table.get(eff) or
-                     {'effect': eff, 'gain': 0.0, 'significant': False})
-        entry['significant'] = eff in named
-        candidates.append(entry)
+    candidates = _candidates(effects, why, named, added_entries, last_table, physical,
+                             ext['reason'])
+    notes = []
+    if ext['kept'] < 0:
+        notes.append('extended.yaml is the base file as given: ' + ext['reason'])
+    elif kept < len(named):
+        notes.append(f'extended.yaml leaves out {", ".join(named[kept:])}: ' + ext['reason'])
     report = {
         'named_causes': named,
         'candidates': candidates,
@@ -576,13 +449,39 @@ def diagnose(paths, base, effects=EFFECTS, joint_name=None, progress=None):
                  'bin_s': 0.01, 'sliding_s': data.n_bins * 0.01,
                  'xi_range': [float(data.xi.min()), float(data.xi.max())],
                  'torque_source': 'link_torque' if data.link_torque else 'lever model',
-                 'velocity_windows': int(meas.shape[0]), 'window_s': WINDOW},
+                 'velocity_windows': int(meas.shape[0]), 'window_s': WINDOW,
+                 'has_temperature': bool(data.has_temperature),
+                 'scales': {'v_stick': data.v_stick, 'resolution': data.resolution,
+                            'friction_level': data.friction_level, 'stroke': data.stroke}},
         'base_fit': dm.coefficients(base_struct, *_refit(base_struct, ctx, y)),
         'extended_fit': coef,
+        'extended_effects': named[:kept],
+        'untestable': dict(why),
+        'notes': notes,
         'timing': timing,
     }
     vel = {'base': vb_sim, 'extended': ve_sim, 'measured': meas, 'folds': folds}
     return Diagnosis(report, gear, data, base, ctx, rounds, base_cv, cur_cv, vel)
+
+
+def _candidates(effects, why, named, added, last, physical, reason):
+    """Candidate table of the report: one entry per effect, testable or not."""
+    out = []
+    for eff in effects:
+        if eff in why:
+            out.append({'effect': eff, 'testable': False, 'reason': why[eff], 'gain': 0.0,
+                        'significant': False})
+            continue
+        entry = dict(added.get(eff) or last.get(eff) or
+                     {'effect': eff, 'gain': 0.0, 'significant': False})
+        entry['testable'] = True
+        entry['significant'] = eff in named
+        if eff in named:
+            entry['physical'] = bool(physical[eff])
+            if not physical[eff]:
+                entry['reason'] = reason
+        out.append(entry)
+    return out
 
 
 def _refit(s, ctx, y):

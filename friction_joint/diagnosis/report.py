@@ -200,12 +200,15 @@ def markdown(diag, figure_names, model_path):
     rep = diag.report
     crit = rep['criterion']
     named = rep['named_causes']
+    xi = rep['data']['xi_range']
+    temp = 'no temperature signal'
+    if rep['data'].get('has_temperature', True):
+        temp = f'temperature {xi[0]:.2f}..{xi[1]:.2f} degC'
     lines = ['# Friction model diagnosis', '',
              f'Base model: `{model_path}`  ',
              'Recordings: ' + ', '.join(f'`{p}`' for p in rep['data']['recordings']), '',
              f'{rep["data"]["sliding_s"]:.1f} s of sliding data (10 ms bins), '
-             f'temperature {rep["data"]["xi_range"][0]:.2f}..'
-             f'{rep["data"]["xi_range"][1]:.2f} degC, '
+             f'{temp}, sliding above {rep["data"]["scales"]["v_stick"]:.3g} rad/s, '
              f'external torque from the {rep["data"]["torque_source"]}.', '',
              '## Result', '',
              ('**Missing effects: ' + ', '.join(named) + '**') if named else
@@ -224,15 +227,26 @@ def markdown(diag, figure_names, model_path):
              f'its gain ({crit["gain"]}) is at least {100 * crit["min_gain"]:.0f} %.  '
              f'Selection: {crit["selection"]}.', '',
              '## Candidates', '',
-             '| effect | round | gain | p | p (Holm) | blocks improved | significant |',
-             '|---|---|---|---|---|---|---|']
+             '| effect | testable | round | gain | p | p (Holm) | blocks improved | significant '
+             '| note |',
+             '|---|---|---|---|---|---|---|---|---|']
     for c in rep['candidates']:
-        lines.append(f'| {c["effect"]} | {c.get("round", "-")} | {100 * c.get("gain", 0):.1f} % | '
+        if not c.get('testable', True):
+            lines.append(f'| {c["effect"]} | no | - | - | - | - | - | no | {c["reason"]} |')
+            continue
+        note = c.get('note', '')
+        if c.get('physical') is False:
+            note = 'not physical, left out of extended.yaml: ' + c.get('reason', '')
+        lines.append(f'| {c["effect"]} | yes | {c.get("round", "-")} | '
+                     f'{100 * c.get("gain", 0):.1f} % | '
                      f'{_fmt(c.get("p_value"), ".2g")} | {_fmt(c.get("p_holm"), ".2g")} | '
                      f'{c.get("blocks_improved", "-")}/{c.get("blocks", "-")} | '
-                     f'{"**yes**" if c["significant"] else "no"} |')
+                     f'{"**yes**" if c["significant"] else "no"} | {note} |')
     lines += ['', 'Named effects: gain when added (against the model at that round); the others: '
-              'gain against the final model.', '']
+              'gain against the final model.  An untestable candidate (the data cannot tell '
+              'it) is never named.', '']
+    for note in rep.get('notes', []):
+        lines += [f'**Note:** {note}', '']
     adj = rep['extended_fit'].get('sigma1_passivity')
     if adj:
         lines += [f'`extended.yaml`: friction.lugre.sigma1 lowered from {adj["from"]:g} to '

@@ -36,7 +36,22 @@ Nonlinear parameters and their grids: ``vs`` (Stribeck velocity), ``dv``
 (delta_v level), ``cyc`` (ripple fundamental, cycles per output revolution:
 2 N first, then N), ``ps`` (pre-sliding model and stiffness).  A structure's
 temperature-dependent ``vs``/``delta_v`` polynomials keep their shape; the grid
-sets their level.
+sets their level.  The grids in physical units derive from the data
+(:class:`~friction_joint.diagnosis.data.DiagnosisData` scales), never from
+numbers of one gear: ``vs`` spans ``max(1.5 v_stick, P1 / 2)`` to
+``0.3 P99`` of the sliding speeds (:data:`N_VS` points, log spaced); the
+pre-sliding stiffness is ``g / L`` for pre-sliding lengths L from
+:data:`PS_MIN_RESOLUTIONS` position resolutions to :data:`PS_MAX_STROKE` of
+the stroke, a factor :data:`PS_STEP` apart (g the mean Coulomb level).
+
+Physical fits
+-------------
+Every least-squares fit is bounded (:func:`solve_physical`): F_c, F_s and F_v
+(with their load terms) must be >= 0 on a grid over the temperature range the
+fit is valid on (the data's, clipped to the base's) and over the data's load
+range.  The unconstrained solution is kept when it satisfies this; otherwise
+the quadratic problem is solved with the inequalities (SLSQP).  v_s > 0 and
+delta_v in [0.3, 1.7] hold by their grids.
 """
 import dataclasses
 import math
@@ -45,12 +60,21 @@ import numpy as np
 
 from .._jit import njit
 
-__all__ = ['CandidateStructure', 'design', 'solve', 'CVResult', 'cross_validate_structures',
-           'fit_all', 'grid_of', 'coefficients', 'presliding_state']
+__all__ = ['CandidateStructure', 'design', 'solve', 'solve_physical', 'CVResult',
+           'cross_validate_structures', 'fit_all', 'grid_of', 'coefficients', 'presliding_state',
+           'fit_range']
 
-VS_GRID = np.geomspace(0.003, 1.0, 15)           # rad/s, output side
+#: points of the Stribeck velocity grid
+N_VS = 15
 DV_GRID = np.array([0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9, 0.95, 1.0, 1.05, 1.1, 1.2, 1.35, 1.5, 1.7])
-PS_GRID = np.geomspace(1e3, 3e6, 12)            # Nm/rad (sigma0, or sum of GMS k_i)
+#: shortest pre-sliding length of the grid, in position resolutions
+PS_MIN_RESOLUTIONS = 2.0
+#: longest pre-sliding length of the grid, as a fraction of the stroke
+PS_MAX_STROKE = 0.25
+#: ratio of neighbouring pre-sliding lengths of the grid
+PS_STEP = 2.0
+#: temperature points of the physical constraints
+N_CONSTRAINT = 9
 RIPPLE_HARMONICS = 3
 GMS_RATIOS = np.array([0.6, 0.25, 0.1, 0.05])
 
@@ -92,8 +116,23 @@ class Context:
         self.xc = float(np.mean(x))
         self.xs = max(float(np.std(x)), 0.5)
         self.u = (x - self.xc) / self.xs
-        self.ts = max(float(np.mean(data.tl)), 0.1)
+        level = getattr(data, 'friction_level', 1.0)
+        self.ts = max(float(np.mean(data.tl)), 0.05 * level)
         self.vl = data.tl / self.ts
+        self.range = fit_range(gear, data)
+        self.u_grid = (np.linspace(*self.range, N_CONSTRAINT) - self.xc) / self.xs
+        self.vl_max = float(np.max(self.vl)) if len(self.vl) else 0.0
+        sliding = np.abs(data.average(data.qd))
+        v_stick = getattr(data, 'v_stick', 2e-3)
+        lo_v = max(1.5 * v_stick, 0.5 * float(np.percentile(sliding, 1)))
+        hi_v = max(0.3 * float(np.percentile(sliding, 99)), 2.0 * lo_v)
+        self.vs_grid = np.geomspace(lo_v, hi_v, N_VS)
+        res = getattr(data, 'resolution', 0.0) or 1e-7
+        stroke = getattr(data, 'stroke', 0.0) or 1.0
+        l_lo = PS_MIN_RESOLUTIONS * res
+        l_hi = max(PS_MAX_STROKE * stroke, 2.0 * l_lo)
+        n_ps = int(min(40, math.ceil(math.log(l_hi / l_lo) / math.log(PS_STEP)) + 1))
+        self.ps_lengths = np.geomspace(l_lo, l_hi, n_ps)
         self.gear_ratio = gear.gear_ratio
         poly = np.polynomial.polynomial.polyval
         self.vs_shape = ((poly(x, f.vs) / poly(self.xc, f.vs))
@@ -107,7 +146,7 @@ class Context:
         self.gms_ratios = ratios / ratios.sum()
         self.gms_alpha = np.asarray(f.gms.alpha, float) if f.gms is not None else \
             np.full(len(ratios), 1.0 / len(ratios))
-        self.g_nom = 2.0
+        self.g_nom = level
         self.ps_models = ('lugre', 'gms')
         self.data = data
 
@@ -209,13 +248,14 @@ def grid_of(s, new, ctx):
     if new is None:
         return [s]
     if new == 'vs':
-        return [s.with_(vs=float(v)) for v in VS_GRID]
+        return [s.with_(vs=float(v)) for v in ctx.vs_grid]
     if new == 'dv':
         return [s.with_(dv=float(v)) for v in DV_GRID]
     if new == 'cyc':
         return [s.with_(cyc=float(c) * ctx.gear_ratio) for c in (2.0, 1.0)]
     if new == 'ps':
-        return [s.with_(ps=(m, float(k))) for m in ctx.ps_models for k in PS_GRID]
+        return [s.with_(ps=(m, float(ctx.g_nom / length))) for m in ctx.ps_models
+                for length in ctx.ps_lengths[::-1]]
     raise ValueError(new)
 
 
@@ -240,6 +280,68 @@ def solve(g, b):
     p = len(bs)
     beta = np.linalg.solve(gs + 1e-10 * np.eye(p), bs)
     return beta / sc
+
+
+def fit_range(gear, data):
+    """
+    Temperature range (degC) an extended model is valid on.
+
+    The data's range (rounded outward to 0.1 degC), clipped to the base's
+    ``friction.temperature_range``; the base's range when the data have no span.
+    """
+    lo, hi = gear.friction.temperature_range
+    xlo, xhi = float(np.min(data.xi)), float(np.max(data.xi))
+    nlo, nhi = max(lo, math.floor(xlo * 10) / 10), min(hi, math.ceil(xhi * 10) / 10)
+    return (nlo, nhi) if nhi > nlo else (lo, hi)
+
+
+def constraints(names, ctx):
+    """
+    Rows ``A`` of the physical constraints ``A beta >= 0`` of a design's columns, or None.
+
+    F_c, F_s and F_v (each with its load terms) at :data:`N_CONSTRAINT`
+    temperatures of ``ctx.range`` and at zero and the largest load of the data.
+    """
+    rows = []
+    for group in ('fc', 'fs', 'fv'):
+        cols = [(j, kind == group, i) for j, (kind, i) in enumerate(names)
+                if kind in (group, group + '_load')]
+        if not cols:
+            continue
+        for u in ctx.u_grid:
+            for vl in {0.0, ctx.vl_max}:
+                row = np.zeros(len(names))
+                for j, is_temp, i in cols:
+                    row[j] = u ** i if is_temp else vl ** i
+                rows.append(row)
+    return np.array(rows) if rows else None
+
+
+def solve_physical(g, b, a):
+    """
+    Least squares from normal equations with the constraints ``a beta >= 0`` (None: none).
+
+    The unconstrained solution (:func:`solve`) when it satisfies them, else the
+    bounded quadratic problem solved by SLSQP on scaled columns.
+    """
+    beta = solve(g, b)
+    if a is None:
+        return beta
+    sc = np.sqrt(np.maximum(np.diag(g), 1e-300))
+    scale = float(np.max(np.abs(a @ beta))) or 1.0
+    if np.min(a @ beta) >= 0.0:
+        return beta
+    from scipy import optimize
+    gs, bs, a_s = g / np.outer(sc, sc), b / sc, a / sc
+    gs = gs + 1e-10 * np.eye(len(bs))
+    z0 = beta * sc
+    margin = 1e-9 * scale            # strictly inside: the gear file checks >= 0 exactly
+    res = optimize.minimize(lambda z: z @ gs @ z - 2.0 * bs @ z, z0,
+                            jac=lambda z: 2.0 * (gs @ z - bs), method='SLSQP',
+                            constraints=[{'type': 'ineq', 'fun': lambda z: a_s @ z - margin,
+                                          'jac': lambda z: a_s}],
+                            options={'maxiter': 200, 'ftol': 1e-12})
+    return res.x / sc
 
 
 @dataclasses.dataclass
@@ -274,20 +376,21 @@ def _penalty(s, ctx):
 
 def cross_validate_structures(structures, ctx, y, block, k):
     """K-fold contiguous-block CV; per fold the grid point with the least training error wins."""
-    mats, colnames = [], []
+    mats, colnames, cons = [], [], []
     for s in structures:
         x, nm = design(s, ctx)
         mats.append((x, _normal(x, y, block, k)))
         colnames.append(nm)
+        cons.append(constraints(nm, ctx))
     sse = np.zeros(k)
     n = np.bincount(block, minlength=k).astype(float)
     chosen, betas, names = [], [], []
     pred = np.empty_like(y)
     for f in range(k):
         best = None
-        for (x, (g, b, yy)), s, nm in zip(mats, structures, colnames):
+        for (x, (g, b, yy)), s, nm, a in zip(mats, structures, colnames, cons):
             gt, bt = g.sum(0) - g[f], b.sum(0) - b[f]
-            beta = solve(gt, bt)
+            beta = solve_physical(gt, bt, a)
             train = ((yy.sum() - yy[f]) - 2 * beta @ bt + beta @ gt @ beta) * _penalty(s, ctx)
             if best is None or train < best[0]:
                 best = (train, beta, x, s, nm)
@@ -306,7 +409,7 @@ def fit_all(structures, ctx, y):
     best = None
     for s in structures:
         x, names = design(s, ctx)
-        beta = solve(x.T @ x, x.T @ y)
+        beta = solve_physical(x.T @ x, x.T @ y, constraints(names, ctx))
         r = y - x @ beta
         sse = float(r @ r) * _penalty(s, ctx)
         if best is None or sse < best[0]:

@@ -157,11 +157,19 @@ def _assert_rejected(res, out, *words):
 
 
 def test_missing_temperature_topic(good_topics, tmp_path):
+    """No /joint_temperature: thermal untestable (or, where the reader requires it, exit 2)."""
     topics = _copy_topics(good_topics)
     del topics['/joint_temperature']
     write_recording(tmp_path / 'rec', topics)
     res = _diagnose([tmp_path / 'rec'], BASE, tmp_path / 'out')
-    _assert_rejected(res, tmp_path / 'out', '/joint_temperature')
+    if res.returncode != 0:                 # a reader that still requires the topic
+        _assert_rejected(res, tmp_path / 'out', '/joint_temperature')
+        return
+    report = json.loads((tmp_path / 'out' / 'report.json').read_text())
+    thermal = next(c for c in report['candidates'] if c['effect'] == 'thermal')
+    assert thermal['testable'] is False, thermal
+    assert thermal['reason'] == 'no temperature signal in the recordings', thermal
+    assert 'thermal' not in report['named_causes']
 
 
 def test_truncated_mcap(good_topics, tmp_path):

@@ -1,0 +1,133 @@
+# Copyright 2026 friction_joint maintainers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""
+Which candidate effects the data can tell: untestable ones get a one-line reason.
+
+A candidate the data cannot tell is reported as untestable (``"testable":
+false`` with its ``reason``) and the diagnosis goes on with the others; it is
+never named.  Every rule is relative to the data's own scales
+(:class:`~friction_joint.diagnosis.data.DiagnosisData`: friction level,
+sliding threshold, position resolution), none in rad/s, Nm or Nm/rad:
+
+* ``thermal``: a temperature signal (``/joint_temperature``) whose 2.5-97.5 %
+  span while sliding is at least :data:`MIN_XI_SPAN` degC;
+* ``load``: a 2.5-97.5 % span of |tau_ext| of at least :data:`LOAD_SPAN`
+  times the friction level;
+* ``position_ripple``: travel over at least two ripple periods (2 pi / (2 N))
+  with every eighth of the period visited by five bins;
+* ``nonlinear_viscous``, ``stribeck``: sliding speeds spanning a ratio of at
+  least :data:`SPEED_RATIO` (5-95 %);
+* ``presliding``: at least :data:`MIN_REVERSALS` velocity reversals (sign
+  changes of qd among samples with ``|qd| >= v_stick``);
+* ``inertia``: std(J qdd) at least :data:`INERTIA_SPAN` times the friction
+  level (a base inertia of 0 cannot be scaled);
+* ``asymmetry``: both directions each at least :data:`MIN_DIRECTION` of the
+  sliding time.
+"""
+import math
+
+import numpy as np
+
+__all__ = ['MIN_XI_SPAN', 'LOAD_SPAN', 'SPEED_RATIO', 'MIN_REVERSALS', 'INERTIA_SPAN',
+           'MIN_DIRECTION', 'untestable']
+
+#: smallest temperature span (degC, 2.5-97.5 %) to test ``thermal``
+MIN_XI_SPAN = 0.5
+#: smallest load span (2.5-97.5 %) to test ``load``, as a fraction of the friction level
+LOAD_SPAN = 0.2
+#: smallest ratio of the 95th to the 5th percentile of the sliding speed
+SPEED_RATIO = 5.0
+#: fewest velocity reversals to test ``presliding``
+MIN_REVERSALS = 4
+#: smallest std(J qdd) to test ``inertia``, as a fraction of the friction level
+INERTIA_SPAN = 0.01
+#: smallest share of the sliding time in each direction to test ``asymmetry``
+MIN_DIRECTION = 0.05
+
+
+def _span(x):
+    return float(np.percentile(x, 97.5) - np.percentile(x, 2.5))
+
+
+def untestable(data, gear_ratio, effects):
+    """
+    Return ``{effect: reason}`` for the effects of ``effects`` the data cannot tell.
+
+    Parameters
+    ----------
+    data : DiagnosisData
+        The diagnosis data.
+    gear_ratio : float
+        The base gear's ratio (the ripple period is 2 pi / (2 gear_ratio)).
+    effects : sequence of str
+        Candidate effects.
+
+    Returns
+    -------
+    dict
+        Effect -> one-line reason, only for untestable effects.
+
+    """
+    why = {}
+    level = data.friction_level
+    qd = data.average(data.qd)
+    if 'thermal' in effects:
+        if not getattr(data, 'has_temperature', True):
+            why['thermal'] = 'no temperature signal in the recordings'
+        else:
+            span = _span(data.average(data.xi))
+            if span < MIN_XI_SPAN:
+                why['thermal'] = (f'temperature spans {span:.2f} degC while the joint slides '
+                                  f'(at least {MIN_XI_SPAN:g} degC needed)')
+    if 'load' in effects:
+        span = _span(data.average(data.tl))
+        if span < LOAD_SPAN * level:
+            why['load'] = (f'the load |tau_ext| spans {span:.3g} Nm while the joint slides, '
+                           f'less than {LOAD_SPAN:g} x the friction level {level:.3g} Nm')
+    if 'position_ripple' in effects:
+        period = 2 * math.pi / (2 * gear_ratio)
+        phase = np.mod(data.average(data.q), period) / period
+        hist = np.bincount(np.minimum((phase * 8).astype(int), 7), minlength=8)
+        travel = float(np.ptp(data.q))
+        if travel < 2 * period or np.any(hist < 5):
+            why['position_ripple'] = (f'the joint travels {travel:.4g} rad, too little to cover '
+                                      f'the ripple period 2 pi / (2 N) = {period:.4g} rad')
+    aq = np.abs(qd)
+    lo, hi = np.percentile(aq, 5), np.percentile(aq, 95)
+    for eff in ('nonlinear_viscous', 'stribeck'):
+        if eff in effects and hi < SPEED_RATIO * lo:
+            why[eff] = (f'sliding speeds span only {lo:.3g}..{hi:.3g} rad/s (5-95 %), a ratio '
+                        f'below {SPEED_RATIO:g}')
+    if 'presliding' in effects:
+        s = np.sign(data.qd[np.abs(data.qd) >= data.v_stick])
+        rev = int(np.count_nonzero(s[1:] != s[:-1]))
+        if rev < MIN_REVERSALS:
+            why['presliding'] = (f'only {rev} velocity reversals (at least {MIN_REVERSALS} '
+                                 'needed)')
+    if 'inertia' in effects:
+        jq = float(np.std(data.average(data.qdd))) * data.inertia
+        if data.inertia <= 0:
+            why['inertia'] = 'the base inertia is 0: no acceleration torque to rescale'
+        elif jq < INERTIA_SPAN * level:
+            why['inertia'] = (f'accelerations too small: std(J qdd) = {jq:.3g} Nm, less than '
+                              f'{INERTIA_SPAN:g} x the friction level {level:.3g} Nm')
+    if 'asymmetry' in effects:
+        for sgn, word in ((1, 'positive'), (-1, 'negative')):
+            share = np.count_nonzero(np.sign(qd) == sgn) / max(len(qd), 1)
+            if share < MIN_DIRECTION:
+                why['asymmetry'] = (f'the joint slides in the {word} direction {100 * share:.1f} '
+                                    f'% of the time (at least {100 * MIN_DIRECTION:g} % needed)')
+                break
+    return why
