@@ -19,6 +19,9 @@ Recordings (rosbag2 / MCAP) as numpy arrays, without ROS.
   (:class:`Recording`, :class:`JointStates`, ...);
 * :mod:`~friction_joint.bag.reader`: :func:`read_recording`, :func:`iter_messages`;
 * :mod:`~friction_joint.bag.writer`: :func:`write_recording`;
+* :mod:`~friction_joint.bag.importer`: :func:`import_logs`, CSV/TSV/NPZ logs -> the topics
+  of a recording (``friction_joint import``); :mod:`~friction_joint.bag.tables`:
+  :func:`read_table` (delimited text or ``.npz``);
 * :mod:`~friction_joint.bag.checksums`: :func:`seal_recording` (CRCs into what rosbags
   wrote), :func:`verify_checksums`;
 * :mod:`~friction_joint.bag.stamps`: the header-stamp rules of reading;
@@ -26,6 +29,7 @@ Recordings (rosbag2 / MCAP) as numpy arrays, without ROS.
 * :mod:`~friction_joint.bag.lockstep`: :func:`check_lockstep`, every step on every loop topic.
 """
 from .checksums import seal_recording, verify_checksums
+from .importer import import_logs, ImportedLog, load_mapping, parse_column, QUANTITIES
 from .lockstep import check_lockstep, LockstepCheck, LoopTopicCount
 from .plausible import check_samples, check_values
 from .reader import iter_messages, read_recording, recording_topics
@@ -37,4 +41,5 @@ __all__ = ['CONTRACT_TYPES', 'REQUIRED_TOPICS', 'JointStates', 'Temperature', 'L
            'JointCommand', 'ExternalTorque', 'Recording', 'read_recording', 'write_recording',
            'zero_order_hold', 'recording_topics', 'iter_messages', 'seal_recording',
            'verify_checksums', 'check_values', 'check_samples', 'check_lockstep',
-           'LockstepCheck', 'LoopTopicCount']
+           'LockstepCheck', 'LoopTopicCount', 'import_logs', 'ImportedLog', 'load_mapping',
+           'parse_column', 'QUANTITIES']

@@ -296,14 +296,19 @@ def read_recording(path, joint_name=None, *, check=True):
     Returns
     -------
     Recording
+        ``temperature`` is None when the recording has no ``/joint_temperature``
+        messages (a log without a temperature sensor); likewise the other optional
+        topics.
 
     Raises
     ------
     RecordingError
         The path is missing or not a recording, the file is truncated or corrupt or fails
-        its checksums, a required topic (``/joint_states``, ``/joint_temperature``) is
-        missing or empty, a contract topic has the wrong message type, no message names
-        the joint (the message lists the joints the recording has), data are NaN/inf,
+        its checksums, the required topic ``/joint_states`` is missing or empty (the
+        other topics are optional: ``temperature``, ``link_torque``, ... are None when
+        the recording has no message on them), a contract topic has the wrong message
+        type, no message names the joint (the message lists the joints the recording
+        has), data are NaN/inf,
         header stamps go backwards (a reversed stretch, overlapping runs, a message too
         late), two different messages have the same stamp, or a value is absurd.  The
         message names the file, the topic and where.
@@ -367,11 +372,11 @@ def read_recording(path, joint_name=None, *, check=True):
         _check_finite(f'{path}: {topic}', cols)
         return order(topic, raws, None, stamp, recv, cols)
 
-    t, t_recv, c = fixed_topic('/joint_temperature', {'xi': ('temperature', 0),
-                                                      'variance': ('variance', 0)})
-    temperature = Temperature(t, t_recv, c['xi'], c['variance'])
-
-    link_torque = joint_command = external_torque = None
+    temperature = link_torque = joint_command = external_torque = None
+    if data.get('/joint_temperature', ((),))[0]:
+        t, t_recv, c = fixed_topic('/joint_temperature', {'xi': ('temperature', 0),
+                                                          'variance': ('variance', 0)})
+        temperature = Temperature(t, t_recv, c['xi'], c['variance'])
     if data.get('/link_torque', ((),))[0]:
         t, t_recv, c = fixed_topic('/link_torque', {'tau': ('torque', 2)})
         link_torque = LinkTorque(t, t_recv, c['tau'])

@@ -17,7 +17,10 @@ The topics of a recording and the numpy arrays they are read into.
 
 A recording is a rosbag2 directory (``metadata.yaml`` + ``.mcap``, CDR, ROS 2
 Jazzy message definitions) or a single ``.mcap`` file, with the topics of the
-README's *Interfaces* (topics and recordings).
+README's *Interfaces* (topics and recordings).  Only ``/joint_states`` is
+required (:data:`REQUIRED_TOPICS`); every other topic, ``/joint_temperature``
+included, is optional and its attribute of :class:`Recording` is None when the
+recording lacks it (or has no message on it).
 :func:`~friction_joint.bag.read_recording` turns one into a :class:`Recording`
 of per-topic arrays; :func:`~friction_joint.bag.write_recording` writes one
 from arrays (tests, offline simulator runs, identification experiments).
@@ -67,8 +70,8 @@ CONTRACT_TYPES = {
     '/clock': 'rosgraph_msgs/msg/Clock',
 }
 
-#: topics every recording has (section 3)
-REQUIRED_TOPICS = ('/joint_states', '/joint_temperature')
+#: topics every recording has (section 3); ``/joint_temperature`` is optional
+REQUIRED_TOPICS = ('/joint_states',)
 
 #: nanoseconds per second
 NS = 1_000_000_000
@@ -208,8 +211,11 @@ class Recording:
         Where it was read from.
     joint_name : str
         The joint picked from the JointState topics.
-    joint_states, temperature : JointStates, Temperature
+    joint_states : JointStates
         Always present.
+    temperature : Temperature or None
+        ``/joint_temperature``; None when the recording has no temperature messages
+        (measured data without a temperature sensor, imported logs).
     link_torque, joint_command, external_torque : LinkTorque, JointCommand, ExternalTorque or None
         Present if the recording has the topic.
     topics : dict
@@ -227,7 +233,7 @@ class Recording:
     path: str
     joint_name: str
     joint_states: JointStates
-    temperature: Temperature
+    temperature: Temperature = None
     link_torque: LinkTorque = None
     joint_command: JointCommand = None
     external_torque: ExternalTorque = None
@@ -246,7 +252,18 @@ class Recording:
         return float(self.joint_states.t[-1] - self.joint_states.t[0])
 
     def temperature_at(self, t=None):
-        """Housing temperature ξ at ``t`` (default: the joint-state stamps), zero-order hold."""
+        """
+        Housing temperature ξ at ``t`` (default: the joint-state stamps), zero-order hold.
+
+        Raises
+        ------
+        RecordingError
+            The recording has no ``/joint_temperature`` messages (``temperature`` is None).
+
+        """
+        if self.temperature is None or len(self.temperature) == 0:
+            raise RecordingError(f'{self.path}: no /joint_temperature topic: the recording has '
+                                 'no gear housing temperature')
         t = self.joint_states.t if t is None else t
         return zero_order_hold(self.temperature.t, self.temperature.xi, t)
 

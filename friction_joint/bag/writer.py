@@ -143,7 +143,7 @@ def _topic_block(typestore, topic, spec, joint_name):
     return stamp, recv, _encode(typestore, msgtype, template, n, stamp, cols), msgtype
 
 
-def write_recording(path, topics, joint_name=None):
+def write_recording(path, topics, joint_name=None, *, custom_data=None):
     """
     Write a recording (rosbag2 directory, or a single ``.mcap`` file) from arrays.
 
@@ -162,6 +162,9 @@ def write_recording(path, topics, joint_name=None):
     joint_name : str, optional
         Joint name of JointState topics without ``name``; default the recording's joint
         name, else ``'joint'``.
+    custom_data : dict, optional
+        ``{key: str}`` written into ``metadata.yaml`` (rosbag2's ``custom_data``, e.g.
+        how an imported log was converted); not kept in a bare ``.mcap`` file.
 
     Returns
     -------
@@ -207,6 +210,8 @@ def write_recording(path, topics, joint_name=None):
     try:
         bagdir = os.path.join(tmp, base[:-5] if base.endswith('.mcap') else base)
         with Writer(bagdir, version=9, storage_plugin=StoragePlugin.MCAP) as writer:
+            for key, value in (custom_data or {}).items():
+                writer.set_custom_data(str(key), str(value))
             conns, recvs, which, rows = [], [], [], []
             for i, (topic, (_, recv, block, msgtype)) in enumerate(blocks.items()):
                 conns.append((writer.add_connection(topic, msgtype, typestore=typestore),

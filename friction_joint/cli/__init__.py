@@ -34,7 +34,7 @@ __all__ = ['main', 'build_parser', 'SUBCOMMANDS']
 
 #: subcommand modules of this package, in the order ``--help`` lists them
 SUBCOMMANDS = ('classic', 'experiment', 'identify', 'demo', 'record', 'replay', 'bringup',
-               'diagnose')
+               'diagnose', 'import_')
 
 
 def build_parser():

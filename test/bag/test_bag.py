@@ -285,15 +285,32 @@ def test_corrupt_structure(tmp_path, offset):
 
 def test_missing_required_topics(tmp_path):
     topics = _topics(n=100)
-    write_recording(tmp_path / 'a', {k: v for k, v in topics.items()
-                                     if k != '/joint_temperature'})
-    msg = _bad(tmp_path / 'a', 'no /joint_temperature topic')
-    assert '/joint_states' in msg                  # lists what is there
     write_recording(tmp_path / 'b', {'/joint_temperature': topics['/joint_temperature']})
-    _bad(tmp_path / 'b', 'no /joint_states topic')
-    empty = dict(topics, **{'/joint_temperature': {'t': [], 'xi': []}})
+    msg = _bad(tmp_path / 'b', 'no /joint_states topic')
+    assert '/joint_temperature' in msg             # lists what is there
+    empty = dict(topics, **{'/joint_states': {'t': [], 'q': [], 'qd': [], 'effort': []}})
     write_recording(tmp_path / 'c', empty)
-    _bad(tmp_path / 'c', '/joint_temperature has no messages')
+    _bad(tmp_path / 'c', '/joint_states has no messages')
+
+
+@pytest.mark.parametrize('how', ['absent', 'empty'])
+def test_temperature_is_optional(tmp_path, how):
+    """No /joint_temperature (or no message on it): read, with ``temperature`` None."""
+    topics = _topics(n=100)
+    if how == 'absent':
+        del topics['/joint_temperature']
+    else:
+        topics['/joint_temperature'] = {'t': [], 'xi': []}
+    write_recording(tmp_path / 'a', topics)
+    rec = read_recording(tmp_path / 'a')
+    assert rec.temperature is None
+    assert len(rec.joint_states) == 100 and rec.link_torque is not None
+    assert '/joint_temperature' not in rec.series()
+    assert '/joint_temperature' not in rec.summary()['topics']
+    with pytest.raises(RecordingError, match='no /joint_temperature topic'):
+        rec.temperature_at()
+    write_recording(tmp_path / 'copy', rec)            # round trip without the topic
+    assert read_recording(tmp_path / 'copy').temperature is None
 
 
 def test_nan_named_by_topic_and_count(tmp_path):

@@ -1,0 +1,118 @@
+# Copyright 2026 friction_joint maintainers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""
+``friction_joint import LOG [LOG ...] --out REC --time COL[:unit] --position ... ``.
+
+Outputs: README, *Interfaces* (recordings).
+
+Turns CSV/TSV/NPZ logs (one run per file) into a recording (method and
+conventions: :mod:`friction_joint.bag.importer`).  The columns and units come
+from the options or from ``--mapping FILE`` (YAML with the same keys; options
+given on the command line win).  The recording is built next to REC and
+renamed into place; an existing REC is an error unless ``--force``; on an
+error nothing is written and the command exits with status 2.  How the columns
+were converted is printed and written into REC's ``metadata.yaml``
+(``custom_data``, key ``friction_joint.import``).
+"""
+import sys
+
+from ..exceptions import RecordingError
+
+__all__ = ['NAME', 'HELP', 'DESCRIPTION', 'add_arguments', 'run']
+
+NAME = 'import'
+HELP = 'turn CSV/TSV/NPZ logs into a recording'
+DESCRIPTION = ('Turn CSV/TSV/NPZ logs (one run per file, kept as separate pieces) into a '
+               'recording: columns and units from the options or --mapping, linear devices '
+               'mapped to the joint with --radius, irregular stamps resampled, a log of the '
+               'friction itself written as the effort (--friction).')
+
+_COLUMNS = (('time', 's, ms, us'), ('position', 'rad, deg, rev; m, mm, um'),
+            ('velocity', 'rad/s, deg/s, rev/s; m/s, mm/s, um/s (default: centred difference)'),
+            ('torque', 'drive torque: Nm, Nmm; N, mN, uN'),
+            ('friction', 'friction logged directly, instead of --torque: Nm, Nmm; N, mN, uN'),
+            ('load', 'measured external torque tau_ext: Nm, Nmm; N, mN, uN'),
+            ('temperature', 'gear temperature: degC, K'))
+
+
+def add_arguments(parser):
+    """Add the ``import`` arguments to ``parser``."""
+    parser.add_argument('logs', nargs='+', metavar='LOG',
+                        help='text logs (comma, tab, semicolon or whitespace delimited, one '
+                             'header line) or .npz files; one run each')
+    parser.add_argument('--out', required=True, metavar='REC',
+                        help='recording to write (rosbag2 directory, or a .mcap file)')
+    for name, units in _COLUMNS:
+        parser.add_argument(f'--{name}', default=None, metavar='COL[:unit]',
+                            help=f'column (header name or 0-based index); units {units}')
+    parser.add_argument('--mapping', default=None, metavar='FILE',
+                        help='YAML with the column keys above (and radius, unwrap, '
+                             'flip_friction, skip_rows)')
+    parser.add_argument('--radius', type=float, default=None, metavar='R',
+                        help='radius (m) of a linear device: q = x / R, tau = F R (default 1)')
+    parser.add_argument('--unwrap', action='store_true', default=None,
+                        help='unwrap an angle logged modulo one turn')
+    parser.add_argument('--flip-friction', action='store_true', default=None,
+                        help='negate the --friction column (a log of the force on the moving '
+                             'body, which opposes motion)')
+    parser.add_argument('--skip-rows', type=int, default=None, metavar='N',
+                        help='lines to skip before the header line (default 0)')
+    parser.add_argument('--joint', default='joint', metavar='NAME',
+                        help='joint name of the recording (default: joint)')
+    parser.add_argument('--force', action='store_true', help='replace an existing REC')
+    parser.add_argument('--quiet', action='store_true', help='print only warnings')
+    return parser
+
+
+def run(args):
+    """Import the logs and write the recording; prints the conversions used."""
+    import os
+
+    from ..bag import import_logs, load_mapping, parse_column, write_recording
+    from ..output import OutputSet
+
+    columns, options = ({}, {}) if args.mapping is None else load_mapping(args.mapping)
+    for name, _ in _COLUMNS:
+        spec = getattr(args, name)
+        if spec is not None:
+            columns[name] = parse_column(name, spec, f'--{name}')
+    for key in ('radius', 'unwrap', 'flip_friction', 'skip_rows'):
+        if getattr(args, key) is not None:
+            options[key] = getattr(args, key)
+    if options.get('skip_rows', 0) < 0:
+        raise RecordingError('--skip-rows must be >= 0')
+    out = os.fspath(args.out)
+    inputs = [('LOG', p) for p in args.logs] + [('--mapping', args.mapping)]
+    with OutputSet(force=args.force, inputs=inputs, error=RecordingError) as outputs:
+        if out.endswith('.mcap'):
+            outputs.add_file(out)
+        else:
+            outputs.add_directory(out)
+        outputs.check()
+        log = import_logs(args.logs, columns, joint_name=args.joint, **options)
+        write_recording(outputs.staging_path(out), log.topics, joint_name=args.joint,
+                        custom_data=log.metadata())
+        outputs.publish()
+    for line in log.warnings:
+        print(f'friction_joint import: warning: {line}', file=sys.stderr)
+    if not args.quiet:
+        for line in log.notes:
+            print(line)
+        js = log.topics['/joint_states']
+        where = ('' if out.endswith('.mcap') else
+                 ' (conversions in its metadata.yaml, custom_data friction_joint.import)')
+        print(f'wrote {out}: {len(js["t"])} samples, {js["t"][-1] - js["t"][0]:.3f} s, topics '
+              f'{", ".join(log.topics)}{where}')
+    return 0
