@@ -24,16 +24,20 @@ Diagnosis: what a friction model gets wrong on measured data, and the extension 
   greedy extension (:func:`diagnose`);
 * :mod:`~friction_joint.diagnosis.gears`: gear files of fitted structures, the
   physical ``extended.yaml`` (:func:`extended_model`);
+* :mod:`~friction_joint.diagnosis.scan`: the open residual scan of the final
+  model's residual against time, position, velocity, ... (:func:`residual_scan`);
 * :mod:`~friction_joint.diagnosis.report`: figures, ``report.md`` and the files
   of the ``diagnose`` command (:func:`run_diagnose`).
 """
 from .data import DiagnosisData, load_data
 from .gears import extended_model
-from .pipeline import ALPHA, base_structure, diagnose, Diagnosis, EFFECTS, extend, MIN_GAIN
+from .pipeline import (ALPHA, base_structure, diagnose, Diagnosis, EFFECTS, extend, MIN_GAIN,
+                       UNREPRESENTABLE)
 from .report import run_diagnose
+from .scan import residual_scan
 from .structures import CandidateStructure, cross_validate_structures
 from .testability import untestable
 
 __all__ = ['EFFECTS', 'ALPHA', 'MIN_GAIN', 'Diagnosis', 'diagnose', 'base_structure', 'extend',
            'DiagnosisData', 'load_data', 'CandidateStructure', 'cross_validate_structures',
-           'untestable', 'extended_model', 'run_diagnose']
+           'untestable', 'extended_model', 'run_diagnose', 'residual_scan', 'UNREPRESENTABLE']

@@ -37,7 +37,8 @@ Method
    cycles per output turn; ``nonlinear_viscous``: free delta_v;
    ``stribeck``: F_s and v_s; ``presliding``: LuGre or GMS friction state
    instead of sign(qd); ``inertia``: J refitted; ``asymmetry``: constant
-   ``friction.offset``).  Each extended structure is fitted on K - 1 blocks
+   ``friction.offset``; ``drift``: the Coulomb term times 2 shifted Legendre
+   polynomials of the accumulated travel, 0..1).  Each extended structure is fitted on K - 1 blocks
    and predicts the held-out block (its nonlinear parameter chosen on the
    training blocks only).
 4. **Significance** -- the criterion: for candidate c against the current
@@ -62,12 +63,19 @@ Method
    0.5 s windows of held-out blocks, driven by the measured drive torque,
    temperature and external torque; velocity RMSE against the zero-phase
    differentiated encoder.
-
 7. **Extended model**: the final structure fitted on all data; an extension
    that still cannot be fitted physically (the gear file check fails) is left
    out of ``extended.yaml`` -- walking back over the greedy sequence -- and its
    candidate entry says ``"physical": false`` with the reason; the report is
    always written (:func:`~friction_joint.diagnosis.gears.extended_model`).
+   A named effect the gear file has no key for (:data:`UNREPRESENTABLE`:
+   ``drift``) is left out of ``extended.yaml`` (fitted without it, the other
+   effects kept), reported ``"representable": false`` with the reason and in
+   ``notes``; ``diagnosed`` gives the fit and held-out RMSE with it.
+8. **Residual scan** (:mod:`friction_joint.diagnosis.scan`): the held-out
+   residual of the diagnosed model against time, position (periodogram),
+   velocity, acceleration, temperature rate and dwell time, each with a
+   held-out explained variance and a permutation p-value.
 
 Outputs: ``report.json`` (named causes, candidate table, baseline/extended
 held-out RMSE, per-round tables, timing), ``extended.yaml`` (a gear file of
@@ -83,16 +91,21 @@ from scipy import stats
 from . import structures as dm
 from .data import load_data
 from .gears import extended_model, sim_gear
+from .scan import residual_scan
 from .testability import untestable
 from ..exceptions import ExcitationError, GearConfigError
 from ..output import json_clean
 
-__all__ = ['EFFECTS', 'ALPHA', 'MIN_GAIN', 'WINDOW', 'Diagnosis', 'diagnose',
+__all__ = ['EFFECTS', 'UNREPRESENTABLE', 'ALPHA', 'MIN_GAIN', 'WINDOW', 'Diagnosis', 'diagnose',
            'base_structure', 'extend']
 
 #: candidate effects (README, Interfaces: diagnose outputs), in the order they are reported
 EFFECTS = ('thermal', 'load', 'position_ripple', 'nonlinear_viscous', 'stribeck',
-           'presliding', 'inertia', 'asymmetry')
+           'presliding', 'inertia', 'asymmetry', 'drift')
+#: effects the gear file has no key for: named and measured, not in ``extended.yaml``
+UNREPRESENTABLE = {'drift': 'not representable in the gear file (it has no key for friction '
+                            'that changes with accumulated travel): extended.yaml has the '
+                            'Coulomb level averaged over the data'}
 #: family-wise significance level (Holm over the candidates of a round)
 ALPHA = 0.05
 #: minimum relative reduction of the held-out torque RMSE to name a cause
@@ -149,6 +162,8 @@ def extend(s, effect):
         return None if s.inertia else (s.with_(inertia=True), None)
     if effect == 'asymmetry':
         return None if s.offset else (s.with_(offset=True), None)
+    if effect == 'drift':
+        return None if s.drift else (s.with_(drift=dm.DRIFT_ORDER), None)
     raise ValueError(f'unknown effect {effect!r}')
 
 
@@ -274,6 +289,7 @@ class Diagnosis:
     base_cv: object
     final_cv: object
     velocity: dict
+    scan: dict = None
 
     def to_dict(self):
         """Return the report (``report.json`` content, plain JSON types)."""
@@ -401,12 +417,14 @@ def diagnose(paths, base, effects=EFFECTS, joint_name=None, progress=None):
     sequence = [r['structure'] for r in rounds]
     if not sequence or sequence[-1] is not cur:
         sequence.append(cur)
-    ext = extended_model(base, sequence, ctx, y)
+    diag_cv = cur_cv
+    # the gear file has no key for some effects: extended.yaml is fitted without them
+    ext = extended_model(base, [s.with_(drift=0) for s in sequence], ctx, y)
     gear, final, coef = ext['gear'], ext['structure'], ext['coef']
     kept = max(ext['kept'], 0)
     physical = {e: i < kept for i, e in enumerate(named)}
-    if kept < len(named):
-        cur_cv = _cv(final, None, ctx, y, block, k) if kept else base_cv
+    if final != cur:
+        cur_cv = base_cv if final == base_struct else _cv(final, None, ctx, y, block, k)
     timing['extended_fit_s'] = time.perf_counter() - t0
 
     t0 = time.perf_counter()
@@ -429,6 +447,13 @@ def diagnose(paths, base, effects=EFFECTS, joint_name=None, progress=None):
         notes.append('extended.yaml is the base file as given: ' + ext['reason'])
     elif kept < len(named):
         notes.append(f'extended.yaml leaves out {", ".join(named[kept:])}: ' + ext['reason'])
+    for e in named:
+        if e in UNREPRESENTABLE:
+            notes.append(f'{e} is {UNREPRESENTABLE[e]}; the model with it has a held-out torque '
+                         f'RMSE of {diag_cv.rmse:.4g} Nm, extended.yaml {cur_cv.rmse:.4g} Nm')
+    t0 = time.perf_counter()
+    scan = residual_scan(data, y - diag_cv.pred)
+    timing['residual_scan_s'] = time.perf_counter() - t0
     report = {
         'named_causes': named,
         'candidates': candidates,
@@ -455,13 +480,17 @@ def diagnose(paths, base, effects=EFFECTS, joint_name=None, progress=None):
                             'friction_level': data.friction_level, 'stroke': data.stroke}},
         'base_fit': dm.coefficients(base_struct, *_refit(base_struct, ctx, y)),
         'extended_fit': coef,
-        'extended_effects': named[:kept],
+        'extended_effects': [e for e in named[:kept] if e not in UNREPRESENTABLE],
+        'residual_scan': scan['table'],
         'untestable': dict(why),
         'notes': notes,
         'timing': timing,
     }
+    if final != cur:
+        report['diagnosed'] = {'effects': list(named), 'torque_rmse': diag_cv.rmse,
+                               'fit': dm.coefficients(cur, *_refit(cur, ctx, y))}
     vel = {'base': vb_sim, 'extended': ve_sim, 'measured': meas, 'folds': folds}
-    return Diagnosis(report, gear, data, base, ctx, rounds, base_cv, cur_cv, vel)
+    return Diagnosis(report, gear, data, base, ctx, rounds, base_cv, cur_cv, vel, scan)
 
 
 def _candidates(effects, why, named, added, last, physical, reason):
@@ -480,6 +509,9 @@ def _candidates(effects, why, named, added, last, physical, reason):
             entry['physical'] = bool(physical[eff])
             if not physical[eff]:
                 entry['reason'] = reason
+            elif eff in UNREPRESENTABLE:
+                entry['representable'] = False
+                entry['reason'] = UNREPRESENTABLE[eff]
         out.append(entry)
     return out
 

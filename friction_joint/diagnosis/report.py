@@ -23,7 +23,9 @@ Figures (PNG bytes, rendered with :func:`friction_joint.output.render_png`):
   models over a few held-out windows;
 * ``cause_<effect>.png``: the base model's held-out residual (before the
   effect was added) and the residual after, against the effect's variable;
-* ``gains.png``: held-out gain of every candidate in every greedy round.
+* ``gains.png``: held-out gain of every candidate in every greedy round;
+* ``residual_scan.png``: the open residual scan
+  (:func:`~friction_joint.diagnosis.scan.draw_scan`).
 """
 import math
 import os
@@ -33,6 +35,8 @@ import numpy as np
 import yaml
 
 from .pipeline import diagnose, EFFECTS
+from .scan import markdown_lines, scan_png
+from .structures import accumulated_travel
 from ..gear import gear_from_dict, load_gear
 from ..output import json_bytes, OutputSet, render_png
 
@@ -48,6 +52,7 @@ CAUSE_VARIABLES = {
     'presliding': 'travel since the last velocity reversal (mrad); residual x sign(qd)',
     'inertia': 'acceleration qdd (rad/s^2)',
     'asymmetry': 'velocity qd (rad/s)',
+    'drift': 'accumulated travel (fraction of the total); residual x sign(qd)',
 }
 
 
@@ -80,6 +85,8 @@ def _variable(effect, data, diag):
         return 1e3 * _travel_since_reversal(data), sgn, True
     if effect == 'inertia':
         return data.average(data.qdd), 1.0, False
+    if effect == 'drift':
+        return data.average(accumulated_travel(data)), sgn, False
     return data.average(data.qd), 1.0, False
 
 
@@ -188,6 +195,8 @@ def figures(diag):
         ax.set_ylim(max(-20, ax.get_ylim()[0]), 100)
         ax.legend(fontsize=8)
     out.append(('gains.png', render_png(gains, (8, 4.5))))
+    if diag.scan is not None:
+        out.append(('residual_scan.png', scan_png(diag.scan)))
     return out
 
 
@@ -237,6 +246,8 @@ def markdown(diag, figure_names, model_path):
         note = c.get('note', '')
         if c.get('physical') is False:
             note = 'not physical, left out of extended.yaml: ' + c.get('reason', '')
+        elif c.get('representable') is False:
+            note = c.get('reason', '')
         lines.append(f'| {c["effect"]} | yes | {c.get("round", "-")} | '
                      f'{100 * c.get("gain", 0):.1f} % | '
                      f'{_fmt(c.get("p_value"), ".2g")} | {_fmt(c.get("p_holm"), ".2g")} | '
@@ -253,7 +264,10 @@ def markdown(diag, figure_names, model_path):
                   f'{adj["to"]:g}, below the passivity bound sigma2 Fc / (Fs - Fc) = '
                   f'{adj["bound"]:.4g} of the extended curve (Astrom & Canudas de Wit 2008).', '']
     for name in figure_names:
-        lines += [f'![{name}]({name})', '']
+        if name != 'residual_scan.png':
+            lines += [f'![{name}]({name})', '']
+    if rep.get('residual_scan'):
+        lines += markdown_lines(rep['residual_scan'])
     lines += ['## Timing', '', '| stage | s |', '|---|---|']
     lines += [f'| {k} | {v:.2f} |' for k, v in rep['timing'].items()]
     return '\n'.join(lines) + '\n'

@@ -24,9 +24,11 @@ and its nonlinear parameters by a grid (variable projection):
           + sum_k fv_k u^k sign(qd) |kappa qd|^delta_v + ...        (viscous, eq. 5)
           + sum_n a_n sin(n c q) + b_n cos(n c q)                  (position ripple)
           + offset + dJ q̈                                          (asymmetry, inertia)
+          + sum_j fc_drift_j P_j(s) h (1 - E)                          (drift)
 
 with E = exp(-|kappa qd / v_s|^delta_s), u the (clipped, centred, scaled)
-temperature, tl = |tau_ext| and h = sign(qd) for a static model.  For a
+temperature, tl = |tau_ext|, P_j the shifted Legendre polynomials of the
+accumulated travel s (0..1, :func:`accumulated_travel`) and h = sign(qd) for a static model.  For a
 pre-sliding model h is the normalised friction state driven by the measured
 (filtered) position: LuGre h' = (sigma0 / g) (dq - |dq| h) solved exactly per
 sample, GMS h = sum alpha_i h_i with Maxwell-slip elements h_i clipped to
@@ -62,7 +64,7 @@ from .._jit import njit
 
 __all__ = ['CandidateStructure', 'design', 'solve', 'solve_physical', 'CVResult',
            'cross_validate_structures', 'fit_all', 'grid_of', 'coefficients', 'presliding_state',
-           'fit_range']
+           'fit_range', 'drift_basis', 'DRIFT_ORDER', 'accumulated_travel']
 
 #: points of the Stribeck velocity grid
 N_VS = 15
@@ -76,6 +78,10 @@ PS_STEP = 2.0
 #: temperature points of the physical constraints
 N_CONSTRAINT = 9
 RIPPLE_HARMONICS = 3
+#: basis functions of the travel-dependent Coulomb level of ``drift``
+DRIFT_ORDER = 2
+#: points of the travel grid of the physical constraints of ``drift``
+N_DRIFT_CONSTRAINT = 9
 GMS_RATIOS = np.array([0.6, 0.25, 0.1, 0.05])
 
 
@@ -94,6 +100,7 @@ class CandidateStructure:
     offset: bool = False
     inertia: bool = False
     presliding: bool = False
+    drift: int = 0
     # nonlinear parameter values
     vs: float = 0.05
     dv: float = 1.0
@@ -149,6 +156,33 @@ class Context:
         self.g_nom = level
         self.ps_models = ('lugre', 'gms')
         self.data = data
+        self._travel = None
+
+    @property
+    def travel(self):
+        """Return the accumulated travel as a fraction of its total, 0..1, at full rate."""
+        if self._travel is None:
+            self._travel = accumulated_travel(self.data)
+        return self._travel
+
+
+def accumulated_travel(data):
+    """
+    Accumulated travel s / s_total (full rate, 0..1) of the data, in recording order.
+
+    ``s = sum |dq|`` of the zero-phase filtered position, not counted across
+    the gaps between pieces.
+    """
+    dq = np.abs(np.diff(data.qf, prepend=data.qf[0]))
+    dq[np.r_[True, data.piece[1:] != data.piece[:-1]]] = 0.0
+    s = np.cumsum(dq)
+    return s / s[-1] if s[-1] > 0 else s
+
+
+def drift_basis(x, order):
+    """Shifted Legendre polynomials 1..``order`` of ``x`` in 0..1 (list of arrays)."""
+    z = 2.0 * np.asarray(x, float) - 1.0
+    return [np.polynomial.legendre.legval(z, np.eye(order + 1)[j]) for j in range(1, order + 1)]
 
 
 @njit
@@ -223,6 +257,10 @@ def design(s, ctx):
             names.append((name + '_load', m))
 
     terms(h * (1.0 - e), 'fc', s.nfc, s.nfc_load)
+    if s.drift:
+        for j, phi in enumerate(drift_basis(ctx.travel, s.drift), 1):
+            cols.append(h * (1.0 - e) * phi)
+            names.append(('fc_drift', j))
     if s.nfs:
         terms(h * e, 'fs', s.nfs, s.nfs_load)
     dv = s.dv + ctx.dv_shift
@@ -304,16 +342,21 @@ def constraints(names, ctx):
     """
     rows = []
     for group in ('fc', 'fs', 'fv'):
-        cols = [(j, kind == group, i) for j, (kind, i) in enumerate(names)
-                if kind in (group, group + '_load')]
+        cols = [(j, kind[len(group):], i) for j, (kind, i) in enumerate(names)
+                if kind in (group, group + '_load', group + '_drift')]
         if not cols:
             continue
+        n_drift = max([i for _, kind, i in cols if kind == '_drift'] or [0])
+        s_grid = np.linspace(0.0, 1.0, N_DRIFT_CONSTRAINT) if n_drift else np.zeros(1)
+        phis = drift_basis(s_grid, n_drift) if n_drift else []
         for u in ctx.u_grid:
             for vl in {0.0, ctx.vl_max}:
-                row = np.zeros(len(names))
-                for j, is_temp, i in cols:
-                    row[j] = u ** i if is_temp else vl ** i
-                rows.append(row)
+                for m in range(len(s_grid)):
+                    row = np.zeros(len(names))
+                    for j, kind, i in cols:
+                        row[j] = (u ** i if kind == '' else vl ** i if kind == '_load'
+                                  else phis[i - 1][m])
+                    rows.append(row)
     return np.array(rows) if rows else None
 
 
@@ -464,4 +507,8 @@ def coefficients(s, beta, names, ctx):
         out['d_inertia'] = by['inertia'][0]
     if s.presliding:
         out['presliding'] = {'model': s.ps[0], 'stiffness': s.ps[1]}
+    if s.drift:
+        out['drift'] = {'basis': 'shifted Legendre polynomials 1..n of the accumulated travel '
+                                 'as a fraction of its total, times the Coulomb term',
+                        'fc_drift': [by['fc_drift'][j] for j in range(1, s.drift + 1)]}
     return out

@@ -34,14 +34,16 @@ sliding threshold, position resolution), none in rad/s, Nm or Nm/rad:
 * ``inertia``: std(J qdd) at least :data:`INERTIA_SPAN` times the friction
   level (a base inertia of 0 cannot be scaled);
 * ``asymmetry``: both directions each at least :data:`MIN_DIRECTION` of the
-  sliding time.
+  sliding time;
+* ``drift``: an accumulated travel of at least :data:`DRIFT_STROKES` strokes
+  (so the travel is not confounded with the position).
 """
 import math
 
 import numpy as np
 
 __all__ = ['MIN_XI_SPAN', 'LOAD_SPAN', 'SPEED_RATIO', 'MIN_REVERSALS', 'INERTIA_SPAN',
-           'MIN_DIRECTION', 'untestable']
+           'MIN_DIRECTION', 'DRIFT_STROKES', 'untestable']
 
 #: smallest temperature span (degC, 2.5-97.5 %) to test ``thermal``
 MIN_XI_SPAN = 0.5
@@ -55,6 +57,8 @@ MIN_REVERSALS = 4
 INERTIA_SPAN = 0.01
 #: smallest share of the sliding time in each direction to test ``asymmetry``
 MIN_DIRECTION = 0.05
+#: least accumulated travel to test ``drift``, in strokes (largest position range of a piece)
+DRIFT_STROKES = 5.0
 
 
 def _span(x):
@@ -130,4 +134,11 @@ def untestable(data, gear_ratio, effects):
                 why['asymmetry'] = (f'the joint slides in the {word} direction {100 * share:.1f} '
                                     f'% of the time (at least {100 * MIN_DIRECTION:g} % needed)')
                 break
+    if 'drift' in effects:
+        qf = data.qf
+        dq = np.abs(np.diff(qf))[data.piece[1:] == data.piece[:-1]]
+        travel, stroke = float(np.sum(dq)), float(data.stroke)
+        if not travel >= DRIFT_STROKES * stroke or stroke <= 0:
+            why['drift'] = (f'the joint travels {travel:.4g} rad in all, less than '
+                            f'{DRIFT_STROKES:g} strokes of {stroke:.4g} rad')
     return why

@@ -1,0 +1,76 @@
+# Copyright 2026 friction_joint maintainers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""
+The open residual scan points at an effect outside the candidate list.
+
+A base recording of the simulated test bed gets a torque periodic in position
+added to its drive torque, at a period drawn at random (seeded; override with
+``FRICTION_JOINT_TEST_SEED``) well away from the gear's ripple periods
+2 pi / (k N), so no candidate covers it: the scan's strongest position period
+must be within 5 % of the drawn one, significant and flagged.  On a clean
+recording no variable is flagged.
+"""
+import math
+import os
+from pathlib import Path
+
+import friction_joint
+from friction_joint.bag import write_recording
+from friction_joint.diagnosis import diagnose
+from friction_joint.diagnosis.scan import SCAN_ALPHA
+from friction_joint.experiments.hidden import simulate_recording
+import numpy as np
+
+ROOT = Path(__file__).resolve().parents[2]
+BASE = ROOT / 'config' / 'csd25_base.yaml'
+MASTER_SEED = int(os.environ.get('FRICTION_JOINT_TEST_SEED', '20260106'))
+
+
+def _scan(tmp_path, case, periodic):
+    rng = np.random.default_rng([MASTER_SEED, case])
+    seed = int(rng.integers(0, 2**31 - 1))
+    base = friction_joint.load_gear(BASE)
+    topics, _ = simulate_recording(base, None, duration=30.0, seed=seed)
+    drawn = {}
+    if periodic:
+        longest_ripple = 2 * math.pi / base.gear_ratio        # 2 pi / (k N), k >= 1
+        period = float(rng.uniform(1.3 * longest_ripple, 0.4))
+        amp = float(rng.uniform(0.03, 0.08)) * base.friction.fc[0]
+        js = topics['/joint_states']
+        js['effort'] = js['effort'] + amp * np.sin(2 * np.pi * js['q'] / period
+                                                   + rng.uniform(0, 2 * np.pi))
+        drawn = {'period': period, 'amplitude': amp}
+    write_recording(tmp_path / 'rec', topics)
+    rep = diagnose([str(tmp_path / 'rec')], base).to_dict()
+    what = f'[master seed {MASTER_SEED}] hidden {drawn or "nothing"}, recording seed {seed}'
+    return {e['variable']: e for e in rep['residual_scan']}, drawn, what, rep
+
+
+def test_scan_finds_a_period_in_position(tmp_path):
+    """A torque periodic in position at a drawn period: found within 5 %, flagged."""
+    scan, drawn, what, rep = _scan(tmp_path, 1, True)
+    pos = scan['position']
+    assert abs(pos['period'] / drawn['period'] - 1) < 0.05, f'{what}: {pos}'
+    assert pos['p_value'] < SCAN_ALPHA and pos['flagged'], f'{what}: {pos}'
+
+
+def test_scan_clean_recording(tmp_path):
+    """No hidden effect: no variable flagged; variables the data lack get a note."""
+    scan, _, what, rep = _scan(tmp_path, 2, False)
+    assert set(scan) == {'time', 'position', 'velocity', 'acceleration', 'temperature_rate',
+                         'dwell'}, what
+    assert not [e for e in scan.values() if e['flagged']], f'{what}: {scan}'
+    for e in scan.values():
+        assert e['note'] or e['p_value'] is not None, e
