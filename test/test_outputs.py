@@ -276,7 +276,8 @@ def test_diagnose_force_leaves_no_stale_figures(diag_recording, tmp_path):
     assert diagnose(diag_recording, out, '--force') == 0
     assert json.loads((out / 'report.json').read_text())['named_causes'] == []
     assert sorted(os.listdir(out)) == ['extended.yaml', 'gains.png', 'report.json',
-                                       'report.md', 'torque.png', 'velocity.png']
+                                       'report.md', 'residual_scan.png', 'torque.png',
+                                       'velocity.png']
     assert stat.S_IMODE((out / 'report.json').stat().st_mode) == normal_mode()
     assert leftovers(tmp_path) == []
 

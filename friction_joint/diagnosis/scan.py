@@ -49,7 +49,8 @@ import numpy as np
 from .data import BIN
 
 __all__ = ['N_PERM', 'N_QUANT', 'SCAN_ALPHA', 'SCAN_MIN_EXPLAINED', 'BREAKAWAY_BINS',
-           'RATE_WINDOW', 'residual_scan', 'draw_scan', 'scan_png', 'markdown_lines']
+           'RATE_WINDOW', 'residual_scan', 'draw_scan', 'scan_png', 'markdown_lines',
+           'position_periodogram']
 
 #: circular shifts of the permutation test
 N_PERM = 199
@@ -123,8 +124,8 @@ def _scan_variable(name, x, r, block, k, rng):
             {'x': x, 'r': r})
 
 
-def _periodogram(q, rows, p_min, p_max):
-    """Periods and |FFT|^2 (rows) of the residual on a uniform position grid."""
+def position_periodogram(q, rows, p_min, p_max):
+    """Return periods and |FFT|^2 (per row) of residuals ``rows`` on a uniform grid of ``q``."""
     span = float(np.ptp(q))
     cell = max(p_min / 4.0, span / MAX_CELLS)
     idx = np.minimum(((q - q.min()) / cell).astype(np.int64), int(span / cell))
@@ -164,7 +165,7 @@ def _scan_position(data, r, rows, block, k):
         return {'variable': 'position', 'explained': None, 'p_value': None,
                 'note': f'the stroke {p_max:.4g} rad is too short for periods above '
                         f'{p_min:.4g} rad'}, None
-    periods, power = _periodogram(q, rows, p_min, p_max)
+    periods, power = position_periodogram(q, rows, p_min, p_max)
     j = int(np.argmax(power[0]))
     peak = power.max(axis=1)
     p = float((1 + np.count_nonzero(peak[1:] >= peak[0])) / (1 + N_PERM))

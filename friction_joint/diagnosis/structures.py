@@ -60,11 +60,13 @@ import math
 
 import numpy as np
 
+from .data import BIN
+from .scan import position_periodogram
 from .._jit import njit
 
 __all__ = ['CandidateStructure', 'design', 'solve', 'solve_physical', 'CVResult',
            'cross_validate_structures', 'fit_all', 'grid_of', 'coefficients', 'presliding_state',
-           'fit_range', 'drift_basis', 'DRIFT_ORDER', 'accumulated_travel']
+           'fit_range', 'drift_basis', 'DRIFT_ORDER', 'accumulated_travel', 'ripple_cycles']
 
 #: points of the Stribeck velocity grid
 N_VS = 15
@@ -141,6 +143,7 @@ class Context:
         n_ps = int(min(40, math.ceil(math.log(l_hi / l_lo) / math.log(PS_STEP)) + 1))
         self.ps_lengths = np.geomspace(l_lo, l_hi, n_ps)
         self.gear_ratio = gear.gear_ratio
+        self.ripple_cycles = ripple_cycles(data, gear.gear_ratio)
         poly = np.polynomial.polynomial.polyval
         self.vs_shape = ((poly(x, f.vs) / poly(self.xc, f.vs))
                          if f.vs is not None and len(f.vs) > 1 else np.ones_like(x))
@@ -164,6 +167,35 @@ class Context:
         if self._travel is None:
             self._travel = accumulated_travel(self.data)
         return self._travel
+
+
+def ripple_cycles(data, gear_ratio):
+    """
+    Ripple fundamentals (cycles per output turn) tried by the ``position_ripple`` candidate.
+
+    2 N and N (tooth engagement of a gear of ratio N), plus the strongest
+    period of a periodogram of the measured friction torque against position
+    after a Coulomb + viscous fit, between twice the travel of a bin and half
+    the travel of the data, when it is not one of those: a ripple at another
+    period (motor cogging, a bearing) is found instead of assumed.
+    """
+    cycles = [2.0 * gear_ratio, float(gear_ratio)]
+    y = np.asarray(getattr(data, 'y', ()), float)
+    if len(y) < 50:
+        return cycles
+    q, v = data.average(data.q), data.average(data.qd)
+    x = np.column_stack([np.sign(v), v, np.ones_like(v)])
+    r = y - x @ np.linalg.lstsq(x, y, rcond=None)[0]
+    travel = float(np.sum(np.abs(np.diff(data.qf)))) if len(data.qf) > 1 else 0.0
+    p_min = max(2.0 * float(np.median(np.abs(v))) * BIN, 2.0 * getattr(data, 'resolution', 0.0))
+    p_max = min(0.5 * travel, float(np.ptp(q)))
+    if not (p_min > 0.0 and p_max > 2.0 * p_min):
+        return cycles
+    periods, power = position_periodogram(q, [r], p_min, p_max)
+    found = 2.0 * math.pi / float(periods[int(np.argmax(power[0]))])
+    if all(abs(found / c - 1.0) > 0.02 for c in cycles):
+        cycles.append(found)
+    return cycles
 
 
 def accumulated_travel(data):
@@ -290,7 +322,7 @@ def grid_of(s, new, ctx):
     if new == 'dv':
         return [s.with_(dv=float(v)) for v in DV_GRID]
     if new == 'cyc':
-        return [s.with_(cyc=float(c) * ctx.gear_ratio) for c in (2.0, 1.0)]
+        return [s.with_(cyc=float(c)) for c in ctx.ripple_cycles]
     if new == 'ps':
         return [s.with_(ps=(m, float(ctx.g_nom / length))) for m in ctx.ps_models
                 for length in ctx.ps_lengths[::-1]]

@@ -61,6 +61,17 @@ Topics: ``/joint_states`` (the plant's 3 kHz samples decimated to 1 kHz),
 ``simulate_recording(..., link_torque=False, command=False)`` leaves the
 optional topics out, as measured data may.
 
+Plant variation (keyword-only options; the defaults are the plant above)
+-----------------------------------------------------------------------
+``kinds`` (run kind per segment: ``rich`` as above, ``plateaus``, ``sweep``,
+``oneway``; :mod:`~friction_joint.experiments.hidden_plant`), ``gain_scale``
+(PD gains), ``noise_scale`` (sensor noise), ``current_bandwidth_scale``
+(drive-torque lag), ``temperature_lag_scale`` (temperature sensor lag), and
+through ``cfg`` the ``publish_rate`` and the ``gap`` between segments;
+:func:`~friction_joint.experiments.hidden_plant.draw_plant` draws them all.
+``draw_effect(rng, effect, strength=u)`` sets the size from weak (u = 0) to
+strong (u = 1).
+
 Effect sizes (:data:`EFFECT_RANGES`)
 ------------------------------------
 ``thermal``
@@ -93,13 +104,14 @@ import warnings
 import numpy as np
 
 from .excitation import record_segment
+from .hidden_plant import add_sweep, plan_kind, RUN_KINDS
 from ..bag import write_recording
 from ..control.controller import Controller, pd_gains
 from ..exceptions import FrictionJointError, GearConfigWarning
 from ..testbed.plant import Plant
 
-__all__ = ['EFFECTS', 'EFFECT_RANGES', 'apply_effect', 'apply_effects', 'draw_effect',
-           'segment_temperatures', 'plan_segment', 'simulate_recording']
+__all__ = ['EFFECTS', 'EFFECT_RANGES', 'MAGNITUDE', 'apply_effect', 'apply_effects',
+           'draw_effect', 'segment_temperatures', 'plan_segment', 'simulate_recording']
 
 #: effect names of README, Interfaces: diagnose outputs
 EFFECTS = ('thermal', 'load', 'position_ripple', 'nonlinear_viscous', 'stribeck',
@@ -153,17 +165,38 @@ def _span(base, temperatures=None):
     return lo, hi
 
 
-def draw_effect(rng, effect):
+#: magnitude (grows from weak to strong) of the size parameters and its inverse
+MAGNITUDE = {
+    'fc_change': (lambda x: x, lambda m: m), 'fv_change': (lambda x: x, lambda m: m),
+    'fc_load': (lambda x: x, lambda m: m), 'amplitude': (lambda x: x, lambda m: m),
+    'delta_v': (lambda x: 1.0 - x, lambda m: 1.0 - m),
+    'fs_ratio': (lambda x: x - 1.0, lambda m: 1.0 + m),
+    'stiffness_scale': (lambda x: 1.0 / x, lambda m: 1.0 / m),
+    'change': (lambda x: x, lambda m: m), 'offset': (lambda x: x, lambda m: m),
+}
+
+
+def draw_effect(rng, effect, *, strength=None):
     """
     Draw a random realistic size of ``effect``.
 
-    The size is a dict of the parameters of :data:`EFFECT_RANGES`.
+    The size is a dict of the parameters of :data:`EFFECT_RANGES`.  ``strength``
+    (optional, <= 1) sets the magnitude parameters (:data:`MAGNITUDE`) instead of
+    drawing them: 0 is the weakest end of the range, 1 the strongest, geometric in
+    the magnitude between; below 0 extrapolates to weaker sizes.  The other
+    parameters (sign, phase, model, vs) are drawn as usual.
     """
     if effect not in EFFECT_RANGES:
         raise FrictionJointError(f'unknown effect {effect!r}; effects: {", ".join(EFFECTS)}')
+    if strength is not None and not strength <= 1.0:
+        raise FrictionJointError(f'strength must be <= 1, got {strength}')
     out = {}
     for key, rng_ in EFFECT_RANGES[effect].items():
-        if key == 'sign':
+        if strength is not None and key in MAGNITUDE:
+            mag, inv = MAGNITUDE[key]
+            lo, hi = sorted((mag(rng_[0]), mag(rng_[1])))
+            out[key] = float(inv(lo * (hi / lo) ** strength))
+        elif key == 'sign':
             out[key] = float(rng.choice([-1.0, 1.0]))
         elif key == 'model':
             out[key] = str(rng.choice(list(rng_)))
@@ -287,18 +320,24 @@ def segment_temperatures(base, n_segments=None, cfg=SEGMENT):
     return np.linspace(a, b, n) if n > 1 else np.array([0.5 * (a + b)])
 
 
-def plan_segment(rng, gear_ratio, dt, duration, q0=0.0, cfg=SEGMENT):
+def plan_segment(rng, gear_ratio, dt, duration, q0=0.0, cfg=SEGMENT, *, kind='rich'):
     """
     Plan the reference ``(q, qd, qdd)`` of one temperature segment of about ``duration`` s.
 
-    Plateau pairs, pre-sliding sinusoids and a multi-sine sweep (module docstring);
-    the sweep fills whatever time the other parts leave.
+    ``kind='rich'``: plateau pairs, pre-sliding sinusoids and a multi-sine sweep
+    (module docstring); the sweep fills whatever time the other parts leave.  Other
+    kinds of :data:`~friction_joint.experiments.hidden_plant.RUN_KINDS`: see
+    :func:`~friction_joint.experiments.hidden_plant.plan_kind`.
     """
     from .excitation import BlockPlan
     scale = duration / 30.0
     plan = BlockPlan(dt)
     plan._add(np.array([q0]), np.zeros(1), np.zeros(1))
     plan.hold(cfg['hold'])
+    if kind != 'rich':
+        plan_kind(plan, rng, kind, duration, cfg)
+        q, qd, qdd = plan.arrays()
+        return q[1:], qd[1:], qdd[1:]
     bands = list(cfg['speed_bands'])
     order = rng.permutation(len(bands))
     for i in order:
@@ -325,39 +364,7 @@ def plan_segment(rng, gear_ratio, dt, duration, q0=0.0, cfg=SEGMENT):
     plan.hold(0.1)
     plan.move(0.0, cfg['move_accel'], cfg['move_speed'])
     # multi-sine sweep over the remaining time
-    rest = duration - plan.t_end
-    ramp = cfg['sweep_ramp']
-    if rest > 2.0 * ramp + 0.5:
-        m = int(round(rest / dt))
-        t = dt * np.arange(1, m + 1)
-        T = m * dt
-        q = np.zeros(m)
-        qd = np.zeros(m)
-        qdd = np.zeros(m)
-        for a, f_lo, f_hi in cfg['sweep']:
-            w = 2.0 * math.pi * rng.uniform(f_lo, f_hi)
-            p = rng.uniform(0.0, 2.0 * math.pi)
-            q += a * np.sin(w * t + p)
-            qd += a * w * np.cos(w * t + p)
-            qdd -= a * w * w * np.sin(w * t + p)
-        # smooth envelope (C2): raised-cosine rise and fall
-        e = np.ones(m)
-        ed = np.zeros(m)
-        edd = np.zeros(m)
-        for sl, sign, t0 in ((t < ramp, 1.0, 0.0), (t > T - ramp, -1.0, T)):
-            x = (t[sl] - t0) * sign / ramp          # 0 at the edge .. 1 inside
-            wr = math.pi / ramp
-            e[sl] = 0.5 - 0.5 * np.cos(math.pi * x)
-            ed[sl] = sign * 0.5 * wr * np.sin(math.pi * x)
-            edd[sl] = 0.5 * wr * wr * np.cos(math.pi * x)
-        # raised cosine has a jump in the 2nd derivative at the edge; square it (C2 at 0)
-        e2, ed2, edd2 = e * e, 2 * e * ed, 2 * (ed * ed + e * edd)
-        qe = q * e2
-        qde = qd * e2 + q * ed2
-        qdde = qdd * e2 + 2 * qd * ed2 + q * edd2
-        base = plan.q_end
-        plan._add(base + qe, qde, qdde)
-        plan.hold(0.1)
+    add_sweep(plan, rng, duration - plan.t_end, cfg)
     q, qd, qdd = plan.arrays()
     return q[1:], qd[1:], qdd[1:]
 
@@ -366,7 +373,8 @@ def plan_segment(rng, gear_ratio, dt, duration, q0=0.0, cfg=SEGMENT):
 
 def simulate_recording(truth_gear, path=None, *, duration=90.0, seed=0, base_gear=None,
                        n_segments=None, link_torque=True, command=True, compress=False,
-                       cfg=None):
+                       cfg=None, kinds=None, gain_scale=1.0, noise_scale=1.0,
+                       current_bandwidth_scale=1.0, temperature_lag_scale=1.0):
     """
     Run ``truth_gear`` on the simulated test bed under the rich excitation; write a recording.
 
@@ -393,7 +401,19 @@ def simulate_recording(truth_gear, path=None, *, duration=90.0, seed=0, base_gea
         ``.mcap`` with zstd-compressed chunks and CRCs, ``ros_distro: jazzy``
         (MCAP tools and Foxglove open it as is).  Only for a directory ``path``.
     cfg : dict, optional
-        Overrides of :data:`SEGMENT`.
+        Overrides of :data:`SEGMENT` (e.g. ``publish_rate``: /joint_states and the
+        other 1 kHz topics decimated from the 3 kHz plant; ``gap``: s between segments).
+    kinds : sequence of str, optional
+        Run kind per segment (:data:`~friction_joint.experiments.hidden_plant.RUN_KINDS`,
+        cycled); default all ``rich``.
+    gain_scale : float or (float, float)
+        Factor on the PD gains (kp, kd), or one factor for both.
+    noise_scale : float
+        Factor on the sensors' noise (applied torque, effort, link torque, temperature).
+    current_bandwidth_scale : float
+        Factor on the current-loop bandwidth (smaller: more drive-torque lag).
+    temperature_lag_scale : float
+        Factor on the temperature sensor's time constant.
 
     Returns
     -------
@@ -401,7 +421,7 @@ def simulate_recording(truth_gear, path=None, *, duration=90.0, seed=0, base_gea
         Topic -> dict of arrays, as written.
     summary : dict
         ``temperatures`` (segment set-points), ``segments`` (t0, t1, xi_start, xi_end),
-        ``duration_s``, ``samples``, ``gains``, ``seed``, ``wall_time_s``.
+        ``duration_s``, ``samples``, ``gains``, ``seed``, ``wall_time_s``, ``kinds``.
 
     """
     wall = time.perf_counter()
@@ -414,6 +434,12 @@ def simulate_recording(truth_gear, path=None, *, duration=90.0, seed=0, base_gea
     if not (math.isfinite(duration) and duration > 0):
         raise FrictionJointError(f'duration must be > 0 s, got {duration}')
     base = truth_gear if base_gear is None else base_gear
+    truth_gear = _vary_sensors(truth_gear, noise_scale, current_bandwidth_scale,
+                               temperature_lag_scale)
+    kinds = ['rich'] if kinds is None else [str(k) for k in kinds]
+    bad = [k for k in kinds if k not in RUN_KINDS]
+    if bad or not kinds:
+        raise FrictionJointError(f'unknown run kind(s) {bad}; kinds: {", ".join(RUN_KINDS)}')
     rng = np.random.default_rng(seed)
     nseg = int(conf['n_segments'] if n_segments is None else n_segments)
     temps = segment_temperatures(base, nseg, conf)
@@ -423,6 +449,9 @@ def simulate_recording(truth_gear, path=None, *, duration=90.0, seed=0, base_gea
     dt = 1.0 / rate
     every = max(1, int(round(rate / conf['publish_rate'])))
     kp, kd = pd_gains(base.inertia, conf['rise_time'], conf['overshoot'])
+    if gain_scale != 1.0:
+        gk = np.broadcast_to(np.asarray(gain_scale, dtype=float), (2,))
+        kp, kd = kp * float(gk[0]), kd * float(gk[1])
     seg_len = duration / nseg
 
     keys = ('t', 'q', 'qd', 'effort', 'tau', 'cmd', 'q_d', 'qd_d')
@@ -431,7 +460,7 @@ def simulate_recording(truth_gear, path=None, *, duration=90.0, seed=0, base_gea
     t_off, q_start = 0.0, 0.0
     for b, xi0 in enumerate(temps):
         q_ref, qd_ref, qdd_ref = plan_segment(rng, truth_gear.gear_ratio, dt, seg_len,
-                                              q_start, conf)
+                                              q_start, conf, kind=kinds[b % len(kinds)])
         with warnings.catch_warnings():
             warnings.simplefilter('ignore', GearConfigWarning)
             gear = truth_gear.replace({'thermal': {'ambient': float(xi0), 'initial': float(xi0)}})
@@ -441,7 +470,7 @@ def simulate_recording(truth_gear, path=None, *, duration=90.0, seed=0, base_gea
         record_segment(plant, lambda s, k: ctrl(s.q, s.qd, s.xi, q_ref[k], qd_ref[k], qdd_ref[k]),
                        q_ref, qd_ref, every, t_off, out=out, temp_t=temp_t, temp_xi=temp_xi)
         segments.append({'temperature': float(xi0), 't0': t_off, 't1': t_off + n * dt,
-                         'xi_end': float(plant.thermal.xi)})
+                         'xi_end': float(plant.thermal.xi), 'kind': kinds[b % len(kinds)]})
         q_start = float(plant.last.q_true)
         t_off += n * dt + conf['gap']
 
@@ -467,8 +496,27 @@ def simulate_recording(truth_gear, path=None, *, duration=90.0, seed=0, base_gea
     summary = {'temperatures': [float(x) for x in temps], 'segments': segments,
                'duration_s': float(cat['t'][-1] - cat['t'][0]), 'samples': int(len(cat['t'])),
                'gains': {'kp': kp, 'kd': kd}, 'seed': int(seed),
-               'wall_time_s': time.perf_counter() - wall}
+               'wall_time_s': time.perf_counter() - wall,
+               'kinds': [kinds[b % len(kinds)] for b in range(nseg)]}
     return topics, summary
+
+
+def _vary_sensors(gear, noise_scale, bandwidth_scale, lag_scale):
+    """``gear`` with its sensor noise, current-loop bandwidth and temperature lag scaled."""
+    if noise_scale == 1.0 and bandwidth_scale == 1.0 and lag_scale == 1.0:
+        return gear
+    for name, x in (('noise_scale', noise_scale), ('current_bandwidth_scale', bandwidth_scale),
+                    ('temperature_lag_scale', lag_scale)):
+        if not (math.isfinite(x) and x > 0):
+            raise FrictionJointError(f'{name} must be > 0, got {x}')
+    sens = gear.section('sensors')
+    new = {k: sens[k] * noise_scale for k in ('torque_noise', 'effort_noise',
+                                              'link_torque_noise', 'temperature_noise')}
+    new['current_bandwidth'] = sens['current_bandwidth'] * bandwidth_scale
+    new['temperature_time_constant'] = sens['temperature_time_constant'] * lag_scale
+    with warnings.catch_warnings():
+        warnings.simplefilter('ignore', GearConfigWarning)
+        return gear.replace({'sensors': new})
 
 
 def _write_compressed(path, topics, joint_name):

@@ -28,7 +28,7 @@ from pathlib import Path
 
 import friction_joint
 from friction_joint.bag import write_recording
-from friction_joint.diagnosis import diagnose
+from friction_joint.diagnosis import diagnose, EFFECTS
 from friction_joint.diagnosis.scan import SCAN_ALPHA
 from friction_joint.experiments.hidden import simulate_recording
 import numpy as np
@@ -38,7 +38,7 @@ BASE = ROOT / 'config' / 'csd25_base.yaml'
 MASTER_SEED = int(os.environ.get('FRICTION_JOINT_TEST_SEED', '20260106'))
 
 
-def _scan(tmp_path, case, periodic):
+def _scan(tmp_path, case, periodic, effects=None):
     rng = np.random.default_rng([MASTER_SEED, case])
     seed = int(rng.integers(0, 2**31 - 1))
     base = friction_joint.load_gear(BASE)
@@ -53,14 +53,24 @@ def _scan(tmp_path, case, periodic):
                                                    + rng.uniform(0, 2 * np.pi))
         drawn = {'period': period, 'amplitude': amp}
     write_recording(tmp_path / 'rec', topics)
-    rep = diagnose([str(tmp_path / 'rec')], base).to_dict()
+    rep = diagnose([str(tmp_path / 'rec')], base,
+                   **({} if effects is None else {'effects': effects})).to_dict()
     what = f'[master seed {MASTER_SEED}] hidden {drawn or "nothing"}, recording seed {seed}'
     return {e['variable']: e for e in rep['residual_scan']}, drawn, what, rep
 
 
-def test_scan_finds_a_period_in_position(tmp_path):
-    """A torque periodic in position at a drawn period: found within 5 %, flagged."""
+def test_ripple_candidate_finds_a_foreign_period(tmp_path):
+    """A torque periodic in position at a drawn period (not a gear harmonic): named, its period."""
     scan, drawn, what, rep = _scan(tmp_path, 1, True)
+    assert rep['named_causes'] == ['position_ripple'], what
+    cycles = rep['extended_fit']['position_ripple']['cycles_per_rev']
+    assert abs(cycles * drawn['period'] / (2 * math.pi) - 1) < 0.05, f'{what}: {cycles}'
+
+
+def test_scan_finds_a_period_in_position(tmp_path):
+    """Without the ripple candidate, the scan finds the drawn period within 5 %, flagged."""
+    effects = [e for e in EFFECTS if e != 'position_ripple']
+    scan, drawn, what, rep = _scan(tmp_path, 1, True, effects=effects)
     pos = scan['position']
     assert abs(pos['period'] / drawn['period'] - 1) < 0.05, f'{what}: {pos}'
     assert pos['p_value'] < SCAN_ALPHA and pos['flagged'], f'{what}: {pos}'

@@ -1,0 +1,305 @@
+#!/usr/bin/env python3
+# Copyright 2026 friction_joint maintainers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""
+Power and honesty of ``diagnose`` on hidden-effect recordings from a varied plant.
+
+    .venv/bin/python benchmarks/bench_hidden_effects.py                   # N = 100
+    .venv/bin/python benchmarks/bench_hidden_effects.py --quick           # N = 12, 30-40 s
+    .venv/bin/python benchmarks/bench_hidden_effects.py --n 120 --jobs 2 --out res.json
+
+What it does
+------------
+1. Draws N cases from ``--seed`` (case i from ``default_rng([seed, i])``): a quarter
+   ``none``, 30 % pairs of effects, the rest single effects (balanced over the
+   effects the simulator can draw: ``friction_joint.diagnosis.EFFECTS`` that
+   :data:`friction_joint.experiments.hidden.EFFECT_RANGES` knows; the others are
+   listed as not drawn).  Each effect's strength u is uniform in
+   [``--u-min``, 1] (``draw_effect(..., strength=u)``: 0 = weakest end of the
+   realistic range, 1 = strongest); size bins weak / medium / strong are
+   u < 1/3, < 2/3, >= 2/3 (and ``below`` for u < 0).
+2. Draws a plant (:func:`friction_joint.experiments.hidden_plant.draw_plant`): PD
+   gains x 0.5-2 each, /joint_states at 3 kHz / (1..15), sensor noise x 0.3-3,
+   current-loop bandwidth x 0.1-2, temperature-sensor lag x 0.5-10, 2-5
+   segments of run kinds rich / plateaus / sweep / oneway (at least one rich)
+   glued with gaps of 0.5-60 s, and the total motion time in ``--durations``.
+3. Simulates the recording into a temporary directory and runs
+   ``friction_joint.diagnosis.diagnose([rec], base)`` in-process with the base
+   gear ``config/csd25_base.yaml`` (timed).  Nothing but the recording and the
+   base is passed.
+4. Compares ``named_causes`` with the hidden set and prints the rates beside the
+   targets of issue 10, power per effect and size bin, the confusion summary and
+   every failing case.  ``--out FILE`` writes all cases and the summary as JSON.
+
+The last line is always
+``singles=<x> false_pos=<y> pairs=<z> n=<n> diag_s_per_90s=<t>``.
+"""
+import argparse
+from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
+import itertools
+import json
+import os
+import shutil
+import sys
+import tempfile
+import time
+import warnings
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+sys.path.insert(0, ROOT)
+
+import friction_joint  # noqa: E402
+from friction_joint.diagnosis import diagnose, EFFECTS as DIAG_EFFECTS  # noqa: E402
+from friction_joint.experiments.hidden import (  # noqa: E402
+    apply_effects, draw_effect, EFFECT_RANGES, segment_temperatures, simulate_recording)
+from friction_joint.experiments.hidden_plant import draw_plant, relative_size  # noqa: E402
+import numpy as np  # noqa: E402
+
+BASE = os.path.join(ROOT, 'config', 'csd25_base.yaml')
+TARGETS = {'singles': 0.95, 'false_pos': 0.05, 'pairs': 0.80}
+BINS = ('below', 'weak', 'medium', 'strong')
+
+
+def _bin(u):
+    return 'below' if u < 0 else 'weak' if u < 1 / 3 else 'medium' if u < 2 / 3 else 'strong'
+
+
+def drawable():
+    """Effects of the diagnosis the simulator can draw, and those it cannot."""
+    eff = [str(e) for e in DIAG_EFFECTS]
+    return [e for e in eff if e in EFFECT_RANGES], [e for e in eff if e not in EFFECT_RANGES]
+
+
+def draw_cases(seed, n, durations, u_min):
+    """Case dicts: hidden effects with sizes and strengths, plant options, seeds."""
+    effects, _ = drawable()
+    rng = np.random.default_rng(seed)
+    n_none = int(round(0.25 * n))
+    n_pair = int(round(0.30 * n)) if len(effects) > 1 else 0
+    n_single = n - n_none - n_pair
+    singles = [effects[i % len(effects)] for i in range(n_single)]
+    combos = list(itertools.combinations(effects, 2))
+    order = rng.permutation(len(combos)) if combos else []
+    pairs = [combos[order[i % len(combos)]] for i in range(n_pair)]
+    kinds = [()] * n_none + [(e,) for e in singles] + [tuple(p) for p in pairs]
+    kinds = [kinds[i] for i in rng.permutation(len(kinds))]
+    base = friction_joint.load_gear(BASE)
+    cases = []
+    for i, hidden in enumerate(kinds):
+        r = np.random.default_rng([seed, i])
+        plant, cfg = draw_plant(r, durations)
+        sizes, strength, rel = {}, {}, {}
+        for e in hidden:
+            u = float(r.uniform(u_min, 1.0))
+            sizes[e] = draw_effect(r, e, strength=u)
+            strength[e] = u
+            rel[e] = float(relative_size(base, e, sizes[e]))
+        cases.append({'case': i, 'hidden': list(hidden), 'sizes': sizes, 'strength': strength,
+                      'relative_size': rel, 'plant': plant, 'cfg': cfg,
+                      'seed': int(r.integers(0, 2**31 - 1))})
+    return cases
+
+
+def run_case(case):
+    """Simulate one case, diagnose it, return the case with the outcome."""
+    warnings.simplefilter('ignore')
+    base = friction_joint.load_gear(BASE)
+    plant = dict(case['plant'])
+    temps = segment_temperatures(base, plant['n_segments'])
+    truth = apply_effects(base, case['sizes'], temperatures=temps)
+    tmp = tempfile.mkdtemp(prefix='bench_hidden.')
+    out = dict(case)
+    try:
+        rec = os.path.join(tmp, 'rec')
+        t0 = time.perf_counter()
+        _, summary = simulate_recording(truth, rec, seed=case['seed'], base_gear=base,
+                                        cfg=case['cfg'], **plant)
+        out['simulate_s'] = time.perf_counter() - t0
+        out['motion_s'] = float(sum(s['t1'] - s['t0'] for s in summary['segments']))
+        out['recording_s'] = summary['duration_s']
+        t0 = time.perf_counter()
+        try:
+            rep = diagnose([rec], base).report
+            out['named'] = [str(x) for x in rep['named_causes']]
+            out['untestable'] = rep.get('untestable', {})
+            keys = ('effect', 'gain', 'p_holm', 'significant', 'testable', 'round')
+            out['candidates'] = [{k: c.get(k) for k in keys} for c in rep.get('candidates', [])]
+            out['error'] = None
+        except Exception as exc:    # noqa: B902 - a refusal or crash is an outcome
+            out['named'] = []
+            out['error'] = f'{type(exc).__name__}: {exc}'
+        out['diagnose_s'] = time.perf_counter() - t0
+    finally:
+        shutil.rmtree(tmp, ignore_errors=True)
+    return out
+
+
+def _rate(k, n):
+    return (k / n) if n else float('nan')
+
+
+def summarize(results):
+    """Rates, power table and confusion of the finished cases."""
+    effects, _ = drawable()
+    none = [r for r in results if not r['hidden']]
+    single = [r for r in results if len(r['hidden']) == 1]
+    pair = [r for r in results if len(r['hidden']) == 2]
+
+    def exact(r):
+        return sorted(r['named']) == sorted(r['hidden']) and not r['error']
+
+    power = {e: {b: [0, 0] for b in BINS} for e in effects}
+    missed, spurious = {}, {}
+    for r in results:
+        for e in r['hidden']:
+            b = _bin(r['strength'][e])
+            power[e][b][1] += 1
+            if e in r['named']:
+                power[e][b][0] += 1
+            else:
+                missed.setdefault(e, {}).setdefault(b, 0)
+                missed[e][b] += 1
+        for name in r['named']:
+            if name not in r['hidden']:
+                key = '+'.join(r['hidden']) or 'none'
+                spurious.setdefault(name, {}).setdefault(key, 0)
+                spurious[name][key] += 1
+    diag = sum(r['diagnose_s'] for r in results)
+    motion = sum(r['motion_s'] for r in results)
+    return {
+        'n': len(results), 'n_none': len(none), 'n_single': len(single), 'n_pair': len(pair),
+        'singles_exact': _rate(sum(map(exact, single)), len(single)),
+        'singles_exact_k': sum(map(exact, single)),
+        'false_pos': _rate(sum(bool(r['named']) for r in none), len(none)),
+        'false_pos_k': sum(bool(r['named']) for r in none),
+        'pairs_exact': _rate(sum(map(exact, pair)), len(pair)),
+        'pairs_exact_k': sum(map(exact, pair)),
+        'errors': sum(bool(r['error']) for r in results),
+        'diagnose_s_mean': diag / max(1, len(results)),
+        'diagnose_s_per_90s': 90.0 * diag / motion if motion else float('nan'),
+        'diagnose_s_max': max((r['diagnose_s'] for r in results), default=float('nan')),
+        'motion_s_mean': motion / max(1, len(results)),
+        'simulate_s_mean': sum(r['simulate_s'] for r in results) / max(1, len(results)),
+        'power': power, 'missed': missed, 'spurious': spurious,
+    }
+
+
+def _pct(x):
+    return '   n/a' if x != x else f'{100 * x:5.1f} %'
+
+
+def print_report(s, results, args, not_drawn, wall):
+    """Print the table, power, confusion and failures."""
+    print(f'\nhidden-effect benchmark: {s["n"]} recordings ({s["n_none"]} none, '
+          f'{s["n_single"]} single, {s["n_pair"]} pairs), seed {args.seed}, motion '
+          f'{args.durations[0]:g}-{args.durations[1]:g} s (mean {s["motion_s_mean"]:.0f} s), '
+          f'strength u in [{args.u_min:g}, 1]')
+    print(f'not drawn (in diagnosis.EFFECTS, simulator cannot draw): '
+          f'{", ".join(not_drawn) or "-"}')
+    print(f'{"metric":<34}{"value":>9}  {"count":>8}  target')
+    print(f'{"single-effect exact match":<34}{_pct(s["singles_exact"]):>9}  '
+          f'{s["singles_exact_k"]:>3}/{s["n_single"]:<4}  >= 95 %')
+    print(f'{"false positives on none":<34}{_pct(s["false_pos"]):>9}  '
+          f'{s["false_pos_k"]:>3}/{s["n_none"]:<4}  <= 5 %')
+    print(f'{"pair exact match":<34}{_pct(s["pairs_exact"]):>9}  '
+          f'{s["pairs_exact_k"]:>3}/{s["n_pair"]:<4}  >= 80 %')
+    print(f'{"diagnose raised":<34}{s["errors"]:>9}')
+    print(f'{"diagnose time per recording":<34}{s["diagnose_s_mean"]:>7.2f} s  '
+          f'(max {s["diagnose_s_max"]:.2f} s)')
+    print(f'{"diagnose time per 90 s of motion":<34}{s["diagnose_s_per_90s"]:>7.2f} s  '
+          f'{"":>8}  <= 10 s (in-process, no report files)')
+    print(f'simulation {s["simulate_s_mean"]:.1f} s per recording; wall {wall:.0f} s')
+    bins = [b for b in BINS if any(s['power'][e][b][1] for e in s['power'])]
+    print('\npower (hidden effect named, singles and pairs) by size bin:')
+    print(f'  {"effect":<18}' + ''.join(f'{b:>12}' for b in bins) + f'{"all":>12}')
+    for e, row in s['power'].items():
+        cells = ''.join(f'{row[b][0]:>6}/{row[b][1]:<5}' for b in bins)
+        k, n = sum(v[0] for v in row.values()), sum(v[1] for v in row.values())
+        print(f'  {e:<18}{cells}{k:>6}/{n:<5}')
+    print('\nconfusion: missed effects (by size bin)')
+    for e, by in sorted(s['missed'].items(), key=lambda kv: -sum(kv[1].values())):
+        print(f'  {e:<18} {sum(by.values()):>3}  ' + ', '.join(f'{b} {n}' for b, n in by.items()))
+    print('confusion: spurious names (hidden set when named)')
+    for e, by in sorted(s['spurious'].items(), key=lambda kv: -sum(kv[1].values())):
+        print(f'  {e:<18} {sum(by.values()):>3}  ' + ', '.join(f'{h} {n}' for h, n in by.items()))
+    print('\nfailing cases:')
+    for r in results:
+        if sorted(r['named']) != sorted(r['hidden']) or r['error']:
+            hid = ', '.join(f'{e}(u={r["strength"][e]:.2f}, rel={r["relative_size"][e]:.3f})'
+                            for e in r['hidden']) or 'none'
+            p = r['plant']
+            print(f'  #{r["case"]:<3} hidden {hid}; named {r["named"] or "-"}'
+                  f'{"; ERROR " + r["error"][:120] if r["error"] else ""}; '
+                  f'{r["motion_s"]:.0f} s, {p["kinds"]}, {r["cfg"]["publish_rate"]:.0f} Hz, '
+                  f'noise x{p["noise_scale"]:.2f}, bw x{p["current_bandwidth_scale"]:.2f}, '
+                  f'gains x{p["gain_scale"][0]:.2f}/{p["gain_scale"][1]:.2f}')
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__.strip().splitlines()[0])
+    ap.add_argument('--seed', type=int, default=20261124)
+    ap.add_argument('--n', type=int, default=None, help='recordings (default 100, quick 12)')
+    ap.add_argument('--quick', action='store_true', help='12 recordings of 30-40 s')
+    ap.add_argument('--durations', type=float, nargs=2, default=None, metavar=('LO', 'HI'),
+                    help='total motion time range, s (default 30 300; quick 30 40)')
+    ap.add_argument('--u-min', type=float, default=0.0,
+                    help='weakest strength drawn (< 0: below the realistic range)')
+    ap.add_argument('--jobs', type=int, default=1, help='worker processes')
+    ap.add_argument('--budget', type=float, default=None,
+                    help='wall seconds after which no new case is started')
+    ap.add_argument('--out', default=None, help='write cases and summary as JSON')
+    args = ap.parse_args(argv)
+    n = args.n if args.n is not None else (12 if args.quick else 100)
+    if args.durations is None:
+        args.durations = (30.0, 40.0) if args.quick else (30.0, 300.0)
+    effects, not_drawn = drawable()
+    cases = draw_cases(args.seed, n, tuple(args.durations), args.u_min)
+    wall = time.perf_counter()
+    results = []
+    with ProcessPoolExecutor(max_workers=max(1, args.jobs)) as pool:
+        todo, running = list(cases), set()
+        while todo or running:
+            late = args.budget is not None and time.perf_counter() - wall > args.budget
+            while todo and len(running) < max(1, args.jobs) and not late:
+                running.add(pool.submit(run_case, todo.pop(0)))
+            if not running:
+                break
+            done, running = wait(running, return_when=FIRST_COMPLETED)
+            for f in done:
+                r = f.result()
+                results.append(r)
+                ok = 'ok ' if sorted(r['named']) == sorted(r['hidden']) else 'BAD'
+                print(f'[{len(results):>3}/{n} {time.perf_counter() - wall:6.0f} s] {ok} '
+                      f'#{r["case"]:<3} hidden {"+".join(r["hidden"]) or "none":<30} '
+                      f'named {"+".join(r["named"]) or "-":<30} '
+                      f'{r["motion_s"]:.0f} s motion, diag {r["diagnose_s"]:.1f} s', flush=True)
+    results.sort(key=lambda r: r['case'])
+    wall = time.perf_counter() - wall
+    s = summarize(results)
+    print_report(s, results, args, not_drawn, wall)
+    if len(results) < n:
+        print(f'\nNOTE: budget reached: {len(results)} of {n} recordings run')
+    if args.out:
+        with open(args.out, 'w', encoding='utf-8') as fh:
+            json.dump({'args': vars(args), 'drawn_effects': effects, 'not_drawn': not_drawn,
+                       'targets': TARGETS, 'wall_s': wall, 'summary': s, 'cases': results},
+                      fh, indent=1, default=float)
+    print(f'singles={s["singles_exact"]:.3f} false_pos={s["false_pos"]:.3f} '
+          f'pairs={s["pairs_exact"]:.3f} n={s["n"]} diag_s_per_90s={s["diagnose_s_per_90s"]:.2f}')
+    return 0
+
+
+if __name__ == '__main__':
+    sys.exit(main())

@@ -1,0 +1,230 @@
+# Copyright 2026 friction_joint maintainers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""
+Plant and run variation for :mod:`~friction_joint.experiments.hidden`.
+
+What :func:`~friction_joint.experiments.hidden.simulate_recording` fixes by
+default and a benchmark of the diagnosis should vary:
+
+* run kinds (:data:`RUN_KINDS`, one per temperature segment, glued as separate
+  pieces with a gap): ``rich`` (the default plan: plateaus, pre-sliding sinusoids,
+  multi-sine sweep), ``plateaus`` (constant-velocity plateau pairs only),
+  ``sweep`` (the multi-sine sweep only) and ``oneway`` (stretches at constant
+  speeds in one direction with stops between them: no velocity reversal);
+* the plant: controller gains, publish rate of ``/joint_states``, sensor noise,
+  current-loop bandwidth (drive-torque lag), temperature-sensor lag, number of
+  segments, gap between them and total length (:data:`PLANT_RANGES`,
+  :func:`draw_plant`).
+
+:func:`relative_size` expresses a drawn effect size relative to the base
+friction level (the Coulomb level F_c).
+"""
+import math
+
+import numpy as np
+
+from ..exceptions import FrictionJointError
+
+__all__ = ['RUN_KINDS', 'PLANT_RANGES', 'add_sweep', 'plan_kind', 'draw_plant',
+           'relative_size']
+
+#: segment run kinds (see the module docstring); ``rich`` is the default plan
+RUN_KINDS = ('rich', 'plateaus', 'sweep', 'oneway')
+
+#: ranges of :func:`draw_plant` (log-uniform unless noted)
+PLANT_RANGES = {
+    'kp_scale': (0.5, 2.0),
+    'kd_scale': (0.5, 2.0),
+    'publish_every': (1, 15),           # /joint_states = 3 kHz / every (uniform integer)
+    'noise_scale': (0.3, 3.0),
+    'current_bandwidth_scale': (0.1, 2.0),   # x 800 Hz
+    'temperature_lag_scale': (0.5, 10.0),    # x 4 s
+    'n_segments': (2, 5),               # uniform integer
+    'gap': (0.5, 60.0),                 # s between segments
+    'duration': (30.0, 300.0),          # s of motion in total
+}
+
+ONEWAY_TRAVEL = 2.0 * math.pi           # rad, at most per one-way segment
+ONEWAY_STOP = 0.3                       # s at rest between one-way stretches
+
+
+def _log_uniform(rng, lo, hi):
+    return float(np.exp(rng.uniform(math.log(lo), math.log(hi))))
+
+
+def add_sweep(plan, rng, rest, cfg):
+    """Append the smooth multi-sine sweep of ``rest`` seconds (if long enough) to ``plan``."""
+    ramp = cfg['sweep_ramp']
+    if not rest > 2.0 * ramp + 0.5:
+        return
+    dt = plan.dt
+    m = int(round(rest / dt))
+    t = dt * np.arange(1, m + 1)
+    T = m * dt
+    q = np.zeros(m)
+    qd = np.zeros(m)
+    qdd = np.zeros(m)
+    for a, f_lo, f_hi in cfg['sweep']:
+        w = 2.0 * math.pi * rng.uniform(f_lo, f_hi)
+        p = rng.uniform(0.0, 2.0 * math.pi)
+        q += a * np.sin(w * t + p)
+        qd += a * w * np.cos(w * t + p)
+        qdd -= a * w * w * np.sin(w * t + p)
+    # smooth envelope (C2): raised-cosine rise and fall
+    e = np.ones(m)
+    ed = np.zeros(m)
+    edd = np.zeros(m)
+    for sl, sign, t0 in ((t < ramp, 1.0, 0.0), (t > T - ramp, -1.0, T)):
+        x = (t[sl] - t0) * sign / ramp          # 0 at the edge .. 1 inside
+        wr = math.pi / ramp
+        e[sl] = 0.5 - 0.5 * np.cos(math.pi * x)
+        ed[sl] = sign * 0.5 * wr * np.sin(math.pi * x)
+        edd[sl] = 0.5 * wr * wr * np.cos(math.pi * x)
+    # raised cosine has a jump in the 2nd derivative at the edge; square it (C2 at 0)
+    e2, ed2, edd2 = e * e, 2 * e * ed, 2 * (ed * ed + e * edd)
+    qe = q * e2
+    qde = qd * e2 + q * ed2
+    qdde = qdd * e2 + 2 * qd * ed2 + q * edd2
+    base = plan.q_end
+    plan._add(base + qe, qde, qdde)
+    plan.hold(0.1)
+
+
+def _plateau_pair(plan, rng, band, window, cfg, duration):
+    """Append one +v/-v plateau pair if it fits in ``duration``; return whether it did."""
+    v = float(np.exp(rng.uniform(*np.log(band))))
+    c = float(rng.uniform(-cfg['center_range'], cfg['center_range']))
+    settle = cfg['settle'] + cfg['settle_travel'] / v
+    t_ramp = max(0.05, math.pi * v / (2.0 * cfg['accel']))
+    travel = v * (settle + window + t_ramp)
+    need = 1.5 + 2.0 * (2.0 * t_ramp + settle + window + 0.05)
+    if plan.t_end + need > duration:
+        return False
+    plan.move(c - 0.5 * travel, cfg['move_accel'], cfg['move_speed'])
+    for direction in (1.0, -1.0):
+        plan.ramp(0.0, direction * v, cfg['accel'])
+        plan.constant(direction * v, settle + window)
+        plan.ramp(direction * v, 0.0, cfg['accel'])
+        plan.hold(0.05)
+    return True
+
+
+def _oneway(plan, rng, duration, cfg):
+    sign = float(rng.choice([-1.0, 1.0]))
+    plan.move(-sign * cfg['center_range'], cfg['move_accel'], cfg['move_speed'])
+    bands = list(cfg['speed_bands'])
+    window = max(cfg['min_window'], 0.05 * duration)
+    left = ONEWAY_TRAVEL
+    while left > 0.05:
+        for i in rng.permutation(len(bands)):
+            v = float(np.exp(rng.uniform(*np.log(bands[i]))))
+            t_ramp = max(0.05, math.pi * v / (2.0 * cfg['accel']))
+            hold = min(window, left / v - t_ramp)
+            if hold < 0.2 or plan.t_end + 2 * t_ramp + hold + ONEWAY_STOP > duration:
+                return
+            plan.ramp(0.0, sign * v, cfg['accel'])
+            plan.constant(sign * v, hold)
+            plan.ramp(sign * v, 0.0, cfg['accel'])
+            plan.hold(ONEWAY_STOP)
+            left -= v * (hold + t_ramp)
+
+
+def plan_kind(plan, rng, kind, duration, cfg):
+    """
+    Fill ``plan`` (a started :class:`~friction_joint.experiments.excitation.BlockPlan`).
+
+    ``kind`` is one of :data:`RUN_KINDS` except ``rich`` (planned by
+    :func:`~friction_joint.experiments.hidden.plan_segment` itself); the plan
+    ends when its content is done, at most ``duration`` s.
+    """
+    if kind == 'sweep':
+        plan.move(0.0, cfg['move_accel'], cfg['move_speed'])
+        add_sweep(plan, rng, duration - plan.t_end, cfg)
+    elif kind == 'plateaus':
+        bands = list(cfg['speed_bands'])
+        window = max(cfg['min_window'], 2.0 * cfg['window'])
+        done = False
+        while not done:
+            for i in rng.permutation(len(bands)):
+                if not _plateau_pair(plan, rng, bands[i], window, cfg, duration):
+                    done = True
+                    break
+    elif kind == 'oneway':
+        _oneway(plan, rng, duration, cfg)
+    else:
+        raise FrictionJointError(f'unknown run kind {kind!r}; kinds: {", ".join(RUN_KINDS)}')
+    plan.hold(0.1)
+
+
+def draw_plant(rng, duration=None, kinds=RUN_KINDS):
+    """
+    Draw keyword options of ``simulate_recording`` that vary the plant and the runs.
+
+    ``duration``: ``(lo, hi)`` s (log-uniform; default :data:`PLANT_RANGES`).  The
+    segments' run kinds are drawn from ``kinds`` with at least one ``rich`` run
+    (if ``rich`` is among them).  Returns ``(kwargs, cfg)``: keyword arguments and
+    the ``cfg`` overrides (publish rate, gap).
+    """
+    r = PLANT_RANGES
+    lo, hi = r['duration'] if duration is None else duration
+    nseg = int(rng.integers(r['n_segments'][0], r['n_segments'][1] + 1))
+    seg_kinds = [str(k) for k in rng.choice(list(kinds), nseg)]
+    if 'rich' in kinds and 'rich' not in seg_kinds:
+        seg_kinds[int(rng.integers(nseg))] = 'rich'
+    every = int(rng.integers(r['publish_every'][0], r['publish_every'][1] + 1))
+    kwargs = {
+        'duration': _log_uniform(rng, lo, hi) if hi > lo else float(lo),
+        'n_segments': nseg,
+        'kinds': seg_kinds,
+        'gain_scale': (_log_uniform(rng, *r['kp_scale']), _log_uniform(rng, *r['kd_scale'])),
+        'noise_scale': _log_uniform(rng, *r['noise_scale']),
+        'current_bandwidth_scale': _log_uniform(rng, *r['current_bandwidth_scale']),
+        'temperature_lag_scale': _log_uniform(rng, *r['temperature_lag_scale']),
+    }
+    cfg = {'publish_rate': 3000.0 / every, 'gap': _log_uniform(rng, *r['gap'])}
+    return kwargs, cfg
+
+
+def relative_size(base, effect, size):
+    """
+    Size of a drawn effect relative to the base friction level F_c (dimensionless).
+
+    ``thermal``: change of Fc plus Fv at 1 rad/s across the span, / Fc; ``load``:
+    fc_load m g l / Fc; ``position_ripple``: amplitude / Fc; ``nonlinear_viscous``:
+    max over |v| <= 3 rad/s of Fv | |v|^delta_v - |v| | / Fc; ``stribeck``:
+    Fs / Fc - 1; ``presliding``: 1 / stiffness scale (pre-sliding length relative
+    to the base's ``lugre``/``gms`` section; not a torque); ``inertia``: the
+    inertia change times J * 10 rad/s^2 / Fc; ``asymmetry``: offset / Fc.
+    """
+    fc, fv = base.friction.fc[0], base.friction.fv[0]
+    s = size
+    if effect == 'thermal':
+        return (s['fc_change'] * fc + s['fv_change'] * fv) / fc
+    if effect == 'load':
+        return s['fc_load'] * base.mgl / fc
+    if effect == 'position_ripple':
+        return s['amplitude'] / fc
+    if effect == 'nonlinear_viscous':
+        v = np.linspace(0.0, 3.0, 301)
+        return float(np.max(fv * np.abs(v ** s['delta_v'] - v)) / fc)
+    if effect == 'stribeck':
+        return s['fs_ratio'] - 1.0
+    if effect == 'presliding':
+        return 1.0 / s['stiffness_scale']
+    if effect == 'inertia':
+        return s['change'] * base.inertia * 10.0 / fc
+    if effect == 'asymmetry':
+        return s['offset'] / fc
+    return float('nan')
