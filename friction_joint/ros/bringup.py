@@ -87,9 +87,12 @@ class NodeProcess:
 
 
 def _node(module, gear_file, params):
+    """Return the argv of node ``module``; a parameter is passed only when it has a value."""
     argv = [sys.executable, '-m', f'friction_joint.ros.nodes.{module}', '--ros-args',
             '--params-file', gear_file]
     for key, value in params.items():
+        if value is None or value == '':
+            continue                          # rcl cannot parse an empty override (key:=)
         argv += ['-p', f'{key}:={value}']
     return argv
 
