@@ -19,6 +19,10 @@ The QoS profiles of this package, defined once.
   volatile; keep-last :data:`QOS_DEPTH`, or keep-all where nothing may be lost);
 * :func:`recorder_qos`: what the recorder subscribes with;
 * :func:`replay_qos`: what replay publishes with;
+* :data:`READY_TOPIC` / :data:`READY_QOS`: the recorder's readiness
+  announcement (``std_msgs/String``, the sorted comma-separated topics on which
+  it has matched a publisher; transient-local, so a late joiner gets the
+  newest), which ``joint_sim``'s ``wait_recorder`` waits for;
 * :func:`overridable`: the standard ``qos_overrides.<topic>.<entity>.<policy>``
   parameters for a node's publishers and subscriptions (users retune a
   topic's QoS with ``-p qos_overrides./joint_states.publisher.depth:=100``).
@@ -26,7 +30,7 @@ The QoS profiles of this package, defined once.
 from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
 from rclpy.qos_overriding_options import QoSOverridingOptions
 
-__all__ = ['QOS_DEPTH', 'CLOCK_QOS', 'stream_qos', 'recorder_qos', 'replay_qos', 'overridable']
+__all__ = ['QOS_DEPTH', 'CLOCK_QOS', 'READY_TOPIC', 'READY_QOS', 'stream_qos', 'recorder_qos', 'replay_qos', 'overridable']
 
 #: keep-last depth of the topics' QoS (and of the recorder's /clock subscription)
 QOS_DEPTH = 1000
@@ -36,6 +40,13 @@ QOS_DEPTH = 1000
 #: (rclpy's own time source subscribes best effort and never slows it down)
 CLOCK_QOS = QoSProfile(history=HistoryPolicy.KEEP_ALL, reliability=ReliabilityPolicy.RELIABLE,
                        durability=DurabilityPolicy.VOLATILE)
+
+#: the recorder's readiness topic (relative: follows the recorder's namespace)
+READY_TOPIC = 'recorder_ready'
+#: its QoS: reliable, transient-local keep-last 1 (a subscriber joining late gets the newest)
+READY_QOS = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=1,
+                       reliability=ReliabilityPolicy.RELIABLE,
+                       durability=DurabilityPolicy.TRANSIENT_LOCAL)
 
 
 def stream_qos(lossless=False):
