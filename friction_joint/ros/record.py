@@ -43,6 +43,16 @@ kept as rosbags wrote it), and the counts are printed.  A second signal skips th
 drain.  The bag is written into a temporary directory next to ``OUT`` and
 renamed when complete, so ``OUT`` is either a complete recording or absent.
 
+Readiness: the recorder publishes on :data:`READY_TOPIC` (``recorder_ready``,
+relative, so ``/recorder_ready`` in the root namespace; ``std_msgs/msg/String``,
+:data:`READY_QOS`: reliable, transient local, keep-last 1) the comma-separated,
+sorted fully-qualified names of the recorded topics on which it has matched at
+least one publisher (``/external_torque,/joint_command,/joint_states``): once at
+start (possibly the empty string) and again whenever that set changes, so a
+simulator can wait for it before its first step (a late subscriber with
+transient-local durability gets the current set at once).  The log lines
+``/topic: N publisher(s) matched`` stay.
+
 QoS (:func:`friction_joint.ros.qos.recorder_qos`): reliable with keep-all
 history for every topic (a recorder that falls behind for a moment must not
 let its queue overwrite messages it has acknowledged); ``/clock`` too unless a
@@ -62,6 +72,8 @@ import tempfile
 import threading
 import time
 
+from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
+
 from ._rclpy import take_all
 from .qos import recorder_qos
 from ..bag import CONTRACT_TYPES
@@ -69,7 +81,14 @@ from ..bag.checksums import seal_rosbag2
 from ..exceptions import RecordingError
 
 __all__ = ['record', 'Recorder', 'parse_topics', 'message_class', 'install_signals',
-           'format_counts', 'qos_dict']
+           'format_counts', 'qos_dict', 'READY_TOPIC', 'READY_QOS']
+
+#: topic (relative) on which the recorder announces the topics it has matched publishers on
+READY_TOPIC = 'recorder_ready'
+#: its QoS: reliable, transient local, keep-last 1 (a late subscriber gets the current set)
+READY_QOS = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=1,
+                       reliability=ReliabilityPolicy.RELIABLE,
+                       durability=DurabilityPolicy.TRANSIENT_LOCAL)
 
 
 _BATCH = 0.002      # s to let messages queue up between takes (bag time is DDS time)
@@ -215,6 +234,9 @@ class Recorder:
 
     Attributes
     ----------
+    matched : dict
+        Recorded topic -> number of publishers matched now; the topics with one or more
+        are announced on :data:`READY_TOPIC` (see the module docstring).
     offered_qos : dict
         Topic -> list of the distinct QoS profiles (:func:`qos_dict`) of the
         publishers matched so far; see :meth:`update_offered_qos`.
@@ -233,6 +255,12 @@ class Recorder:
         self._clock_take = None
         self._deferred = collections.deque()     # (conn, topic, raw, source ns) awaiting /clock
         self._subs = []
+        self.matched = {t: 0 for t, _ in topics}
+        from std_msgs.msg import String
+        self._ready_msg = String
+        self._ready = node.create_publisher(String, READY_TOPIC, READY_QOS)
+        self._announced = None
+        self._announce()
         pairs = list(topics)
         if sim_time and '/clock' not in dict(pairs):
             pairs.append(('/clock', _CLOCK_TYPE))
@@ -261,10 +289,23 @@ class Recorder:
     def _matched(self, topic, log):
         def callback(status):
             n = status.current_count
+            self.matched[topic] = n
             self.update_offered_qos([topic])
+            self._announce()
             if log is not None:
                 log(f'{topic}: {n} publisher{"" if n == 1 else "s"} matched')
         return callback
+
+    def ready_topics(self):
+        """Return the recorded topics with a matched publisher, sorted, comma-separated."""
+        return ','.join(sorted(t for t, n in self.matched.items() if n > 0))
+
+    def _announce(self):
+        """Publish :meth:`ready_topics` on :data:`READY_TOPIC` if it changed."""
+        text = self.ready_topics()
+        if text != self._announced:
+            self._announced = text
+            self._ready.publish(self._ready_msg(data=text))
 
     def update_offered_qos(self, topics=None):
         """Add the QoS profiles of the publishers now on ``topics`` (default all)."""
