@@ -57,7 +57,6 @@ def generate_launch_description():
     mode = LaunchConfiguration('mode')
     friction = LaunchConfiguration('friction')
     namespace = LaunchConfiguration('namespace')
-    lockstep = PythonExpression(["'", mode, "' == 'lockstep'"])
     # bringup gives controller and estimator rate 1000.0 in realtime only; 0.0 (their
     # default) means the gear file's simulation.rate, which is what lockstep runs at
     rate = PythonExpression(["1000.0 if '", mode, "' == 'realtime' else 0.0"])
@@ -91,13 +90,13 @@ def generate_launch_description():
     ]
     estimator = Node(
         package=PACKAGE, executable='estimator', namespace=namespace, output='screen',
-        parameters=[model, {'friction': friction, 'sync': lockstep, 'rate': rate}])
+        parameters=[model, {'friction': friction, 'mode': mode, 'rate': rate}])
     controller = Node(
         package=PACKAGE, executable='controller', namespace=namespace, output='screen',
         parameters=[model, {'friction_ff': friction,
                             'amplitude': LaunchConfiguration('amplitude'),
                             'omega': LaunchConfiguration('omega'),
-                            'sync': lockstep, 'rate': rate}])
+                            'mode': mode, 'rate': rate}])
     # waits for the two subscribers (controller, estimator) before the loop starts
     joint_sim = Node(
         package=PACKAGE, executable='joint_sim', namespace=namespace, output='screen',

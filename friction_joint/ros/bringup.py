@@ -173,10 +173,10 @@ def bringup(model, truth, duration, *, record=None, mode='lockstep', friction='l
                                      env, log_dir or scratch.name))
             time.sleep(1.0)                   # let the recorder discover before data flows
         procs.append(NodeProcess('estimator', _node('estimator', model, dict(
-            friction=friction, sync=lockstep, **rate)), env, log_dir))
+            friction=friction, mode=mode, **rate)), env, log_dir))
         procs.append(NodeProcess('controller', _node('controller', model, dict(
             friction_ff=friction, amplitude=float(amplitude), omega=float(omega),
-            sync=lockstep, **rate)), env, log_dir))
+            mode=mode, **rate)), env, log_dir))
         if record:
             # the simulator checks its own subscribers; that the recorder has matched the
             # controller's and the estimator's publishers only the recorder can tell

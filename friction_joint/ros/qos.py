@@ -30,7 +30,8 @@ The QoS profiles of this package, defined once.
 from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
 from rclpy.qos_overriding_options import QoSOverridingOptions
 
-__all__ = ['QOS_DEPTH', 'CLOCK_QOS', 'READY_TOPIC', 'READY_QOS', 'stream_qos', 'recorder_qos', 'replay_qos', 'overridable']
+__all__ = ['QOS_DEPTH', 'CLOCK_QOS', 'READY_TOPIC', 'READY_QOS', 'stream_qos', 'recorder_qos',
+           'replay_qos', 'overridable']
 
 #: keep-last depth of the topics' QoS (and of the recorder's /clock subscription)
 QOS_DEPTH = 1000

@@ -35,11 +35,11 @@ import math
 import time
 
 from .._rclpy import RCLError, take_all, Waiter
-from ..parameters import prepare_ros_args
+from ..parameters import declare_node_params, describe, prepare_ros_args
 
 __all__ = ['stamp_to_ns', 'ns_to_stamp', 'joint_index', 'finite', 'take_queued',
            'StampPairing', 'Rejects', 'PairedInput', 'run_node', 'REJECT_LOG_PERIOD',
-           'MAX_STAMP_LEAD', 'EXECUTOR_EVERY']
+           'MAX_STAMP_LEAD', 'EXECUTOR_EVERY', 'MODES', 'declare_follower_params']
 
 #: s a stopping node waits for reliable subscribers (a recorder on a loaded machine) to
 #: acknowledge its last samples; returns at once when they have
@@ -51,6 +51,34 @@ REJECT_LOG_PERIOD = 2.0
 EXECUTOR_EVERY = 0.05
 #: seconds a state's stamp may lie ahead of the node's wall clock (checked without sim time)
 MAX_STAMP_LEAD = 1.0
+
+
+#: the loop modes of the simulator; controller and estimator take the same parameter
+MODES = ('realtime', 'lockstep')
+_MODE_DESCRIPTOR = ('loop mode of the simulator this node runs with: realtime (answer the '
+                    'newest state, sync off) or lockstep (answer every state, sync on); '
+                    'decides sync unless sync is set')
+
+
+def declare_follower_params(node, defaults, validators, descriptors):
+    """
+    Declare ``mode`` and then a controller's or estimator's own parameters.
+
+    ``sync`` defaults to ``mode == 'lockstep'``: a node started by hand with
+    its defaults next to a realtime simulator answers the newest state (a
+    synchronised node would hold every state until the temperature of its
+    stamp arrives, which a realtime simulator sends at the sensor's rate: a
+    delay that destabilises the loop).  A ``sync`` the user sets wins.
+    Returns ``{name: value}`` including ``mode``.
+    """
+    mode = declare_node_params(
+        node, {'mode': 'realtime'},
+        {'mode': lambda v: None if v in MODES else f'must be {" or ".join(MODES)}'},
+        {'mode': describe(_MODE_DESCRIPTOR)})['mode']
+    values = declare_node_params(node, dict(defaults, sync=mode == 'lockstep'), validators,
+                                 descriptors)
+    values['mode'] = mode
+    return values
 
 
 def take_queued(sub, cls):

@@ -28,8 +28,10 @@ Gains come from ``rise_time`` and ``overshoot`` for ``design_inertia`` (0: the g
 Run-time parameters (validated; a bad value is rejected with a reason and
 the node keeps running): ``friction_ff`` (none | static | lugre | gms),
 ``ff_velocity`` (measured | desired), ``amplitude``, ``omega``, ``offset``.
-``sync`` (default true) pairs each state with the temperature sample of the
-same stamp (see :class:`~friction_joint.ros.nodes.common.StampPairing`) and
+``mode`` (``realtime``, the default, or ``lockstep``: the simulator's mode)
+decides ``sync`` unless it is set.  ``sync`` (default: ``mode == 'lockstep'``)
+pairs each state with the temperature sample of the same stamp (see
+:class:`~friction_joint.ros.nodes.common.StampPairing`) and
 answers every state (lockstep); with ``sync:=false`` (a real-time plant) the
 node answers only the newest queued state, skipping (and counting) stale
 ones, so a moment of overload does not turn into a growing delay, and the
@@ -49,8 +51,8 @@ import sys
 from rclpy.node import Node
 from sensor_msgs.msg import JointState, Temperature
 
-from .common import PairedInput, run_node, StampPairing, take_queued
-from ..parameters import declare_gear, declare_node_params, describe, parameter_guard
+from .common import declare_follower_params, PairedInput, run_node, StampPairing, take_queued
+from ..parameters import declare_gear, describe, parameter_guard
 from ..qos import overridable, stream_qos
 from ...control.controller import Controller, pd_gains, SineTrajectory
 from ...models.friction import FRICTION_KINDS
@@ -60,7 +62,8 @@ __all__ = ['ControllerNode', 'main']
 
 DEFAULTS = {'friction_ff': 'lugre', 'ff_velocity': 'measured', 'amplitude': 0.4, 'omega': 1.5,
             'offset': 0.0, 'rise_time': 0.04, 'overshoot': 0.06, 'design_inertia': 0.0,
-            'rate': 0.0, 'sync': True}
+            'rate': 0.0,
+            'sync': False}
 RUNTIME = ('friction_ff', 'ff_velocity', 'amplitude', 'omega', 'offset')
 VALIDATORS = {
     'friction_ff': lambda v: (None if v in FRICTION_KINDS
@@ -102,8 +105,8 @@ class ControllerNode(PairedInput, Node):
 
     def __init__(self):
         super().__init__('controller')
-        self.p = declare_node_params(self, DEFAULTS, VALIDATORS, DESCRIPTORS)
-        self.gear = declare_gear(self, own=list(DEFAULTS))
+        self.p = declare_follower_params(self, DEFAULTS, VALIDATORS, DESCRIPTORS)
+        self.gear = declare_gear(self, own=list(self.p))
         self.joint = self.gear.joint_name
         self.limits = InputLimits(self.gear)
         rate = self.p['rate'] or self.gear.section('simulation')['rate']

@@ -26,7 +26,9 @@ Parameters: ``friction`` (none | static | lugre | gms; run-time changeable),
 ``beta`` (cut-off of Q(s), rad/s), ``gravity`` (subtract the model lever's
 gravity; false = estimate it as unknown external load, as in the paper's
 Section V-D), ``rate`` (sample rate, default ``simulation.rate``), ``sync``
-(pair states with temperatures by stamp).  Runs unchanged on replayed bags
+(pair states with temperatures by stamp; default: ``mode == 'lockstep'``),
+``mode`` (``realtime``, the default, or ``lockstep``: the simulator's mode).
+Runs unchanged on replayed bags
 (``use_sim_time:=true``).
 
 Input gate (see :mod:`~friction_joint.ros.nodes.common`): a state whose
@@ -42,8 +44,8 @@ import sys
 from rclpy.node import Node
 from sensor_msgs.msg import JointState, Temperature
 
-from .common import PairedInput, run_node, StampPairing
-from ..parameters import declare_gear, declare_node_params, describe, parameter_guard
+from .common import declare_follower_params, PairedInput, run_node, StampPairing
+from ..parameters import declare_gear, describe, parameter_guard
 from ..qos import overridable, stream_qos
 from ...control.observer import DisturbanceObserver
 from ...models.friction import FRICTION_KINDS
@@ -51,7 +53,8 @@ from ...testbed.plant import InputLimits
 
 __all__ = ['EstimatorNode', 'main']
 
-DEFAULTS = {'friction': 'lugre', 'beta': 60.0, 'gravity': False, 'rate': 0.0, 'sync': True}
+DEFAULTS = {'friction': 'lugre', 'beta': 60.0, 'gravity': False, 'rate': 0.0,
+            'sync': False}
 VALIDATORS = {
     'friction': lambda v: (None if v in FRICTION_KINDS
                            else f'must be one of {", ".join(FRICTION_KINDS)}'),
@@ -78,8 +81,8 @@ class EstimatorNode(PairedInput, Node):
 
     def __init__(self):
         super().__init__('estimator')
-        self.p = declare_node_params(self, DEFAULTS, VALIDATORS, DESCRIPTORS)
-        self.gear = declare_gear(self, own=list(DEFAULTS))
+        self.p = declare_follower_params(self, DEFAULTS, VALIDATORS, DESCRIPTORS)
+        self.gear = declare_gear(self, own=list(self.p))
         self.joint = self.gear.joint_name
         self.limits = InputLimits(self.gear)
         self.dt = 1.0 / (self.p['rate'] or self.gear.section('simulation')['rate'])

@@ -30,14 +30,17 @@ Modes (parameter ``mode``):
     Ticks at ``publish_rate`` (default 1 kHz) on the monotonic clock: each tick
     takes the newest ``/joint_command`` and ``/contact_torque``, advances the
     plant by ``simulation.rate / publish_rate`` steps with that command held
-    and publishes the state stamped with ROS time; temperature at
-    ``simulation.temperature_rate``.  The node runs its own loop (sleep to the
+    and publishes the state stamped with the ROS time of the first tick plus
+    the simulated time (regular stamps, ``k / simulation.rate``, whatever the
+    machine's load); temperature at ``simulation.temperature_rate``.  The
+    node runs its own loop (sleep to the
     tick's due time, take the inputs straight from the subscriptions) instead
     of an rclpy timer: a turn of the rclpy executor costs about 0.2 ms, so a
     timer-driven loop cannot hold 1 kHz on a busy machine.  The executor is
     turned every ``SPIN_EVERY`` ticks for parameter services.  A tick that is
     late is run at once (at most ``MAX_CATCH_UP`` in a row, then the schedule
-    restarts from now and the skipped ticks are counted and logged).
+    restarts from now: the simulated time slips behind the wall clock, which
+    is counted and logged; no sample is skipped and the stamps stay regular).
 ``lockstep``
     Simulated time.  The node publishes the state of step k (stamp k dt,
     plus /clock and the temperature sample with the same stamp) and advances
@@ -66,9 +69,24 @@ Modes (parameter ``mode``):
 Own parameters: mode, publish_rate, duration, xi0 (NaN: the gear file's
 thermal.initial), q0, seed (-1: simulation.seed), friction_model ('' : the
 gear file's friction.model), resend_period, wait_subscribers, start_delay,
-follow, window.  ``wait_subscribers`` and ``start_delay`` hold the first
-tick in realtime mode too (a state published before its subscribers have
-matched is lost to them).
+follow, window, wait_recorder, command_timeout, timeout_reaction.
+``wait_subscribers`` and ``start_delay`` hold the first tick in realtime
+mode too (a state published before its subscribers have matched is lost to
+them).  ``wait_recorder`` (comma-separated topics, or ``loop`` for
+``LOOP_TOPICS`` and, in lockstep, ``/clock``) holds the first state until a
+recorder has announced on ``recorder_ready`` that it has matched a publisher
+on each of them (``friction_joint record`` does; see
+:mod:`~friction_joint.ros.qos`), so a recording started before the nodes
+has every message from the first.
+
+**Command watchdog** (``command_timeout``, default 0.1 s of simulated time;
+0 turns it off): once the first valid command has arrived, the drive
+applies the newest valid command only while it is younger than
+``command_timeout``; after that (the controller stopped, or every command
+is refused) it applies ``timeout_reaction``: ``zero`` torque (default; the
+drive's safe torque off: the joint coasts and hangs) or ``brake`` (a
+damping torque J q̇ / ``BRAKE_TIME`` that stops it).  The trip and the
+return of valid commands are logged.
 
 Implausible input is **rejected, keeping the last valid value**: a
 ``/joint_command`` effort or a ``/contact_torque`` that is not finite or
@@ -76,7 +94,8 @@ beyond the plausible torque of the gear
 (:class:`~friction_joint.testbed.plant.InputLimits`: 10 x (m g l + peak
 friction + J V / 0.1 s), about 600 Nm for the CSD-25; logged at start) is
 counted, logged (throttled) and not applied: the plant goes on with the last
-valid command and contact torque.  In lockstep a refused command stamped for
+valid command (until the watchdog trips) and contact torque.  In lockstep a
+refused command stamped for
 the current step still advances the step (with the last valid command), so
 the loop never stalls on it.  The count is logged at shutdown (see
 :mod:`~friction_joint.ros.nodes.common`).  Only a finite state leaving the
@@ -91,12 +110,13 @@ from geometry_msgs.msg import WrenchStamped
 from rclpy.node import Node
 from rosgraph_msgs.msg import Clock
 from sensor_msgs.msg import JointState, Temperature
+from std_msgs.msg import String
 
 from .common import (EXECUTOR_EVERY, joint_index, ns_to_stamp, Rejects, run_node,
                      stamp_to_ns, take_queued)
 from .._rclpy import Waiter
 from ..parameters import declare_gear, declare_node_params, describe
-from ..qos import CLOCK_QOS, overridable, stream_qos
+from ..qos import CLOCK_QOS, overridable, READY_QOS, READY_TOPIC, stream_qos
 from ...exceptions import SimulationError
 from ...testbed.plant import InputLimits, Plant
 
@@ -109,9 +129,18 @@ SPIN_EVERY = 20
 #: lockstep: seconds to wait at the end for the followers to echo the last state
 FINAL_WAIT = 20.0
 
+#: ``wait_recorder:=loop``: the topics of the closed loop a recording must have from its start
+LOOP_TOPICS = ('joint_states', 'joint_temperature', 'link_torque', 'joint_command',
+               'external_torque')
+#: the safe reactions of the command watchdog
+REACTIONS = ('zero', 'brake')
+#: s: the time constant of the ``brake`` reaction (a damping torque J / BRAKE_TIME x qd)
+BRAKE_TIME = 0.05
+
 DEFAULTS = {'mode': 'realtime', 'publish_rate': 1000.0, 'duration': 0.0, 'xi0': float('nan'),
             'q0': 0.0, 'seed': -1, 'friction_model': '', 'resend_period': 0.2,
-            'wait_subscribers': 1, 'start_delay': 0.5, 'follow': '', 'window': 300}
+            'wait_subscribers': 1, 'start_delay': 0.5, 'follow': '', 'window': 300,
+            'wait_recorder': '', 'command_timeout': 0.1, 'timeout_reaction': 'zero'}
 VALIDATORS = {
     'mode': lambda v: (None if v in ('realtime', 'lockstep')
                        else "must be 'realtime' or 'lockstep'"),
@@ -125,6 +154,11 @@ VALIDATORS = {
     'follow': lambda v: (None if all(t.strip() for t in v.split(',')) or not v.strip()
                          else 'must be comma-separated topic names'),
     'window': lambda v: None if v >= 1 else 'must be >= 1',
+    'wait_recorder': lambda v: (None if all(t.strip() for t in v.split(',')) or not v.strip()
+                                else "must be comma-separated topic names or 'loop'"),
+    'command_timeout': lambda v: None if v >= 0 else 'must be >= 0 (0: no watchdog)',
+    'timeout_reaction': lambda v: (None if v in REACTIONS
+                                   else f'must be {" or ".join(REACTIONS)}'),
 }
 
 
@@ -148,6 +182,12 @@ DESCRIPTORS = {
                        'for them'),
     'window': describe('lockstep: steps a follower may lag behind before the simulation waits',
                        low=1, high=10_000_000, integer=True),
+    'wait_recorder': describe("comma-separated topics (or 'loop': the closed loop's) a recorder "
+                              'must announce on recorder_ready before the first state'),
+    'command_timeout': describe('simulated seconds without a valid joint_command after which '
+                                'the drive takes timeout_reaction (0: no watchdog), s'),
+    'timeout_reaction': describe('the drive on a command timeout: zero (torque off, the joint '
+                                 'coasts) or brake (a damping torque that stops the joint)'),
 }
 
 
@@ -196,6 +236,14 @@ class JointSimNode(Rejects, Node):
                                                     qos_overriding_options=opts)
         self.started = False
         self.ready_since = None
+        self.recorded = None
+        self.recorder_needs = self.recorder_topics()
+        if self.recorder_needs:
+            self.sub_ready = self.create_subscription(String, READY_TOPIC, self.on_ready,
+                                                      READY_QOS)
+        self.valid_k = None                         # step of the newest valid command
+        self.tripped = 0                            # watchdog trips so far
+        self.timeout_steps = self.p['command_timeout'] * self.plant.rate
         self.followers = {}
         self.echo_subs = []
         self.waiter = None
@@ -220,7 +268,8 @@ class JointSimNode(Rejects, Node):
             self.ticks = 0
             self.period = 1.0 / self.p['publish_rate']
             self.next_tick = None
-            self.skipped = 0
+            self.slipped = 0
+            self.t0_ns = None                       # ROS time of step 0 (realtime stamps)
         self.get_logger().info(
             f'{self.p["mode"]} simulation of {self.joint} ({self.plant.joint.model} friction, '
             f'{self.plant.rate:g} Hz, xi0 {self.plant.thermal.xi:.2f} degC); plausible '
@@ -247,6 +296,7 @@ class JointSimNode(Rejects, Node):
                          f'command {why}; keeping {self.tau_cmd:.6g} Nm')
         else:
             self.tau_cmd = float(msg.effort[i])
+            self.valid_k = self.plant.k
         if self.lockstep and not self.done:
             if stamp_to_ns(msg.header.stamp) != self.stamp_ns(self.plant.k):
                 return                          # a stale or duplicate command
@@ -274,13 +324,67 @@ class JointSimNode(Rejects, Node):
             return
         self.contact = float(tz)
 
+    def on_ready(self, msg):
+        """Take the recorder's readiness announcement (the topics it has matched)."""
+        self.recorded = {t for t in msg.data.split(',') if t}
+
+    def recorder_topics(self):
+        """Return the resolved topics of ``wait_recorder`` ('loop': the loop's topics)."""
+        spec = self.p['wait_recorder'].strip()
+        names = LOOP_TOPICS if spec == 'loop' else [t.strip() for t in spec.split(',')]
+        topics = {self.resolve_topic_name(t) for t in names if t}
+        if spec == 'loop' and self.lockstep:
+            topics.add('/clock')
+        return topics
+
+    # ---------------------------------------------------------------- watchdog
+    def drive_torque(self, qd):
+        """
+        Return the torque the drive applies: the newest valid command, or the safe reaction.
+
+        The watchdog counts simulated time since the newest valid
+        ``/joint_command`` (refused commands do not count as commands).  After
+        ``command_timeout`` s the drive applies ``timeout_reaction``: ``zero``
+        torque (the joint coasts and hangs) or ``brake``, a damping torque
+        ``-J qd / BRAKE_TIME`` within the plausible torque, as a drive's
+        safe-torque-off or holding brake would.  The trip and the return of
+        valid commands are logged.  Before the first valid command the torque
+        is zero.
+        """
+        if self.valid_k is None:
+            return self.tau_cmd
+        stale = self.plant.k - self.valid_k > self.timeout_steps > 0
+        if stale and not self.tripped_now:
+            self.tripped += 1
+            self.get_logger().warning(
+                f'no valid /joint_command for {self.p["command_timeout"]:g} s at t = '
+                f'{self.plant.t:.3f} s (rejected so far: {self.rejected}): '
+                f'{self.p["timeout_reaction"]} torque until a valid command arrives '
+                f'(trip {self.tripped})')
+        elif not stale and self.tripped_now:
+            self.get_logger().info(f'valid /joint_command again at t = {self.plant.t:.3f} s: '
+                                   'the drive follows it')
+        self.tripped_now = stale
+        if not stale:
+            return self.tau_cmd
+        if self.p['timeout_reaction'] == 'zero':
+            return 0.0
+        brake = -self.gear.inertia * qd / BRAKE_TIME
+        return max(-self.limits.torque, min(self.limits.torque, brake))
+
+    tripped_now = False
+
     # ---------------------------------------------------------------- output
     def stamp_ns(self, k):
         """Return the simulated time of step k in ns, rounded per step (no drift)."""
         return round(k * 1e9 / self.plant.rate)
 
     def publish(self, s, temperature):
-        ns = self.stamp_ns(self.plant.k) if self.lockstep else self.get_clock().now().nanoseconds
+        ns = self.stamp_ns(self.plant.k)
+        if not self.lockstep:
+            if self.t0_ns is None:
+                self.t0_ns = self.get_clock().now().nanoseconds - ns
+            ns += self.t0_ns
         if self.pub_clock is not None:
             c = Clock()
             ns_to_stamp(ns, c.clock)
@@ -324,7 +428,7 @@ class JointSimNode(Rejects, Node):
         self.advance()
 
     def advance(self):
-        s = self.plant.step(self.tau_cmd, self.contact)
+        s = self.plant.step(self.drive_torque(self.plant.last.qd), self.contact)
         if self.n_end and self.plant.k >= self.n_end:
             self.done = True
         self.publish(s, temperature=True)
@@ -338,6 +442,12 @@ class JointSimNode(Rejects, Node):
             need = self.p['wait_subscribers']
             pubs = (self.pub_state, self.pub_temp) if self.lockstep else (self.pub_state,)
             if min(p.get_subscription_count() for p in pubs) < need:
+                return False
+            if self.recorder_needs - (self.recorded or set()):
+                if self._log_due('recorder', 5.0):
+                    missing = sorted(self.recorder_needs - (self.recorded or set()))
+                    self.get_logger().info(f'waiting for a recorder to announce '
+                                           f'{", ".join(missing)} on {READY_TOPIC}')
                 return False
             self.ready_since = now
             self.get_logger().info(f'{need} subscriber(s) matched; starting in '
@@ -398,11 +508,12 @@ class JointSimNode(Rejects, Node):
             return
         if now - self.next_tick > MAX_CATCH_UP * self.period:
             late = int((now - self.next_tick) / self.period)
-            self.skipped += late
+            self.slipped += late
             self.next_tick = now
             if self._log_due('late', 5.0):
                 self.get_logger().warning(
-                    f'{late} ticks late: skipped them ({self.skipped} in all); the machine '
+                    f'{late} ticks late: the simulated time slips {self.slipped * self.period:.3f}'
+                    ' s behind the wall clock in all (stamps stay regular); the machine '
                     'does not keep up with publish_rate', throttle_duration_sec=2.5)
         self.next_tick += self.period
         for msg in take_queued(self.sub_command, JointState):
@@ -444,7 +555,7 @@ class JointSimNode(Rejects, Node):
     def on_tick(self):
         s = None
         for _ in range(self.per_tick):
-            s = self.plant.step(self.tau_cmd, self.contact)
+            s = self.plant.step(self.drive_torque(self.plant.last.qd), self.contact)
         self.ticks += 1
         self.publish(s, temperature=(self.ticks % self.temp_every == 0))
         if self.n_end and self.plant.k >= self.n_end:
