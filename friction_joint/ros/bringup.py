@@ -97,23 +97,32 @@ def _node(module, gear_file, params):
     return argv
 
 
-def _wait_for_matches(log, topics, recorder, timeout=60.0):
-    """Wait until the recorder's log says it has matched a publisher on each of ``topics``."""
-    t_end = time.monotonic() + timeout
-    while time.monotonic() < t_end:
-        if not recorder.alive():
-            raise FrictionJointError(f'the recorder ended (exit {recorder.proc.returncode}); '
-                                     f'see {log}')
-        try:
-            with open(log, encoding='utf-8', errors='replace') as fh:
-                text = fh.read()
-        except FileNotFoundError:
-            text = ''
-        if all(f'{topic}: 1 publisher matched' in text for topic in topics):
-            return
-        time.sleep(0.05)
-    raise FrictionJointError(f'the recorder did not match the publishers of '
-                             f'{", ".join(topics)} within {timeout:g} s; see {log}')
+def _last_line(path):
+    try:
+        with open(path, encoding='utf-8', errors='replace') as fh:
+            lines = [line.strip() for line in fh if line.strip()]
+    except OSError:
+        return ''
+    return lines[-1] if lines else ''
+
+
+def _check_alive(procs, sim, log_dir, kept):
+    """Raise a one-line error naming the first process (but the simulator) that has ended."""
+    for p in procs:
+        if p is not sim and not p.alive():
+            log = os.path.join(log_dir, p.name + '.log')
+            last = _last_line(log)
+            where = f'; see {log}' if kept else ''
+            raise FrictionJointError(f'{p.name} ended early (exit {p.proc.returncode})'
+                                     + (f': {last}' if last else '') + where)
+
+
+class _Stop(Exception):
+    """SIGTERM / SIGHUP reached bringup: stop the children, then end like Ctrl-C."""
+
+
+def _on_signal(signum, frame):
+    raise _Stop(signum)
 
 
 def bringup(model, truth, duration, *, record=None, mode='lockstep', friction='lugre',
@@ -163,44 +172,55 @@ def bringup(model, truth, duration, *, record=None, mode='lockstep', friction='l
     sim_params.update(follow='external_torque' if lockstep else '', window=LOCKSTEP_WINDOW)
     if xi0 is not None:
         sim_params['xi0'] = float(xi0)
+    if record:
+        # the first state waits until the recorder has matched every loop topic's publisher
+        sim_params['wait_recorder'] = 'loop'
     rate = {} if mode == 'lockstep' else {'rate': 1000.0}
     procs = []
     scratch = tempfile.TemporaryDirectory(prefix='friction_joint_bringup_')
+    old = {s: signal.signal(s, _on_signal) for s in (signal.SIGTERM, signal.SIGHUP)}
+    kept = bool(log_dir)
+    log_dir = log_dir or scratch.name
     try:
         if record:
             procs.append(NodeProcess('record', [sys.executable, '-m', 'friction_joint', 'record',
                                                 record] + (['--use-sim-time'] if lockstep else []),
-                                     env, log_dir or scratch.name))
-            time.sleep(1.0)                   # let the recorder discover before data flows
+                                     env, log_dir))
         procs.append(NodeProcess('estimator', _node('estimator', model, dict(
             friction=friction, mode=mode, **rate)), env, log_dir))
         procs.append(NodeProcess('controller', _node('controller', model, dict(
             friction_ff=friction, amplitude=float(amplitude), omega=float(omega),
             mode=mode, **rate)), env, log_dir))
-        if record:
-            # the simulator checks its own subscribers; that the recorder has matched the
-            # controller's and the estimator's publishers only the recorder can tell
-            _wait_for_matches(os.path.join(log_dir or scratch.name, 'record.log'),
-                              ('/joint_command', '/external_torque'), procs[0])
         sim = NodeProcess('joint_sim', _node('joint_sim', truth, sim_params), env, log_dir)
         procs.append(sim)
         say(f'bringup: {len(procs)} processes up ({mode}, {duration:g} s)')
         t0 = time.monotonic()
         limit = duration + 30.0 if mode == 'realtime' else max(60.0, 40.0 * duration)
         while sim.alive() and time.monotonic() - t0 < limit:
+            _check_alive(procs, sim, log_dir, kept)
             time.sleep(0.1)
         if sim.alive():
             raise FrictionJointError(f'the simulator did not finish within {limit:.0f} s')
         if sim.proc.returncode != 0:
-            raise FrictionJointError(f'the simulator failed (exit {sim.proc.returncode}); '
-                                     'see its log' + (f' in {log_dir}' if log_dir else ''))
+            last = _last_line(os.path.join(log_dir, 'joint_sim.log'))
+            raise FrictionJointError(f'the simulator failed (exit {sim.proc.returncode})'
+                                     + (f': {last}' if last else '')
+                                     + (f'; see {log_dir}' if kept else ''))
         time.sleep(0.5)                       # let the last messages arrive
+    except _Stop as stop:
+        say(f'bringup: signal {stop.args[0]}: stopping the nodes')
+        raise KeyboardInterrupt from None
     finally:
+        # a second SIGTERM while the children stop must not orphan them
+        for sig in old:
+            signal.signal(sig, signal.SIG_IGN)
         # stop in reverse order: simulator, controller, estimator, recorder last
         for p in reversed(procs):
             code = p.stop()
             if code not in (0, -signal.SIGINT, 130, None):
                 say(f'bringup: {p.name} exited with {code}')
+        for sig, handler in old.items():
+            signal.signal(sig, handler)
         scratch.cleanup()
     if record:
         say(f'bringup: recording in {record}')

@@ -79,7 +79,7 @@ on each of them (``friction_joint record`` does; see
 :mod:`~friction_joint.ros.qos`), so a recording started before the nodes
 has every message from the first.
 
-**Command watchdog** (``command_timeout``, default 0.1 s of simulated time;
+**Command watchdog** (``command_timeout``, default 0.2 s of simulated time;
 0 turns it off): once the first valid command has arrived, the drive
 applies the newest valid command only while it is younger than
 ``command_timeout``; after that (the controller stopped, or every command
@@ -140,7 +140,7 @@ BRAKE_TIME = 0.05
 DEFAULTS = {'mode': 'realtime', 'publish_rate': 1000.0, 'duration': 0.0, 'xi0': float('nan'),
             'q0': 0.0, 'seed': -1, 'friction_model': '', 'resend_period': 0.2,
             'wait_subscribers': 1, 'start_delay': 0.5, 'follow': '', 'window': 300,
-            'wait_recorder': '', 'command_timeout': 0.1, 'timeout_reaction': 'zero'}
+            'wait_recorder': '', 'command_timeout': 0.2, 'timeout_reaction': 'zero'}
 VALIDATORS = {
     'mode': lambda v: (None if v in ('realtime', 'lockstep')
                        else "must be 'realtime' or 'lockstep'"),
