@@ -25,6 +25,14 @@ killed.  The fixtures in ``conftest.py`` wrap these helpers:
 - ``spawn``: ``spawn(cmd)`` starts a process in that environment and stops it
   at the end of the test;
 - ``ros_node``: an in-test rclpy node (own context) in that domain.
+
+Waiting (the tests must hold on a loaded machine): a test waits for a
+*condition* (a line in a process's output, a matched peer, the answer to a
+stamp) with a generous deadline, :data:`DEADLINE`, and goes on as soon as the
+condition holds; it never sleeps a fixed time to let something happen, and it
+asserts what arrived and what it contains, never how much arrived in a fixed
+wall-time window (rates and latencies are measured by
+``benchmarks/bench_nodes.py``).
 """
 import contextlib
 import itertools
@@ -35,11 +43,15 @@ import sys
 import threading
 import time
 
-__all__ = ['PYTHON', 'domain_id', 'ros_environ', 'Proc', 'spawn', 'TestNode', 'ros_node',
-           'reliable_qos']
+__all__ = ['PYTHON', 'DEADLINE', 'domain_id', 'ros_environ', 'wait_until', 'Proc', 'spawn',
+           'TestNode', 'ros_node', 'reliable_qos', 'stamp_ns', 'param_if_declared']
 
 #: the interpreter running the tests (the project's venv)
 PYTHON = sys.executable
+
+#: s: how long a test waits for a condition before it fails (returns as soon as it holds);
+#: generous, for a machine loaded by other jobs (start-up of a node takes 0.3-0.5 s when idle)
+DEADLINE = 60.0
 
 _counter = itertools.count()
 _FIRST, _COUNT = 10, 220          # domain ids 10..229 (Fast DDS ports stay below 65535)
@@ -62,6 +74,33 @@ def ros_environ(domain=None, base=None):
     env['ROS_AUTOMATIC_DISCOVERY_RANGE'] = 'LOCALHOST'
     env['PYTHONUNBUFFERED'] = '1'
     return env
+
+
+def wait_until(predicate, timeout=DEADLINE, poll=0.02):
+    """Poll ``predicate()`` until true or ``timeout`` s have passed; returns its last value."""
+    t_end = time.monotonic() + timeout
+    while True:
+        value = predicate()
+        if value or time.monotonic() > t_end:
+            return value
+        time.sleep(poll)
+
+
+def stamp_ns(msg):
+    """Return the header stamp of ``msg`` in integer nanoseconds."""
+    return msg.header.stamp.sec * 1_000_000_000 + msg.header.stamp.nanosec
+
+
+def param_if_declared(module, name, value):
+    """
+    Return ``{name: value}`` if the node of ``module`` declares parameter ``name``, else ``{}``.
+
+    For a test that must pin a node parameter which not every version of the
+    node has (an unknown parameter ends a node with exit 2).
+    """
+    import importlib
+    defaults = getattr(importlib.import_module(module), 'DEFAULTS', {})
+    return {name: value} if name in defaults else {}
 
 
 class Proc:
@@ -105,7 +144,7 @@ class Proc:
         with self._cond:
             return ''.join(self._err)
 
-    def wait_for(self, text, timeout=20.0):
+    def wait_for(self, text, timeout=DEADLINE):
         """Wait until ``text`` appears on stdout or stderr; False on timeout or exit."""
         t_end = time.monotonic() + timeout
         with self._cond:
@@ -117,14 +156,14 @@ class Proc:
                 self._cond.wait(min(left, 0.1))
             return True
 
-    def wait(self, timeout=30.0):
+    def wait(self, timeout=DEADLINE):
         """Wait for the process to end by itself; returns its exit status."""
         rc = self.popen.wait(timeout)
         for t in self._threads:
             t.join(5)
         return rc
 
-    def stop(self, timeout=15.0):
+    def stop(self, timeout=DEADLINE):
         """SIGINT the process group, wait, then SIGKILL whatever is left; returns the status."""
         pgid = self.popen.pid                   # own session: group id = pid
         if self.popen.poll() is None:
@@ -182,7 +221,7 @@ class TestNode:
         self.node = node
         self.executor = executor
 
-    def spin_until(self, predicate, timeout=10.0):
+    def spin_until(self, predicate, timeout=DEADLINE):
         """Spin until ``predicate()`` is true; returns its last value."""
         t_end = time.monotonic() + timeout
         while not predicate():
@@ -191,17 +230,34 @@ class TestNode:
             self.executor.spin_once(timeout_sec=0.02)
         return True
 
+    def repeat_until(self, action, predicate, period=0.2, timeout=DEADLINE):
+        """
+        Call ``action()`` every ``period`` s, spinning, until ``predicate()``; returns its value.
+
+        For the first sample on a new connection: a publisher may see a
+        subscriber before the subscriber has matched it, and a sample sent in
+        that moment is lost to it; repeating it until it is answered is a
+        condition, where a pause would be a guess.
+        """
+        t_end = time.monotonic() + timeout
+        while True:
+            action()
+            if self.spin_until(predicate, min(period, max(0.0, t_end - time.monotonic()))):
+                return True
+            if time.monotonic() > t_end:
+                return predicate()
+
     def spin_for(self, seconds):
-        """Spin for ``seconds``."""
+        """Spin for ``seconds`` (to serve callbacks; never to wait for something to happen)."""
         t_end = time.monotonic() + seconds
         while time.monotonic() < t_end:
             self.executor.spin_once(timeout_sec=min(0.02, max(0.0, t_end - time.monotonic())))
 
-    def wait_for_subscribers(self, publisher, count=1, timeout=10.0):
+    def wait_for_subscribers(self, publisher, count=1, timeout=DEADLINE):
         """Wait until ``publisher`` has ``count`` matched subscriptions."""
         return self.spin_until(lambda: publisher.get_subscription_count() >= count, timeout)
 
-    def wait_for_publishers(self, subscription, count=1, timeout=10.0):
+    def wait_for_publishers(self, subscription, count=1, timeout=DEADLINE):
         """Wait until ``subscription`` has ``count`` matched publishers."""
         return self.spin_until(lambda: subscription.get_publisher_count() >= count, timeout)
 

@@ -23,6 +23,11 @@ Bad input into the nodes: refused, counted, logged; the nodes go on and recover.
   into the estimator and the real-time simulator at once; afterwards the
   estimator agrees with an offline observer on the clean data and the
   simulator follows a sane command.
+
+The tests hold on a loaded machine: they wait for conditions (an answer to
+every stamp, a state computed after a command was sent) with the generous
+deadline ``roshelpers.DEADLINE`` and assert what arrived and what it
+contains, never how much arrived in a fixed time (rates: ``bench_nodes.py``).
 """
 import collections
 import contextlib
@@ -38,6 +43,7 @@ from friction_joint import load_gear
 from friction_joint.control.observer import DisturbanceObserver
 import numpy as np
 import pytest
+from roshelpers import DEADLINE, param_if_declared, stamp_ns
 
 pytestmark = pytest.mark.ros
 
@@ -46,6 +52,17 @@ MODEL = 'config/csd25.yaml'
 TRUTH = 'config/csd25_truth.yaml'
 NAN, INF = float('nan'), float('inf')
 BASE_NS = 1000 * 10 ** 9                 # stamps of the test data start at 1000 s (the past)
+
+
+def no_watchdog():
+    """
+    Return the parameters that turn the simulator's command watchdog off (where it has one).
+
+    These tests are about refused input, which keeps the last valid command;
+    the watchdog (its own tests) would take the drive's torque off when the
+    test sends no valid command for a while, or stalls on a loaded machine.
+    """
+    return param_if_declared('friction_joint.ros.nodes.joint_sim', 'command_timeout', 0.0)
 
 
 def node_cmd(node, gear, *ros_args, **params):
@@ -84,10 +101,6 @@ def wrench(tz):
     return m
 
 
-def stamp_ns(msg):
-    return msg.header.stamp.sec * 1_000_000_000 + msg.header.stamp.nanosec
-
-
 def clean_motion(n, dt, t0=0.3):
     """(tau, q, qd) of a sliding sine motion, as a joint on the test bed makes it."""
     t = t0 + dt * np.arange(n)
@@ -103,7 +116,7 @@ def rejected_count(proc):
     return int(found[-1]) if found else None
 
 
-def stop_together(*procs, timeout=20.0):
+def stop_together(*procs, timeout=DEADLINE):
     """SIGINT all processes at once, wait for them, then tidy up; returns their exit statuses."""
     for p in procs:
         if p.popen.poll() is None:
@@ -138,8 +151,8 @@ def test_estimators_outlive_poisoned_states(spawn, ros_node):
                        sync='false', friction='static'))
     b = spawn(node_cmd('estimator', MODEL, '-r', '__node:=est_b', '-r', 'external_torque:=ext_b',
                        sync='true', friction='gms'))
-    assert a.wait_for('external torque observer', 30), a.describe()
-    assert b.wait_for('external torque observer', 30), b.describe()
+    assert a.wait_for('external torque observer'), a.describe()
+    assert b.wait_for('external torque observer'), b.describe()
     qos = roshelpers.reliable_qos()
     pub_js = ros_node.node.create_publisher(JointState, '/joint_states', qos)
     pub_t = ros_node.node.create_publisher(Temperature, '/joint_temperature', qos)
@@ -148,21 +161,22 @@ def test_estimators_outlive_poisoned_states(spawn, ros_node):
         JointState, f'/ext_{key}',
         lambda m, key=key: got[key].setdefault(stamp_ns(m), m.effort[0]), qos)
         for key in got]
-    assert ros_node.wait_for_subscribers(pub_js, 2, timeout=20)
-    assert ros_node.wait_for_subscribers(pub_t, 2, timeout=20)
-    assert all(ros_node.wait_for_publishers(s, timeout=20) for s in subs)
+    assert ros_node.wait_for_subscribers(pub_js, 2)
+    assert ros_node.wait_for_subscribers(pub_t, 2)
+    assert all(ros_node.wait_for_publishers(s) for s in subs)
     dt_ns = 1_000_000_000 // 3000
     n = 600
     tau, q, qd = clean_motion(n, dt_ns * 1e-9)
+
     # A publisher may see a subscriber before the subscriber has matched it (samples sent
     # in that moment are lost to it): the first sample is repeated until both estimators
     # answer it; a repeated stamp gets the same answer and leaves the observer alone.
-    for _ in range(100):
+    def first_sample():
         pub_t.publish(temperature(BASE_NS, 30.0))
         pub_js.publish(joint_state(BASE_NS, [q[0]], [qd[0]], [tau[0]]))
-        if ros_node.spin_until(lambda: all(BASE_NS in g for g in got.values()), 0.2):
-            break
-    assert all(BASE_NS in g for g in got.values()), f'no answer to the first sample: {got}'
+
+    assert ros_node.repeat_until(first_sample, lambda: all(BASE_NS in g for g in got.values())), \
+        f'no answer to the first sample: {got}\n' + a.describe() + b.describe()
     # (q, qd, effort): effort 1e308 first (old code: 1e306 Nm for seconds), then 1e308 rad/s
     # (old code: NaN for good), then a huge position and non-finite values
     poison = {150: (0.1, 0.2, 1e308), 250: (0.1, 1e308, 1.0), 350: (1e308, 0.2, 1.0),
@@ -178,9 +192,10 @@ def test_estimators_outlive_poisoned_states(spawn, ros_node):
         pub_js.publish(joint_state(ns, [q[k]], [qd[k]], [tau[k]]))
         clean.append(ns)
         if k % 50 == 49:
-            ros_node.spin_for(0.05)
-    done = ros_node.spin_until(lambda: all(set(clean) <= set(g) for g in got.values()), 60)
-    assert done, f'answers: a {len(got["a"])}, b {len(got["b"])} of {n}\n' + a.describe()
+            ros_node.spin_for(0.05)                         # serve the answers as they come
+    done = ros_node.spin_until(lambda: all(set(clean) <= set(g) for g in got.values()))
+    assert done, (f'answers: a {len(got["a"])}, b {len(got["b"])} of {n}\n' + a.describe()
+                  + b.describe())
     for key, kind in (('a', 'static'), ('b', 'gms')):
         model = load_gear(MODEL)
         obs = DisturbanceObserver(model, 60.0, 1.0 / 3000.0, kind)
@@ -201,45 +216,60 @@ def test_estimators_outlive_poisoned_states(spawn, ros_node):
 
 
 def test_joint_sim_outlives_implausible_command_and_contact(spawn, ros_node):
-    """A 1e308 Nm command or contact torque stopped the simulator; now it keeps the last one."""
+    """
+    A 1e308 Nm command or contact torque stopped the simulator; now it keeps the last one.
+
+    After each bad message the test waits until the simulator has published
+    states it computed after the message was sent (their stamps are later);
+    every state from the sane command of 3 Nm until the next sane command is
+    then checked: the drive applied 3 Nm throughout (a bad command the
+    simulator took would stay applied until the next sane one) and the state
+    stayed finite; at the end the simulator reports each bad message refused.
+    """
     from geometry_msgs.msg import WrenchStamped
     from sensor_msgs.msg import JointState
     import roshelpers
-    sim = spawn(node_cmd('joint_sim', TRUTH, mode='realtime'))
-    assert sim.wait_for('realtime simulation', 30), sim.describe()
+    sim = spawn(node_cmd('joint_sim', TRUTH, mode='realtime', **no_watchdog()))
+    assert sim.wait_for('realtime simulation'), sim.describe()
     qos = roshelpers.reliable_qos()
     pub_cmd = ros_node.node.create_publisher(JointState, '/joint_command', qos)
     pub_contact = ros_node.node.create_publisher(WrenchStamped, '/contact_torque', qos)
     states = []
     sub = ros_node.node.create_subscription(JointState, '/joint_states', states.append, qos)
-    assert ros_node.wait_for_subscribers(pub_cmd, timeout=20)
-    assert ros_node.wait_for_subscribers(pub_contact, timeout=20)
-    assert ros_node.wait_for_publishers(sub, timeout=20)
+    assert ros_node.wait_for_subscribers(pub_cmd)
+    assert ros_node.wait_for_subscribers(pub_contact)
+    assert ros_node.wait_for_publishers(sub)
 
     def command(effort):
         pub_cmd.publish(joint_state(0, [0.0], [0.0], [effort]))
 
-    def recent_efforts(seconds):
-        del states[:]
-        ros_node.spin_for(seconds)
-        return np.array([m.effort[0] for m in states[len(states) // 2:]])
+    def applied(effort):
+        return bool(states) and abs(states[-1].effort[0] - effort) < 0.05
 
-    command(3.0)
-    assert ros_node.spin_until(lambda: states and abs(states[-1].effort[0] - 3.0) < 0.05, 10)
+    def states_after(sent_ns, count=30):
+        """Wait until ``count`` states stamped after ``sent_ns`` (wall clock) have arrived."""
+        return ros_node.spin_until(
+            lambda: sum(stamp_ns(m) > sent_ns for m in states[-count:]) >= count
+            or sim.popen.poll() is not None)
+
+    # repeated until applied: the first command may go out before the simulator has matched
+    assert ros_node.repeat_until(lambda: command(3.0), lambda: applied(3.0)), sim.describe()
+    first = len(states) - 1
     for bad in (1e308, -1e308, NAN, INF, 1e5):
         command(bad)
-        eff = recent_efforts(0.2)
+        assert states_after(time.time_ns()), sim.describe()
         assert sim.popen.poll() is None, sim.describe()
-        assert len(eff) > 30 and np.all(np.abs(eff - 3.0) < 0.1), (bad, eff[-5:])
     for bad in (1e308, NAN, -INF, -1e5):
         pub_contact.publish(wrench(bad))
-        eff = recent_efforts(0.2)
+        assert states_after(time.time_ns()), sim.describe()
         assert sim.popen.poll() is None, sim.describe()
-        assert len(eff) > 30 and np.all(np.abs(eff - 3.0) < 0.1)
-        assert all(math.isfinite(m.position[0]) and math.isfinite(m.velocity[0])
-                   for m in states)
+    held = states[first:]                                   # all computed before the next command
     command(-2.0)                                           # still follows a sane command
-    assert ros_node.spin_until(lambda: abs(states[-1].effort[0] + 2.0) < 0.05, 10)
+    assert ros_node.spin_until(lambda: applied(-2.0)), sim.describe()
+    effort = np.array([m.effort[0] for m in held])
+    assert len(held) >= 9 * 30 and np.all(np.abs(effort - 3.0) < 0.1), \
+        (len(held), effort[np.abs(effort - 3.0) >= 0.1][:5])
+    assert all(math.isfinite(m.position[0]) and math.isfinite(m.velocity[0]) for m in states)
     assert sim.stop() == 0
     out = sim.stdout + sim.stderr
     assert rejected_count(sim) == 9, out
@@ -255,27 +285,28 @@ def test_lockstep_advances_with_the_last_command_when_one_is_refused(spawn, ros_
     steps = 30
     sim = spawn(node_cmd('joint_sim', TRUTH, mode='lockstep', duration=steps / 3000.0,
                          start_delay=0.1))
-    assert sim.wait_for('lockstep simulation', 30), sim.describe()
+    assert sim.wait_for('lockstep simulation'), sim.describe()
     qos = roshelpers.reliable_qos()
     pub = ros_node.node.create_publisher(JointState, '/joint_command', qos)
     seen = {}
     bad = {8: NAN, 12: 1e308, 13: -INF}
 
     def answer(m):
+        # every state is answered, a re-sent one too: the simulator re-sends the first state
+        # until a command for it arrives (the first answer may go out before it has matched)
         ns = stamp_ns(m)
-        if ns in seen:
-            return
         k = round(ns * 3e-6)
-        seen[ns] = m.effort[0]
+        seen.setdefault(ns, m.effort[0])
         pub.publish(joint_state(ns, [0.0], [0.0], [bad.get(k, 2.0)]))
 
     sub = ros_node.node.create_subscription(JointState, '/joint_states', answer, qos)
     ros_node.node.create_subscription(Temperature, '/joint_temperature', lambda m: None, qos)
-    assert ros_node.wait_for_publishers(sub, timeout=20)
-    assert ros_node.wait_for_subscribers(pub, timeout=20)
-    ros_node.spin_until(lambda: sim.popen.poll() is not None, timeout=30)
-    assert sim.wait(timeout=10) == 0, sim.describe()
-    assert len(seen) == steps + 1                            # every step, none stalled
+    assert ros_node.wait_for_publishers(sub)
+    assert ros_node.wait_for_subscribers(pub)
+    assert ros_node.spin_until(lambda: sim.popen.poll() is not None), \
+        f'{len(seen)} of {steps + 1} steps\n' + sim.describe()
+    assert sim.wait() == 0, sim.describe()
+    assert sorted(round(ns * 3e-6) for ns in seen) == list(range(steps + 1))   # none stalled
     assert all(math.isfinite(e) for e in seen.values())
     assert rejected_count(sim) == len(bad)
 
@@ -430,8 +461,10 @@ def test_the_gate_uses_the_gear_limits(ros_env, monkeypatch):
 
 # ------------------------------------------------------------ the storm (acceptance test)
 
-STORM_S = 10.0
-CLEAN_S = 1.5                            # the checks look at 1.0 .. 1.45 s after the storm
+STORM_S = 10.0                           # of storm messages at RATE (longer in wall time if late)
+CLEAN_S = 1.5                            # of clean data at least (longer until the checks can run)
+SETTLE_S = 1.0                           # the checks look at what comes 1 s after the storm
+FOLLOW_STATES = 225                      # simulator states checked (0.225 s of its time)
 RATE = 500.0                             # Hz of the storm and of the clean data after it
 SEED = 12
 
@@ -495,7 +528,16 @@ class Storm:
 
 
 def run_storm(node, est, sim):
-    """Publish the storm, then clean data; return what came back (see the ``storm`` fixture)."""
+    """
+    Publish the storm, then clean data; return what came back (see the ``storm`` fixture).
+
+    Publishing is paced at ``RATE`` and never catches up in a burst (a loaded
+    machine stretches the storm in wall time; its messages stay the same).  The
+    clean data and the sane command go on until the simulator has published
+    ``FOLLOW_STATES`` states stamped ``SETTLE_S`` or more after the first state
+    in which it applied the command (``DEADLINE`` at most); then the test waits
+    until every clean sample has been answered by the estimator.
+    """
     from geometry_msgs.msg import WrenchStamped
     from sensor_msgs.msg import JointState, Temperature
     import roshelpers
@@ -507,23 +549,26 @@ def run_storm(node, est, sim):
             'contact': n.create_publisher(WrenchStamped, '/sim/contact_torque', qos)}
     sub_ext = n.create_subscription(JointState, '/external_torque', lambda m: None, qos)
     sub_sim = n.create_subscription(JointState, '/sim/joint_states', lambda m: None, qos)
-    assert est.wait_for('external torque observer', 30), est.describe()
-    assert sim.wait_for('realtime simulation', 30), sim.describe()
-    assert all(node.wait_for_subscribers(p, timeout=20) for p in pubs.values())
-    assert node.wait_for_publishers(sub_ext, timeout=20)
-    assert node.wait_for_publishers(sub_sim, timeout=20)
+    assert est.wait_for('external torque observer'), est.describe()
+    assert sim.wait_for('realtime simulation'), sim.describe()
+    assert all(node.wait_for_subscribers(p) for p in pubs.values())
+    assert node.wait_for_publishers(sub_ext)
+    assert node.wait_for_publishers(sub_sim)
     storm = Storm(SEED)
     step_ns = int(1e9 / RATE)
     n_storm, n_clean = int(STORM_S * RATE), int(CLEAN_S * RATE)
-    tau, q, qd = clean_motion(n_clean, 1.0 / RATE)
+    n_max = n_clean + int(DEADLINE * RATE)
+    tau, q, qd = clean_motion(n_max, 1.0 / RATE)
     truth = load_gear(TRUTH)
     command = 1.5 * (truth.mgl + 4.7)       # beats the lever and the break-away torque
     sim_storm, sim_after, ext = [], [], {}
-    t0 = time.monotonic()
-    for k in range(n_storm + n_clean):
-        pause = t0 + k / RATE - time.monotonic()
+    t_start = t_next = time.monotonic()
+    k = 0
+    while True:
+        pause = t_next - time.monotonic()
         if pause > 0:
             time.sleep(pause)
+        t_next = max(t_next, time.monotonic() - 0.5 / RATE) + 1.0 / RATE
         ns = BASE_NS + k * step_ns
         if k < n_storm:
             pubs['temp'].publish(storm.temperature(ns))
@@ -532,40 +577,67 @@ def run_storm(node, est, sim):
             pubs['contact'].publish(storm.contact())
         else:
             j = k - n_storm
-            if j == 0:
-                t_end = time.time()
             pubs['temp'].publish(temperature(ns, 30.0))
             pubs['js'].publish(joint_state(ns, [q[j]], [qd[j]], [tau[j]]))
             pubs['cmd'].publish(joint_state(0, [0.0], [0.0], [command]))
             pubs['contact'].publish(wrench(0.0))
+        k += 1
         if k % 10 == 0:
-            (sim_storm if k < n_storm else sim_after).extend(drain(sub_sim, JointState))
-            if k >= n_storm:
+            (sim_storm if k <= n_storm else sim_after).extend(drain(sub_sim, JointState))
+            if k > n_storm:
                 ext.update((stamp_ns(m), m.effort[0]) for m in drain(sub_ext, JointState))
-    clean = [BASE_NS + (n_storm + j) * step_ns for j in range(n_clean)]
-    t_wait = time.monotonic() + 30
-    while not set(clean) <= set(ext) and time.monotonic() < t_wait:
-        time.sleep(0.05)
+                j = k - n_storm
+                if j >= n_max or (j >= n_clean and
+                                  len(following(sim_after, command)) >= FOLLOW_STATES):
+                    break
+    clean = [BASE_NS + (n_storm + j) * step_ns for j in range(k - n_storm)]
+
+    def answered():
         ext.update((stamp_ns(m), m.effort[0]) for m in drain(sub_ext, JointState))
-        sim_after.extend(drain(sub_sim, JointState))
-    return {'clean': clean, 'ext': ext, 'tau': tau, 'q': q, 'qd': qd, 't_end': t_end,
+        return set(clean) <= set(ext)
+
+    roshelpers.wait_until(answered)
+    t_answered = time.monotonic()
+    m = len(clean)
+    return {'clean': clean, 'ext': ext, 'tau': tau[:m], 'q': q[:m], 'qd': qd[:m],
             'sim_storm': sim_storm, 'sim_after': sim_after, 'command': command,
-            'expected': storm.expected,
+            'expected': storm.expected, 'wall_s': t_answered - t_start,
             'alive': (est.popen.poll() is None, sim.popen.poll() is None)}
+
+
+def following(states, command):
+    """
+    Return the states stamped ``SETTLE_S`` or more after the first one that applies ``command``.
+
+    ``command`` lies outside the storm's range of plausible commands, so the
+    first state whose effort is ``command`` is the first after the storm that
+    the simulator computed with the sane command.
+    """
+    applied = [stamp_ns(m) for m in states if abs(m.effort[0] - command) < 0.1]
+    if not applied:
+        return []
+    t_cmd = applied[0]
+    return [m for m in states if stamp_ns(m) >= t_cmd + SETTLE_S * 1e9]
 
 
 @pytest.fixture(scope='module')
 def storm():
-    """Run estimator and real-time simulator (namespace /sim) through one storm."""
+    """
+    Run estimator and real-time simulator (namespace /sim) through one storm.
+
+    The estimator pairs states and temperatures by stamp (``sync``, as the storm
+    was written for); the simulator's command watchdog is off (see ``no_watchdog``).
+    """
     import roshelpers
     env = roshelpers.ros_environ()
     with pytest.MonkeyPatch.context() as mp:
         for key in ('ROS_DOMAIN_ID', 'ROS_AUTOMATIC_DISCOVERY_RANGE'):
             mp.setenv(key, env[key])
         mp.delenv('ROS_LOCALHOST_ONLY', raising=False)
-        est = roshelpers.Proc(node_cmd('estimator', MODEL, rate=RATE, friction='lugre'), env)
+        est = roshelpers.Proc(node_cmd('estimator', MODEL, rate=RATE, friction='lugre',
+                                       sync='true'), env)
         sim = roshelpers.Proc(node_cmd('joint_sim', TRUTH, '-r', '__ns:=/sim',
-                                       mode='realtime'), env)
+                                       mode='realtime', **no_watchdog()), env)
         try:
             with roshelpers.ros_node('storm', env['ROS_DOMAIN_ID']) as node:
                 result = run_storm(node, est, sim)
@@ -581,32 +653,37 @@ def test_estimator_survives_the_storm_and_agrees_with_offline_after_1_s(storm):
     assert storm['alive'][0] and storm['rc'][0] == 0, est.describe()
     clean, ext = storm['clean'], storm['ext']
     missing = [ns for ns in clean if ns not in ext]
-    assert not missing, f'{len(missing)} clean samples unanswered\n' + est.describe()
+    assert not missing, f'{len(missing)} of {len(clean)} clean samples unanswered\n' + \
+        est.describe()[-3000:]
     live = np.array([ext[ns] for ns in clean])
     assert np.all(np.isfinite(live))
     obs = DisturbanceObserver(load_gear(MODEL), 60.0, 1.0 / RATE, 'lugre')
     offline = np.array([obs(t, q, qd, 30.0) for t, q, qd in zip(storm['tau'], storm['q'],
                                                                 storm['qd'])])
-    after = int(RATE * 1.0)                                 # 1 s after the storm
+    after = int(RATE * SETTLE_S)                            # 1 s after the storm
     err = np.abs(live - offline)
     assert np.max(err[after:]) < 1e-9, f'max deviation {np.max(err[after:]):.3g} Nm'
     assert rejected_count(est) == storm['expected']['estimator'], est.describe()[-3000:]
     log = est.stdout + est.stderr
     warnings = log.count('ignored ')
-    assert 1 <= warnings <= STORM_S / 2.0 + 3                 # throttled: one per 2 s
+    # throttled: one line per 2 s while storm messages came in (before the last clean answer)
+    assert 1 <= warnings <= storm['wall_s'] / 2.0 + 3, (warnings, storm['wall_s'])
 
 
 def test_joint_sim_survives_the_storm_and_follows_the_command_after_1_s(storm):
     sim = storm['sim']
     assert storm['alive'][1] and storm['rc'][1] == 0, sim.describe()
-    assert len(storm['sim_storm']) > 0.5 * 1000.0 * STORM_S   # published on through the storm
-    t1 = storm['t_end'] + 1.0
-    window = [m for m in storm['sim_after'] if t1 <= stamp_ns(m) * 1e-9 <= t1 + 0.45]
-    assert len(window) > 0.5 * 1000.0 * 0.45, len(window)     # at its rate, about 1 kHz
+    during, after = storm['sim_storm'], storm['sim_after']
+    assert during, sim.describe()                             # published through the storm
+    assert all(math.isfinite(m.position[0]) and math.isfinite(m.velocity[0])
+               for m in during + after)
+    stamps = [stamp_ns(m) for m in during + after]
+    assert all(b > a for a, b in zip(stamps, stamps[1:]))      # one run, in order
+    window = following(after, storm['command'])
+    assert len(window) >= FOLLOW_STATES, (len(window), len(after), sim.describe()[-3000:])
     q = np.array([m.position[0] for m in window])
     qd = np.array([m.velocity[0] for m in window])
     effort = np.array([m.effort[0] for m in window])
-    assert np.all(np.isfinite(q)) and np.all(np.isfinite(qd))
     assert np.max(np.abs(effort - storm['command'])) < 0.1     # applies the sane command
     assert np.all(qd > 0) and np.all(np.diff(q) >= 0)         # and turns the way it pushes
     assert rejected_count(sim) == storm['expected']['joint_sim'], sim.describe()[-3000:]

@@ -12,7 +12,13 @@
 # See the License for the specific language governing permissions and
 # limitations under the License.
 
-"""Nodes as separate processes: lockstep equals offline, replay equals live, robustness."""
+"""
+Nodes as separate processes: lockstep equals offline, replay equals live, robustness.
+
+The tests hold on a loaded machine: they wait for conditions with the generous
+deadline ``roshelpers.DEADLINE`` and check what arrived and what it contains;
+rates and timing are measured by ``benchmarks/bench_nodes.py``.
+"""
 import glob
 import math
 import os
@@ -27,6 +33,7 @@ from friction_joint.control.observer import DisturbanceObserver
 from friction_joint.testbed.plant import Plant
 import numpy as np
 import pytest
+from roshelpers import stamp_ns
 import sourcetree
 
 pytestmark = pytest.mark.ros
@@ -146,34 +153,49 @@ def test_lockstep_closed_loop_equals_offline(lockstep_bag):
 
 
 def test_replay_into_estimator_equals_live(lockstep_bag, spawn, ros_node):
+    """
+    Replaying the lockstep recording into a fresh estimator reproduces every live estimate.
+
+    The estimator pairs states and temperatures by stamp, as the lockstep run's
+    did, with input queues that hold the whole run (a loaded machine may let it
+    fall behind the replay).  The replay publishes at the recording's log
+    times, which are simulated time: the states go out over the run's
+    simulated seconds / rate at least (the publishers' source timestamps).
+    """
     from sensor_msgs.msg import JointState
     import roshelpers
     rec = read_recording(lockstep_bag)
     live = {int(round(t * 3000)): e
             for t, e in zip(rec.external_torque.t, rec.external_torque.effort)}
-    got = {}
+    got, sent = {}, []
     sub = ros_node.node.create_subscription(
         JointState, '/external_torque',
-        lambda m: got.setdefault(round((m.header.stamp.sec * 1e9 + m.header.stamp.nanosec) * 3e-6),
-                                 m.effort[0]), roshelpers.reliable_qos())
-    est = spawn(node_cmd('estimator', MODEL, use_sim_time='true'))
-    assert est.wait_for('external torque observer', 30), est.describe()
-    assert ros_node.wait_for_publishers(sub, timeout=20)
+        lambda m: got.setdefault(round(stamp_ns(m) * 3e-6), m.effort[0]),
+        roshelpers.reliable_qos(None))
+    ros_node.node.create_subscription(
+        JointState, '/joint_states', lambda m, info: sent.append(info['source_timestamp']),
+        roshelpers.reliable_qos(None))
+    depth = 4 * len(live)
+    est = spawn(node_cmd('estimator', MODEL, use_sim_time='true', sync='true', **{
+        f'qos_overrides./{topic}.subscription.depth': depth
+        for topic in ('joint_states', 'joint_temperature')}))
+    assert est.wait_for('external torque observer'), est.describe()
+    assert ros_node.wait_for_publishers(sub)
     rate = 0.25
     player = spawn([PY, '-m', 'friction_joint', 'replay', str(lockstep_bag), '--rate', str(rate),
                     '--wait', '60', '--topics', '/joint_states', '/joint_temperature'])
-    ros_node.spin_until(lambda: len(got) > 0, timeout=120)
-    t_first = time.monotonic()
-    done = ros_node.spin_until(lambda: len(got) >= len(live), timeout=DURATION / rate + 120)
-    wall = time.monotonic() - t_first
+    done = ros_node.spin_until(lambda: len(got) >= len(live),
+                               timeout=DURATION / rate + roshelpers.DEADLINE)
     missing = sorted(set(live) - set(got))
     assert done, (f'{len(got)} of {len(live)} estimates, missing steps {missing[:5]} .. '
                   f'{missing[-5:]}\n' + player.describe() + est.describe())
     keys = sorted(live)
     np.testing.assert_allclose([got[k] for k in keys], [live[k] for k in keys], rtol=0, atol=1e-9)
-    # replay follows the log times, which are simulated time: the run's 10 s take 10 s / rate
-    # (the lockstep run itself took several times longer in wall time)
-    assert abs(wall - DURATION / rate) < 0.1 * DURATION / rate, wall
+    # replay follows the log times, which are simulated time: the run's 10 s go out over
+    # 10 s / rate or more (the lockstep run itself took several times longer in wall time)
+    assert ros_node.spin_until(lambda: len(sent) >= len(live)), (len(sent), len(live))
+    span = (max(sent) - min(sent)) * 1e-9
+    assert span > 0.95 * DURATION / rate, span
 
 
 def test_realtime_simulator_waits_for_its_subscriber(spawn, ros_node):
@@ -189,37 +211,54 @@ def test_realtime_simulator_waits_for_its_subscriber(spawn, ros_node):
         JointState, '/joint_states',
         lambda m: stamps.append(m.header.stamp.sec * 10 ** 9 + m.header.stamp.nanosec),
         roshelpers.reliable_qos(None))
-    sim = spawn(node_cmd('joint_sim', TRUTH, mode='realtime', duration=2.0, start_delay=0.5))
-    assert ros_node.wait_for_publishers(sub, timeout=30), sim.describe()
-    assert sim.wait_for('subscriber(s) matched', 30), sim.describe()
-    ros_node.spin_until(lambda: sim.popen.poll() is not None and len(stamps) >= 2000, 60)
+    # the publisher keeps all 2000 states until this subscriber has them (a loaded machine
+    # may delay this test's executor): a state is missing only if it was never sent to it
+    sim = spawn(node_cmd('joint_sim', TRUTH, mode='realtime', duration=2.0, start_delay=0.5,
+                         **{'qos_overrides./joint_states.publisher.depth': 5000}))
+    assert ros_node.wait_for_publishers(sub), sim.describe()
+    assert sim.wait_for('subscriber(s) matched'), sim.describe()
+    ros_node.spin_until(lambda: sim.popen.poll() is not None and len(stamps) >= 2000)
     assert len(stamps) == 2000, f'{len(stamps)} of 2000 states\n' + sim.describe()
     assert np.all(np.diff(stamps) > 0)
 
 
-def test_topics_types_and_rates(spawn, ros_node):
+def test_topics_and_types(spawn, ros_node):
+    """The realtime simulator streams one-joint states; its topics have the contract types."""
     from sensor_msgs.msg import JointState
     import roshelpers
     sim = spawn(node_cmd('joint_sim', TRUTH, mode='realtime'))
-    assert sim.wait_for('realtime simulation', 30), sim.describe()
-    count = []
-    sub = ros_node.node.create_subscription(JointState, '/joint_states', lambda m: count.append(m),
+    assert sim.wait_for('realtime simulation'), sim.describe()
+    states = []
+    sub = ros_node.node.create_subscription(JointState, '/joint_states', states.append,
                                             roshelpers.reliable_qos())
-    assert ros_node.wait_for_publishers(sub, timeout=20)
-    ros_node.spin_for(1.0)
-    n0 = len(count)
-    ros_node.spin_for(2.0)
-    assert (len(count) - n0) / 2.0 > 50   # streaming; the benchmark measures the rate
-    types = dict(ros_node.node.get_topic_names_and_types())
-    assert types['/joint_states'] == ['sensor_msgs/msg/JointState']
-    assert types['/joint_temperature'] == ['sensor_msgs/msg/Temperature']
-    assert types['/link_torque'] == ['geometry_msgs/msg/WrenchStamped']
-    assert '/clock' not in types                           # real time: no simulated clock
-    m = count[-1]
-    assert list(m.name) == ['joint'] and len(m.position) == len(m.velocity) == len(m.effort) == 1
+    assert ros_node.wait_for_publishers(sub)
+    assert ros_node.spin_until(lambda: len(states) >= 100), sim.describe()   # streaming
+    stamps = [stamp_ns(m) for m in states]
+    assert all(b > a for a, b in zip(stamps, stamps[1:]))
+    expected = {'/joint_states': ['sensor_msgs/msg/JointState'],
+                '/joint_temperature': ['sensor_msgs/msg/Temperature'],
+                '/link_torque': ['geometry_msgs/msg/WrenchStamped']}
+
+    def types():
+        return dict(ros_node.node.get_topic_names_and_types())
+
+    assert ros_node.spin_until(lambda: expected.items() <= types().items()), types()
+    assert '/clock' not in types()                         # real time: no simulated clock
+    for m in states:
+        assert list(m.name) == ['joint'] and len(m.position) == len(m.velocity) == \
+            len(m.effort) == 1
+        assert all(math.isfinite(v) for v in (m.position[0], m.velocity[0], m.effort[0]))
 
 
 def test_nodes_survive_garbage_and_reject_bad_parameters(spawn, ros_node):
+    """
+    Malformed and non-finite input is refused and never answered; bad parameters are refused.
+
+    The connection is proven first (a good state is repeated until the
+    controller answers it); then the garbage goes out, and once both nodes
+    have logged refusing it, a good state with two joints: the controller
+    answers it, and every command it ever sent answers one of the good states.
+    """
     from rcl_interfaces.srv import SetParameters
     from rclpy.parameter import Parameter
     from sensor_msgs.msg import JointState, Temperature
@@ -227,44 +266,55 @@ def test_nodes_survive_garbage_and_reject_bad_parameters(spawn, ros_node):
     qos = roshelpers.reliable_qos()
     ctrl = spawn(node_cmd('controller', MODEL, sync='false'))
     est = spawn(node_cmd('estimator', MODEL, sync='false'))
-    assert ctrl.wait_for('eq. 17 controller', 30) and est.wait_for('external torque', 30)
+    assert ctrl.wait_for('eq. 17 controller') and est.wait_for('external torque'), \
+        ctrl.describe() + est.describe()
     pub_js = ros_node.node.create_publisher(JointState, '/joint_states', qos)
     pub_t = ros_node.node.create_publisher(Temperature, '/joint_temperature', qos)
     cmds = []
     sub = ros_node.node.create_subscription(JointState, '/joint_command', cmds.append, qos)
-    assert ros_node.wait_for_subscribers(pub_js, 2, timeout=20)
-    assert ros_node.wait_for_publishers(sub, timeout=20)
+    assert ros_node.wait_for_subscribers(pub_js, 2)
+    assert ros_node.wait_for_subscribers(pub_t, 2)
+    assert ros_node.wait_for_publishers(sub)
 
-    def state(names, pos, vel, eff, sec=1):
+    def state(names, pos, vel, eff, sec=1, nanosec=0):
         m = JointState()
-        m.header.stamp.sec = sec
+        m.header.stamp.sec, m.header.stamp.nanosec = sec, nanosec
         m.name, m.position, m.velocity, m.effort = names, pos, vel, eff
         return m
 
+    def answered(sec):
+        return any(stamp_ns(c) == sec * 10 ** 9 for c in cmds)
+
     t = Temperature()
+    t.temperature = 30.0
+
+    def good_first():
+        pub_t.publish(t)
+        pub_js.publish(state(['joint'], [0.1], [0.0], [0.0], sec=1))
+
+    assert ros_node.repeat_until(good_first, lambda: answered(1)), ctrl.describe()
     t.temperature = float('nan')
     pub_t.publish(t)
     for bad in (state([], [], [], []), state(['joint'], [float('nan')], [0.0], [0.0]),
                 state(['other'], [0.1], [0.0], [0.0]), state(['joint'], [0.1], [], [])):
+        bad.header.stamp.nanosec = 500_000_000
         pub_js.publish(bad)
-    t.temperature = 30.0
-    pub_t.publish(t)
-    ros_node.spin_for(0.5)
-    assert not cmds                                          # nothing answered garbage
+    assert ctrl.wait_for('ignored'), ctrl.describe()
+    assert est.wait_for('ignored'), est.describe()
     pub_js.publish(state(['other', 'joint'], [9.0, 0.1], [0.0, 0.0], [0.0, 1.0], sec=2))
-    assert ros_node.spin_until(lambda: len(cmds) >= 1, timeout=10)
+    assert ros_node.spin_until(lambda: answered(2)), ctrl.describe()
+    assert {stamp_ns(c) for c in cmds} == {10 ** 9, 2 * 10 ** 9}     # nothing answered garbage
     assert list(cmds[-1].name) == ['joint'] and math.isfinite(cmds[-1].effort[0])
     assert ctrl.popen.poll() is None and est.popen.poll() is None
-    assert 'ignored' in ctrl.stderr + ctrl.stdout
 
     client = ros_node.node.create_client(SetParameters, '/controller/set_parameters')
-    assert client.wait_for_service(timeout_sec=10)
+    assert client.wait_for_service(timeout_sec=roshelpers.DEADLINE)
 
     def set_param(name, value):
         req = SetParameters.Request()
         req.parameters = [Parameter(name, value=value).to_parameter_msg()]
         fut = client.call_async(req)
-        ros_node.spin_until(fut.done, timeout=10)
+        assert ros_node.spin_until(fut.done), f'no answer to setting {name}'
         return fut.result().results[0]
 
     bad = set_param('friction_ff', 'coulomb')
@@ -273,8 +323,7 @@ def test_nodes_survive_garbage_and_reject_bad_parameters(spawn, ros_node):
     assert not bad.successful and 'amplitude' in bad.reason
     assert set_param('friction_ff', 'gms').successful
     pub_js.publish(state(['joint'], [0.1], [0.0], [0.0], sec=3))
-    n = len(cmds)
-    assert ros_node.spin_until(lambda: len(cmds) > n, timeout=10)
+    assert ros_node.spin_until(lambda: answered(3)), ctrl.describe()
     assert ctrl.popen.poll() is None
 
 
@@ -283,9 +332,9 @@ def test_bad_gear_parameters_exit_with_a_clear_error(spawn, tmp_path):
     bad.write_text(open(MODEL).read().replace('    inertia: 0.22',
                                               '    inertia: 0.22\n    intertia: 0.2'))
     p = spawn(node_cmd('controller', str(bad)))
-    assert p.wait(timeout=60) == 2
+    assert p.wait() == 2, p.describe()
     assert 'unknown parameter intertia' in p.stderr
     p = spawn(node_cmd('joint_sim', TRUTH, mode='warp'))
-    assert p.wait(timeout=60) == 2
+    assert p.wait() == 2, p.describe()
     assert 'mode' in p.stderr and 'lockstep' in p.stderr
     assert os.path.exists(MODEL)

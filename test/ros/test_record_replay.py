@@ -12,7 +12,16 @@
 # See the License for the specific language governing permissions and
 # limitations under the License.
 
-"""``friction_joint record`` / ``replay`` as processes on an isolated ROS 2 domain."""
+"""
+``friction_joint record`` / ``replay`` as processes on an isolated ROS 2 domain.
+
+The tests hold on a loaded machine: they wait for conditions (a line of the
+recorder, every message arrived, the replay ended) with the generous deadline
+``roshelpers.DEADLINE``.  Replay timing is checked from the replayer's own
+publish times (the DDS source timestamps) and only in the direction a busy
+machine cannot break (replay never publishes before a message's log time);
+how closely it keeps the log times is measured by ``benchmarks/bench_nodes.py``.
+"""
 from pathlib import Path
 import re
 import subprocess
@@ -21,7 +30,7 @@ import time
 from friction_joint.bag import read_recording, write_recording
 import numpy as np
 import pytest
-from roshelpers import PYTHON, reliable_qos
+from roshelpers import DEADLINE, PYTHON, reliable_qos
 import sourcetree
 
 pytestmark = pytest.mark.ros
@@ -52,7 +61,7 @@ def _publish(node, pub, msgs, rate=2000.0):
         while time.perf_counter() < t0 + (i + 1) * period:
             pass
     from rclpy.duration import Duration
-    assert pub.wait_for_all_acked(Duration(seconds=10))
+    assert pub.wait_for_all_acked(Duration(seconds=DEADLINE))
 
 
 def test_record_counts_every_message(ros_node, spawn, tmp_path):
@@ -64,10 +73,11 @@ def test_record_counts_every_message(ros_node, spawn, tmp_path):
     n = 1500
     out = tmp_path / 'rec'
     rec = spawn(CLI + ['record', out, '--topics', '/joint_states'])
-    assert rec.wait_for('recording /joint_states', 30), rec.describe()
+    assert rec.wait_for('recording /joint_states'), rec.describe()
     pub = ros_node.node.create_publisher(JointState, '/joint_states', reliable_qos(None))
     assert ros_node.wait_for_subscribers(pub), rec.describe()
-    assert rec.wait_for('/joint_states: 1 publisher matched', 10), rec.describe()
+    assert rec.wait_for('/joint_states: 1 publisher matched'), rec.describe()
+    t_sent = time.time()
     _publish(ros_node, pub, [_joint_state(i) for i in range(n)], rate=3000.0)
     assert rec.stop() == 0, rec.describe()
     assert f'recorded {n} messages (/joint_states: {n}) to {out}' in rec.stdout, rec.describe()
@@ -81,7 +91,7 @@ def test_record_counts_every_message(ros_node, spawn, tmp_path):
     assert msgs[0][1].name == ['joint'] and msgs[5][1].effort[0] == -5.0
     bag_times = np.array([t for t, _ in msgs])
     assert np.all(np.diff(bag_times) >= 0)
-    assert abs(bag_times[0] / 1e9 - time.time()) < 60             # receive (wall) time
+    assert t_sent - 1.0 < bag_times[0] / 1e9 <= time.time()       # receive (wall) time
 
     with open(next(out.glob('*.mcap')), 'rb') as fh:
         decoded = [m for _, _, _, m in make_reader(
@@ -93,13 +103,14 @@ def test_record_duration_default_topics_read_back(ros_node, spawn, tmp_path):
     from sensor_msgs.msg import JointState, Temperature
 
     out = tmp_path / 'rec'
-    rec = spawn(CLI + ['record', out, '--duration', '4'])
-    assert rec.wait_for('recording', 30), rec.describe()
+    duration = 20.0             # wall s from start-up: discovery on a busy machine, then 0.2 s
+    rec = spawn(CLI + ['record', out, '--duration', f'{duration:g}'])
+    assert rec.wait_for('recording'), rec.describe()
     js = ros_node.node.create_publisher(JointState, '/joint_states', reliable_qos(None))
     tp = ros_node.node.create_publisher(Temperature, '/joint_temperature', reliable_qos())
     assert ros_node.wait_for_subscribers(js) and ros_node.wait_for_subscribers(tp)
-    assert rec.wait_for('/joint_states: 1 publisher matched', 10), rec.describe()
-    assert rec.wait_for('/joint_temperature: 1 publisher matched', 10), rec.describe()
+    assert rec.wait_for('/joint_states: 1 publisher matched'), rec.describe()
+    assert rec.wait_for('/joint_temperature: 1 publisher matched'), rec.describe()
     for i in range(5):
         m = Temperature()
         m.header.stamp.sec = 100 + i // 2
@@ -107,7 +118,8 @@ def test_record_duration_default_topics_read_back(ros_node, spawn, tmp_path):
         m.temperature, m.variance = 30.0 + i, 0.1
         tp.publish(m)
     _publish(ros_node, js, [_joint_state(i, ('other', 'joint')) for i in range(300)])
-    assert rec.wait(timeout=30) == 0, rec.describe()
+    _publish(ros_node, tp, [])                                 # the temperatures acknowledged
+    assert rec.wait(timeout=duration + DEADLINE) == 0, rec.describe()
     assert re.search(r'recorded 305 messages \(/joint_states: 300, /joint_temperature: 5, '
                      r'/link_torque: 0, .*/clock: 0\)', rec.stdout), rec.describe()
 
@@ -124,10 +136,10 @@ def test_record_duration_default_topics_read_back(ros_node, spawn, tmp_path):
 def test_record_refuses_existing_output(spawn, tmp_path):
     (tmp_path / 'rec').mkdir()
     rec = spawn(CLI + ['record', tmp_path / 'rec'])
-    assert rec.wait(timeout=60) == 2
+    assert rec.wait() == 2, rec.describe()
     assert 'exists already' in rec.stderr
     rec = spawn(CLI + ['record', tmp_path / 'x', '--topics', '/unknown'])
-    assert rec.wait(timeout=60) == 2
+    assert rec.wait() == 2, rec.describe()
     assert '/unknown is not a contract topic' in rec.stderr
 
 
@@ -142,20 +154,26 @@ def _replay_bag(path, n=300):
 
 
 class _Collector:
+    """Every message of some topics, with the time the publisher sent it (source timestamp)."""
+
     def __init__(self, node, topics):
         from rosgraph_msgs.msg import Clock
         from sensor_msgs.msg import JointState, Temperature
         types = {'/joint_states': JointState, '/joint_temperature': Temperature, '/clock': Clock}
         self.got = {t: [] for t in topics}
-        self.arrival = {t: [] for t in topics}
-        self.subs = [node.create_subscription(types[t], t, self._cb(t), reliable_qos())
+        self.sent = {t: [] for t in topics}
+        self.subs = [node.create_subscription(types[t], t, self._cb(t), reliable_qos(None))
                      for t in topics]
 
     def _cb(self, topic):
-        def cb(msg):
+        def cb(msg, info):
             self.got[topic].append(msg)
-            self.arrival[topic].append(time.monotonic())
+            self.sent[topic].append(info['source_timestamp'] * 1e-9)
         return cb
+
+    def has(self, counts):
+        """Return whether at least ``counts[topic]`` messages of each topic have arrived."""
+        return all(len(self.got[t]) >= n for t, n in counts.items())
 
 
 def test_replay_publishes_in_order_with_clock(ros_node, spawn, tmp_path):
@@ -163,10 +181,10 @@ def test_replay_publishes_in_order_with_clock(ros_node, spawn, tmp_path):
     t = _replay_bag(tmp_path / 'bag', n)
     col = _Collector(ros_node.node, ['/joint_states', '/joint_temperature', '/clock'])
     rep = spawn(CLI + ['replay', tmp_path / 'bag', '--rate', '1', '--wait', '60'])
-    ros_node.spin_until(lambda: rep.popen.poll() is not None, timeout=40)
-    ros_node.spin_until(lambda: len(col.got['/joint_states']) >= n, timeout=5)
+    expected = {'/joint_states': n, '/joint_temperature': 2, '/clock': n}
+    assert ros_node.spin_until(lambda: rep.popen.poll() is not None and col.has(expected)), \
+        ({t: len(m) for t, m in col.got.items()}, rep.describe())
     assert rep.wait() == 0, rep.describe()
-    ros_node.spin_for(0.2)
     assert f'replayed {2 * n + 2} messages (/joint_states: {n}, /joint_temperature: 2, ' \
            f'/clock: {n}) from' in rep.stdout, rep.describe()
     js = col.got['/joint_states']
@@ -175,8 +193,8 @@ def test_replay_publishes_in_order_with_clock(ros_node, spawn, tmp_path):
     clock = np.array([c.clock.sec + c.clock.nanosec * 1e-9 for c in col.got['/clock']])
     assert len(clock) == n and np.all(np.diff(clock) > 0)
     np.testing.assert_allclose(clock, t, atol=1e-9)           # from the stamps, not the bag's
-    span = col.arrival['/joint_states'][-1] - col.arrival['/joint_states'][0]
-    assert 0.2 < span < 2.0                                     # 0.3 s of data at rate 1
+    span = col.sent['/joint_states'][-1] - col.sent['/joint_states'][0]
+    assert span > 0.9 * (t[-1] - t[0]), span                     # 0.3 s of data at rate 1
 
 
 def test_replay_single_mcap_fast_without_clock(ros_node, spawn, tmp_path):
@@ -185,14 +203,14 @@ def test_replay_single_mcap_fast_without_clock(ros_node, spawn, tmp_path):
     col = _Collector(ros_node.node, ['/joint_states', '/clock'])
     rep = spawn(CLI + ['replay', tmp_path / 'one.mcap', '--rate', '0', '--no-clock', '--wait',
                        '60', '--topics', '/joint_states', '/clock'])
-    ros_node.spin_until(lambda: rep.popen.poll() is not None, timeout=40)
-    ros_node.spin_until(lambda: len(col.got['/clock']) >= n, timeout=5)
+    assert ros_node.spin_until(lambda: rep.popen.poll() is not None and
+                               col.has({'/joint_states': n, '/clock': n})), rep.describe()
     assert rep.wait() == 0, rep.describe()
     assert [m.position[0] for m in col.got['/joint_states']] == list(range(n))
     clock = [c.clock.sec + c.clock.nanosec * 1e-9 for c in col.got['/clock']]
     assert clock[0] == pytest.approx(1010.0)                    # the bag's own /clock
     rep = spawn(CLI + ['replay', tmp_path / 'one.mcap', '--topics', '/nope'])
-    assert rep.wait(timeout=60) == 2 and 'no /nope topic' in rep.stderr
+    assert rep.wait() == 2 and 'no /nope topic' in rep.stderr, rep.describe()
 
 
 def test_replay_ends_with_an_error_when_a_subscriber_stops_taking(ros_node, spawn, tmp_path):
@@ -203,7 +221,7 @@ def test_replay_ends_with_an_error_when_a_subscriber_stops_taking(ros_node, spaw
                                       reliable_qos(None))      # keep-all, never spun
     rep = spawn(CLI + ['replay', tmp_path / 'bag', '--rate', '0', '--no-clock', '--wait', '60',
                        '--topics', '/joint_states'])
-    assert rep.wait(timeout=120) == 2, rep.describe()
+    assert rep.wait(timeout=2 * DEADLINE) == 2, rep.describe()
     m = re.search(r'/joint_states: publishing failed after (\d+) messages .* a subscriber has '
                   r'stopped taking messages', rep.stderr)
     assert m and 0 < int(m.group(1)) < n, rep.describe()
@@ -234,7 +252,8 @@ def _sim_stream(ros_node, js_pub, clock_pub, phases):
             while time.perf_counter() < t_next:
                 pass
     from rclpy.duration import Duration
-    assert js_pub.wait_for_all_acked(Duration(seconds=10))
+    assert js_pub.wait_for_all_acked(Duration(seconds=DEADLINE))
+    assert clock_pub.wait_for_all_acked(Duration(seconds=DEADLINE))
     return np.array(stamps)
 
 
@@ -246,18 +265,16 @@ def test_record_sim_time_logs_clock_times_and_replay_spans_sim_time(ros_node, sp
 
     out = tmp_path / 'rec'
     rec = spawn(CLI + ['record', out, '--use-sim-time', '--topics', '/joint_states', '/clock'])
-    assert rec.wait_for('log times from /clock', 30), rec.describe()
+    assert rec.wait_for('log times from /clock'), rec.describe()
     js = ros_node.node.create_publisher(JointState, '/joint_states', reliable_qos(None))
     clock = ros_node.node.create_publisher(Clock, '/clock', reliable_qos(None))
     assert ros_node.wait_for_subscribers(js) and ros_node.wait_for_subscribers(clock)
-    assert rec.wait_for('/joint_states: 1 publisher matched', 10), rec.describe()
-    assert rec.wait_for('/clock: 1 publisher matched', 10), rec.describe()
-    ros_node.spin_for(0.3)
+    assert rec.wait_for('/joint_states: 1 publisher matched'), rec.describe()
+    assert rec.wait_for('/clock: 1 publisher matched'), rec.describe()
     wall0 = time.monotonic()
     # 1.5 s of sim time in about 0.15 s, then 0.1 s of sim time in about 0.5 s
     stamps = _sim_stream(ros_node, js, clock, [(150, 0.01, 0.001), (100, 0.001, 0.005)])
-    wall = time.monotonic() - wall0
-    ros_node.spin_for(0.3)
+    wall = time.monotonic() - wall0                 # every message acknowledged by the recorder
     assert rec.stop() == 0, rec.describe()
     n = len(stamps)
     assert f'recorded {2 * n} messages (/joint_states: {n}, /clock: {n})' in rec.stdout, \
@@ -288,18 +305,21 @@ def test_record_sim_time_logs_clock_times_and_replay_spans_sim_time(ros_node, sp
     col = _Collector(ros_node.node, ['/joint_states'])
     rep = spawn(CLI + ['replay', out, '--rate', '1', '--wait', '60', '--no-clock', '--topics',
                        '/joint_states'])
-    ros_node.spin_until(lambda: rep.popen.poll() is not None, timeout=60)
-    ros_node.spin_until(lambda: len(col.got['/joint_states']) >= n, timeout=10)
+    assert ros_node.spin_until(lambda: rep.popen.poll() is not None and
+                               col.has({'/joint_states': n})), rep.describe()
     assert rep.wait() == 0, rep.describe()
     got = col.got['/joint_states']
     assert [m.position[0] for m in got] == list(range(n))
-    arrival = np.array(col.arrival['/joint_states'])
-    replay_span = arrival[-1] - arrival[0]
+    sent = np.array(col.sent['/joint_states'])
+    replay_span = sent[-1] - sent[0]
     assert replay_span > 0.9 * span, (replay_span, span, wall)
-    assert replay_span < span + 5.0, (replay_span, span, wall)
-    # the slow sim phase (0.1 s of sim time published over 0.5 s) replays in about 0.1 s
-    slow = arrival[-1] - arrival[150]
-    assert slow < 0.45 or slow < 0.5 * wall, (slow, replay_span, wall)
+    # the fast sim phase (1.5 s of sim time published in about 0.15 s) replays over 1.5 s or
+    # more; the slow one (0.1 s of sim time published over 0.5 s or more) in about 0.1 s:
+    # replay follows the log (sim) times, so the order of the two is the reverse of the wall
+    # time's (how closely it keeps them: bench_nodes.py)
+    fast, slow = sent[149] - sent[0], sent[-1] - sent[150]
+    assert fast > 0.9 * (stamps[149] - stamps[0]) * 1e-9, (fast, slow, wall)
+    assert slow < fast, (fast, slow, wall)
 
 
 def test_record_metadata_has_ros_distro_and_offered_qos(ros_node, spawn, ros_env, tmp_path):
@@ -316,7 +336,7 @@ def test_record_metadata_has_ros_distro_and_offered_qos(ros_node, spawn, ros_env
     env.pop('ROS_DISTRO', None)                                 # default: jazzy
     rec = spawn(CLI + ['record', out, '--topics', '/joint_states', '/joint_temperature'],
                 env=env)
-    assert rec.wait_for('recording', 30), rec.describe()
+    assert rec.wait_for('recording'), rec.describe()
     qos = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=50,
                      reliability=ReliabilityPolicy.RELIABLE,
                      durability=DurabilityPolicy.TRANSIENT_LOCAL,
@@ -324,8 +344,8 @@ def test_record_metadata_has_ros_distro_and_offered_qos(ros_node, spawn, ros_env
     js = ros_node.node.create_publisher(JointState, '/joint_states', qos)
     tp = ros_node.node.create_publisher(Temperature, '/joint_temperature', reliable_qos())
     assert ros_node.wait_for_subscribers(js) and ros_node.wait_for_subscribers(tp)
-    assert rec.wait_for('/joint_states: 1 publisher matched', 10), rec.describe()
-    assert rec.wait_for('/joint_temperature: 1 publisher matched', 10), rec.describe()
+    assert rec.wait_for('/joint_states: 1 publisher matched'), rec.describe()
+    assert rec.wait_for('/joint_temperature: 1 publisher matched'), rec.describe()
     temp = Temperature()
     temp.header.stamp.sec, temp.temperature = 100, 30.0
     _publish(ros_node, tp, [temp])
