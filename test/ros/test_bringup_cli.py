@@ -274,7 +274,7 @@ def test_hand_started_recording_has_every_message_from_the_first_step(mode, spaw
     follower = {'mode': mode}
     est = spawn(node_cmd('estimator', MODEL, **follower))
     ctl = spawn(node_cmd('controller', MODEL, **follower))
-    sim_params = dict(mode=mode, duration=2.0, wait_subscribers=3, wait_recorder='loop')
+    sim_params = {'mode': mode, 'duration': 2.0, 'wait_subscribers': 3, 'wait_recorder': 'loop'}
     if lockstep:
         sim_params['follow'] = 'external_torque'
     sim = spawn(node_cmd('joint_sim', TRUTH, **sim_params))
