@@ -33,19 +33,30 @@ The new outputs are built in temporary sibling directories
 each old output is moved into its staging directory and the new one renamed
 into place, in the order declared; if any step fails, the outputs already
 swapped are swapped back, so an error leaves either every old output
-untouched or every new one complete.  Files are written with mode
+untouched or every new one complete; SIGINT, SIGTERM and SIGHUP wait until
+the set is whole, old or new, and its staging directories are gone.  These
+name their owner (``NAME.owner``: host, pid, start time); declaring an output
+removes those of dead owners (killed runs; others, e.g. a recorder's, are
+left), putting back an old output moved into one (``NAME.old``) if the
+output is missing.  Files are written with mode
 ``0o666`` and directories with ``0o777``, less the umask.  Errors are one-line
 ``error`` exceptions (default :class:`~friction_joint.exceptions.FrictionJointError`)
 naming the path.
 """
+import contextlib
 import dataclasses
 import io
 import json
 import math
 import os
+import re
 import shutil
+import signal
+import socket
 import stat
 import tempfile
+import threading
+import time
 
 import numpy as np
 
@@ -214,6 +225,59 @@ def _remove(path):
         pass
 
 
+@contextlib.contextmanager
+def _signals_held():
+    """Hold SIGINT, SIGTERM and SIGHUP back inside the block, deliver them after it."""
+    held, saved = [], {}
+    try:
+        if threading.current_thread() is threading.main_thread():   # else no signals here
+            for s in (signal.SIGINT, signal.SIGTERM, signal.SIGHUP):
+                if signal.getsignal(s) not in (None, signal.SIG_IGN):   # None: set in C
+                    saved[s] = signal.signal(s, lambda signum, frame: held.append(signum))
+        yield
+    finally:
+        for s, handler in saved.items():
+            signal.signal(s, handler)
+        for s in dict.fromkeys(held):
+            signal.raise_signal(s)
+
+
+def _owner(pid):
+    """Return the owner record of process ``pid``: host, pid, start time (from /proc)."""
+    try:
+        with open(f'/proc/{pid}/stat', 'rb') as fh:
+            started = fh.read().rsplit(b')', 1)[1].split()[19].decode()
+    except (OSError, IndexError, UnicodeDecodeError):
+        started = '-'
+    return f'{socket.gethostname()} {pid} {started}'
+
+
+def _stale(stage, name):
+    """Whether staging directory ``stage`` of output ``name`` belongs to no live process."""
+    age = 0.0
+    try:
+        st = os.lstat(stage)
+        if not stat.S_ISDIR(st.st_mode):
+            return False
+        age = time.time() - st.st_mtime
+        with open(os.path.join(stage, f'{name}.owner'), encoding='utf-8') as fh:
+            host, pid, started = fh.read().split()
+        pid = int(pid)
+    except FileNotFoundError:                # no record: ours (before records) if it holds
+        return age > 3600.0 and os.path.lexists(os.path.join(stage, f'{name}.old'))  # .old
+    except (OSError, ValueError):
+        return False
+    if host != socket.gethostname() or pid <= 0:
+        return False                         # another machine's: not ours to judge
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return True
+    except OSError:                          # exists, another user's
+        return False
+    return started != '-' and _owner(pid).split()[2] not in ('-', started)    # pid reused
+
+
 class OutputSet:
     """
     The outputs of one command, checked up front and published together or not at all.
@@ -280,6 +344,7 @@ class OutputSet:
         target = _Target(path, os.path.abspath(path), kind, label)
         if os.path.basename(target.abspath) in ('', '.', '..'):
             raise self.error(f'{label} {path} cannot be an output')
+        self._sweep(target)
         self._targets.append(target)
         return target.abspath
 
@@ -336,6 +401,25 @@ class OutputSet:
             raise self.error(f'cannot create output directory {parent}: {probe} is not a '
                              'directory')
 
+    def _sweep(self, target):            # staging directories of killed runs, old data back
+        parent, name = os.path.split(target.abspath)
+        pattern = re.compile(re.escape(f'.{name}.') + r'[a-z0-9_]{8}\.tmp')
+        try:
+            entries = os.listdir(parent)
+        except OSError:
+            return
+        for entry in entries:
+            stage = os.path.join(parent, entry)
+            if not pattern.fullmatch(entry) or not _stale(stage, name):
+                continue
+            old = os.path.join(stage, f'{name}.old')
+            if os.path.lexists(old) and _existing(target.abspath, self.error) in (None, 'empty'):
+                try:
+                    os.rename(old, target.abspath)
+                except OSError:
+                    continue                 # data: leave it where it is
+            _remove(stage)
+
     # ------------------------------------------------------------------ stage ---
 
     def _stage(self, target):
@@ -352,11 +436,14 @@ class OutputSet:
                 raise self.error(f'cannot create output directory {parent}: '
                                  f'{_why(exc)}') from None
             self._made.extend(missing)
-            try:
-                target.stage = tempfile.mkdtemp(
-                    prefix=f'.{os.path.basename(target.abspath)}.', suffix='.tmp', dir=parent)
-            except OSError as exc:
-                raise self.error(f'cannot write to {parent}: {_why(exc)}') from None
+            name = os.path.basename(target.abspath)
+            with _signals_held():            # never a staging directory without its owner
+                try:
+                    target.stage = tempfile.mkdtemp('.tmp', f'.{name}.', parent)
+                except OSError as exc:
+                    raise self.error(f'cannot write to {parent}: {_why(exc)}') from None
+                self._write(os.path.join(target.stage, f'{name}.owner'),
+                            _owner(os.getpid()).encode('utf-8'), target.path)
         return target
 
     def staging_path(self, path):
@@ -424,28 +511,27 @@ class OutputSet:
         for t in self._targets:
             if t.stage is None or not os.path.lexists(t.staged):
                 raise self.error(f'nothing was written for {t.named()}')
-        current = None
-        try:
-            for t in self._targets:
-                current = t
-                if os.path.lexists(t.abspath):
-                    t.old = t.staged + '.old'
-                    os.rename(t.abspath, t.old)
-                os.rename(t.staged, t.abspath)
-                t.swapped = True
-        except BaseException as exc:         # an interrupt too: never half swapped
-            kept = self._rollback()
-            if not isinstance(exc, OSError):
-                raise
-            note = (f'; the old output is kept in {", ".join(kept)}' if kept else
-                    '; nothing was changed')
-            raise self.error(f'cannot write {current.named()}: {_why(exc)}{note}') from None
-        self._published = True
-        self.discard()
-        out = []
-        for t in self._targets:
-            out.extend(t.written if t.written is not None else [t.path])
-        return out
+        with _signals_held():                # signals: after the set is whole, old or new
+            try:
+                for t in self._targets:
+                    current = t
+                    if os.path.lexists(t.abspath):
+                        os.rename(t.abspath, t.staged + '.old')
+                        t.old = t.staged + '.old'     # only once moved: else none to restore
+                    os.rename(t.staged, t.abspath)
+                    t.swapped = True
+                self._published = True
+            except BaseException as exc:     # an interrupt too: never half swapped
+                kept = self._rollback()
+                if not isinstance(exc, OSError):
+                    raise
+                note = (f'; the old output is kept in {", ".join(kept)}' if kept else
+                        '; nothing was changed')
+                raise self.error(f'cannot write {current.named()}: {_why(exc)}{note}') from None
+            finally:
+                self.discard()
+        return [p for t in self._targets
+                for p in (t.written if t.written is not None else [t.path])]
 
     def _rollback(self):
         """Swap published outputs back; return where old outputs are kept if that failed."""
@@ -465,17 +551,15 @@ class OutputSet:
 
     def discard(self):
         """Remove the staging directories (old outputs replaced by publishing with them)."""
-        for t in self._targets:
-            if t.stage is not None and not t.keep:
-                _remove(t.stage)
-                t.stage = None
-        if not self._published:
-            for d in self._made:                 # deepest first
-                try:
+        with _signals_held():
+            for t in self._targets:
+                if t.stage is not None and not t.keep:
+                    _remove(t.stage)
+                    t.stage = None
+            for d in self._made if not self._published else ():     # deepest first
+                with contextlib.suppress(OSError):
                     os.rmdir(d)
-                except OSError:
-                    pass
-        self._made = []
+            self._made = []
 
 
 def publish_outputs(targets, *, force=False, inputs=(), error=FrictionJointError):

@@ -27,7 +27,13 @@ import errno
 import json
 import os
 from pathlib import Path
+import signal
+import socket
 import stat
+import subprocess
+import sys
+import time
+import uuid
 
 from friction_joint import demo
 from friction_joint.bag import read_recording, write_recording
@@ -512,3 +518,205 @@ def test_interrupt_while_swapping_restores_the_old_outputs(tmp_path, monkeypatch
     assert single.read_text() == 'old a\n'
     assert os.listdir(folder) == ['x'] and (folder / 'x').read_text() == 'old x\n'
     assert leftovers(tmp_path) == []
+
+
+# ------------------------------------------------------- signals and the sweep ---
+
+def old_set(tmp_path):
+    """Write an earlier set (a file, a directory, a file); return the outputs and their state."""
+    a, d, c = tmp_path / 'a.txt', tmp_path / 'd', tmp_path / 'c.txt'
+    a.write_text('old a\n')
+    d.mkdir()
+    (d / 'x').write_text('old x\n')
+    c.write_text('old c\n')
+    return (a, d, c), set_state(a, d, c)
+
+
+def set_state(a, d, c):
+    """Return what the set holds: its file contents and the directory's files."""
+    return (a.read_text(), {n: (d / n).read_text() for n in os.listdir(d)}, c.read_text())
+
+
+NEW_SET = ('new a\n', {'y': 'new y\n'}, 'new c\n')
+
+
+def new_set_targets(a, d, c):
+    return [(a, b'new a\n'), (d, [('y', b'new y\n')]), (c, b'new c\n')]
+
+
+@pytest.mark.parametrize('step', range(1, 7))
+def test_signal_during_the_swap_waits_for_the_whole_set(tmp_path, monkeypatch, step):
+    """SIGTERM at any of the six renames is handled once the set is new and staging is gone."""
+    from friction_joint.output import publish_outputs
+    (a, d, c), _ = old_set(tmp_path)
+    real_rename, renames, handled = os.rename, [], []
+
+    def rename(src, dst):
+        renames.append(dst)
+        if len(renames) == step:
+            os.kill(os.getpid(), signal.SIGTERM)
+        return real_rename(src, dst)
+
+    def handler(signum, frame):
+        handled.append((len(renames), set_state(a, d, c), leftovers(tmp_path)))
+        raise KeyboardInterrupt
+    monkeypatch.setattr(os, 'rename', rename)
+    previous = signal.signal(signal.SIGTERM, handler)
+    try:
+        with pytest.raises(KeyboardInterrupt):
+            publish_outputs(new_set_targets(a, d, c), force=True)
+    finally:
+        signal.signal(signal.SIGTERM, previous)
+    assert handled == [(6, NEW_SET, [])]
+    assert signal.getsignal(signal.SIGINT) is signal.default_int_handler
+
+
+def test_signal_during_a_failed_swap_waits_for_the_rollback(tmp_path, monkeypatch):
+    """SIGTERM, then a rename fails: handled once every old output is back."""
+    from friction_joint.output import publish_outputs
+    (a, d, c), old = old_set(tmp_path)
+    real_rename, renames, handled = os.rename, [], []
+
+    def rename(src, dst):
+        renames.append(dst)
+        if len(renames) == 2:
+            os.kill(os.getpid(), signal.SIGTERM)
+        if len(renames) == 6:
+            raise OSError(errno.EIO, 'Input/output error (injected)')
+        return real_rename(src, dst)
+
+    def handler(signum, frame):
+        handled.append((set_state(a, d, c), leftovers(tmp_path)))
+        raise KeyboardInterrupt
+    monkeypatch.setattr(os, 'rename', rename)
+    previous = signal.signal(signal.SIGTERM, handler)
+    try:
+        with pytest.raises(KeyboardInterrupt):
+            publish_outputs(new_set_targets(a, d, c), force=True)
+    finally:
+        signal.signal(signal.SIGTERM, previous)
+    assert handled == [(old, [])]
+
+
+def test_failed_move_aside_of_an_old_output_changes_nothing(tmp_path, monkeypatch):
+    """A rename that fails moving an old output aside moved nothing: nothing to put back."""
+    from friction_joint.output import publish_outputs
+    (a, d, c), old = old_set(tmp_path)
+    real_rename = os.rename
+
+    def rename(src, dst):
+        if os.fspath(src) == str(d):
+            raise OSError(errno.EIO, 'Input/output error (injected)')
+        return real_rename(src, dst)
+    monkeypatch.setattr(os, 'rename', rename)
+    with pytest.raises(FrictionJointError, match='nothing was changed'):
+        publish_outputs(new_set_targets(a, d, c), force=True)
+    assert set_state(a, d, c) == old
+    assert leftovers(tmp_path) == []
+
+
+PUBLISH_KILLED = r"""
+import errno, os, signal, sys
+from pathlib import Path
+from friction_joint.output import publish_outputs
+tmp, step, fail = Path(sys.argv[1]), int(sys.argv[2]), int(sys.argv[3])
+real, seen = os.rename, []
+
+def rename(src, dst):
+    seen.append(dst)
+    if len(seen) == step:
+        os.kill(os.getpid(), signal.SIGTERM)        # default action: the process ends
+    if len(seen) == fail:
+        raise OSError(errno.EIO, 'Input/output error (injected)')
+    return real(src, dst)
+
+os.rename = rename
+try:
+    publish_outputs([(tmp / 'a.txt', b'new a\n'), (tmp / 'd', [('y', b'new y\n')]),
+                     (tmp / 'c.txt', b'new c\n')], force=True)
+except Exception as exc:
+    print(f'error: {exc}')
+print('not killed')
+"""
+
+
+@pytest.mark.parametrize('step,fail', [(1, 0), (4, 0), (6, 0), (3, 5)])
+def test_default_sigterm_during_the_swap_ends_the_process_after_it(tmp_path, step, fail):
+    """Without a handler SIGTERM kills the process: only once the set is whole and unstaged."""
+    (a, d, c), old = old_set(tmp_path)
+    proc = subprocess.run([sys.executable, '-c', PUBLISH_KILLED, str(tmp_path), str(step),
+                           str(fail)], capture_output=True, text=True, timeout=120)
+    assert proc.returncode == -signal.SIGTERM, proc.stderr
+    assert proc.stdout == ''
+    assert set_state(a, d, c) == (old if fail else NEW_SET)
+    assert leftovers(tmp_path) == []
+
+
+def stale_stage(parent, name, owner, contents=(), tag='abcd_123'):
+    """Make a staging directory of output ``name`` with an owner record and ``contents``."""
+    stage = parent / f'.{name}.{tag}.tmp'
+    stage.mkdir()
+    if owner is not None:
+        (stage / f'{name}.owner').write_text(owner)
+    for rel, data in contents:
+        (stage / rel).parent.mkdir(parents=True, exist_ok=True)
+        (stage / rel).write_bytes(data)
+    return stage
+
+
+def dead_owner():
+    """Return the owner record of a process that cannot exist (pid above pid_max)."""
+    pid_max = int(Path('/proc/sys/kernel/pid_max').read_text())
+    return f'{socket.gethostname()} {pid_max + 1} 12345\n'
+
+
+def test_sweep_restores_an_old_output_moved_into_a_dead_stage(tmp_path):
+    """A run killed while swapping: its old output is put back, its half-built new one gone."""
+    from friction_joint.output import OutputSet
+    stage = stale_stage(tmp_path, 'out', dead_owner(),
+                        [('out.old/report.json', b'old'), ('out/half.png', b'new, half')])
+    with OutputSet() as outputs:
+        outputs.add_directory(tmp_path / 'out')
+        assert not stage.exists()
+        assert snapshot_dir(tmp_path / 'out') == {'report.json': b'old'}
+        with pytest.raises(FrictionJointError, match='exists already'):
+            outputs.check()
+    assert leftovers(tmp_path) == []
+
+
+def snapshot_dir(path):
+    return {n: (path / n).read_bytes() for n in os.listdir(path)}
+
+
+def test_sweep_removes_only_dead_stages_of_that_output(tmp_path):
+    """Not a live owner's, another host's, another output's, a recorder's or a fresh one."""
+    from friction_joint.output import OutputSet
+    (tmp_path / 'out.txt').write_text('current\n')
+    dead = stale_stage(tmp_path, 'out.txt', dead_owner(), [('out.txt.old', b'replaced')])
+    live = tmp_path / '.out.txt.live_123.tmp'
+    live.mkdir()
+    (live / 'out.txt.owner').write_text(f'{socket.gethostname()} {os.getpid()} -\n')
+    reused = stale_stage(tmp_path, 'out.txt', f'{socket.gethostname()} {os.getpid()} 1\n',
+                         tag='reus_123')             # this pid, but another process's
+    elsewhere = tmp_path / '.out.txt.away_123.tmp'
+    elsewhere.mkdir()
+    (elsewhere / 'out.txt.owner').write_text(f'another-host-{uuid.uuid4().hex} 1 1\n')
+    other = stale_stage(tmp_path, 'out', dead_owner(), [('out.old', b'data of another')])
+    hours_ago = (time.time() - 7200, time.time() - 7200)
+    unowned_old = stale_stage(tmp_path, 'out.txt', None, [('out.txt.old', b'replaced')],
+                              tag='old_0123')
+    os.utime(unowned_old, hours_ago)           # an earlier version's: no owner, an old output
+    unowned_new = stale_stage(tmp_path, 'out.txt', None, [('out.txt.old', b'replaced')],
+                              tag='new_0123')
+    recorders = stale_stage(tmp_path, 'out.txt', None, [('out.txt/rec_0.mcap', b'kept'),
+                                                        ('recorder.json', b'{}')], tag='reco_123')
+    os.utime(recorders, hours_ago)             # a killed recorder's: kept for recovery
+    named_alike = tmp_path / '.out.txt.abc.tmp'
+    named_alike.mkdir()
+    with OutputSet(force=True) as outputs:
+        outputs.add_file(tmp_path / 'out.txt')
+        outputs.check()
+    assert (tmp_path / 'out.txt').read_text() == 'current\n'
+    assert not dead.exists() and not unowned_old.exists() and not reused.exists()
+    assert live.exists() and elsewhere.exists() and unowned_new.exists()
+    assert other.exists() and named_alike.exists() and recorders.exists()

@@ -23,10 +23,22 @@ The modules import the library lazily inside ``run`` where it needs ROS, so
 
 Errors of this package (bad input) end with a one-line message naming the
 problem and exit status 2; nothing half-written is left as a result.
+
+SIGTERM and SIGHUP stop a command as Ctrl-C (SIGINT) does: :func:`main` has
+them raise :class:`KeyboardInterrupt` where the command is (unless a signal
+was ignored when it started, as under ``nohup``), so the same clean-up runs:
+staged outputs are removed and the old ones left untouched; a signal that
+comes while the outputs are being swapped takes effect once the swap is
+complete (:class:`~friction_joint.output.OutputSet`).  The exit status is
+128 + the signal number, as a shell reports a process killed by it: 130 for
+SIGINT, 143 for SIGTERM, 129 for SIGHUP.  ``record`` and ``replay`` install
+their own handlers for the time they run.
 """
 import argparse
 import importlib
+import signal
 import sys
+import threading
 
 from ..exceptions import FrictionJointError
 
@@ -52,15 +64,43 @@ def build_parser():
     return parser
 
 
+class _Stopped(KeyboardInterrupt):
+    """SIGTERM or SIGHUP, raised where the command is, as SIGINT raises ``KeyboardInterrupt``."""
+
+    def __init__(self, signum):
+        super().__init__(signum)
+        self.signum = signum
+
+
+def _stop(signum, frame):
+    raise _Stopped(signum)
+
+
+def _stop_on_signals():
+    """Let SIGTERM and SIGHUP stop the command like SIGINT; return the handlers replaced."""
+    if threading.current_thread() is not threading.main_thread():
+        return {}
+    return {s: signal.signal(s, _stop) for s in (signal.SIGTERM, signal.SIGHUP)
+            if signal.getsignal(s) == signal.SIG_DFL}
+
+
 def main(argv=None):
-    """Entry point of ``friction_joint``; returns the exit status."""
-    parser = build_parser()
-    args = parser.parse_args(argv)
+    """Entry point of ``friction_joint``; returns the exit status (128 + N after signal N)."""
+    replaced = _stop_on_signals()
+    prog = 'friction_joint'
     try:
+        args = build_parser().parse_args(argv)
+        prog = f'friction_joint {args.command}'
         return int(args.func(args) or 0)
     except FrictionJointError as exc:
-        print(f'friction_joint {args.command}: error: {exc}', file=sys.stderr)
+        print(f'{prog}: error: {exc}', file=sys.stderr)
         return 2
-    except KeyboardInterrupt:
-        print(f'friction_joint {args.command}: interrupted', file=sys.stderr)
-        return 130
+    except KeyboardInterrupt as exc:
+        signum = getattr(exc, 'signum', signal.SIGINT)
+        what = ('interrupted' if signum == signal.SIGINT else
+                f'stopped by {signal.Signals(signum).name}')
+        print(f'{prog}: {what}', file=sys.stderr)
+        return 128 + signum
+    finally:
+        for s, handler in replaced.items():
+            signal.signal(s, handler)
