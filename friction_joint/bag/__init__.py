@@ -26,13 +26,20 @@ Recordings (rosbag2 / MCAP) as numpy arrays, without ROS.
   wrote), :func:`verify_checksums`;
 * :mod:`~friction_joint.bag.stamps`: the header-stamp rules of reading;
 * :mod:`~friction_joint.bag.plausible`: :func:`check_values`, absurd samples;
-* :mod:`~friction_joint.bag.lockstep`: :func:`check_lockstep`, every step on every loop topic.
+* :mod:`~friction_joint.bag.lockstep`: :func:`check_lockstep`, every step on every loop topic;
+* :mod:`~friction_joint.bag.recover`: :func:`recover_recording`, a truncated MCAP file (a
+  killed recorder's) -> a recording (``friction_joint recover``);
+  :mod:`~friction_joint.bag.staging`: the recorder's staging directory (marker, lock,
+  periodic flush) and :func:`partial_recording_error`, the readers' error for a
+  truncated file.
 """
 from .checksums import seal_recording, verify_checksums
 from .importer import import_logs, ImportedLog, load_mapping, parse_column, QUANTITIES
 from .lockstep import check_lockstep, LockstepCheck, LoopTopicCount
 from .plausible import check_samples, check_values
 from .reader import iter_messages, read_recording, recording_topics
+from .recover import recover_recording, RecoveredRecording
+from .staging import partial_recording_error
 from .topics import (CONTRACT_TYPES, ExternalTorque, JointCommand, JointStates, LinkTorque,
                      Recording, REQUIRED_TOPICS, Temperature, zero_order_hold)
 from .writer import write_recording
@@ -42,4 +49,5 @@ __all__ = ['CONTRACT_TYPES', 'REQUIRED_TOPICS', 'JointStates', 'Temperature', 'L
            'zero_order_hold', 'recording_topics', 'iter_messages', 'seal_recording',
            'verify_checksums', 'check_values', 'check_samples', 'check_lockstep',
            'LockstepCheck', 'LoopTopicCount', 'import_logs', 'ImportedLog', 'load_mapping',
-           'parse_column', 'QUANTITIES']
+           'parse_column', 'QUANTITIES', 'recover_recording', 'RecoveredRecording',
+           'partial_recording_error']

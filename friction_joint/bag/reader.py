@@ -16,9 +16,11 @@
 Reading recordings (rosbag2 directory or single ``.mcap`` file) into numpy arrays.
 
 See :mod:`friction_joint.bag.topics` for the topics and fields.  What is checked on
-reading: the file's checksums (:mod:`~friction_joint.bag.checksums`), the message
-types, NaN/inf, the header stamps of every topic
-(:mod:`~friction_joint.bag.stamps`) and absurd values
+reading: that the file is not cut short (a recorder killed before it finished:
+the error names the ``friction_joint recover`` command,
+:func:`~friction_joint.bag.staging.partial_recording_error`), the file's
+checksums (:mod:`~friction_joint.bag.checksums`), the message types, NaN/inf,
+the header stamps of every topic (:mod:`~friction_joint.bag.stamps`) and absurd values
 (:mod:`~friction_joint.bag.plausible`).
 """
 import os
@@ -30,6 +32,7 @@ import numpy as np
 from ._cdr import f64_columns, layout_groups, stamps_ns, walk_joint_state
 from .checksums import mcap_files, verify_checksums
 from .plausible import check_values
+from .staging import partial_recording_error
 from .stamps import stamp_order
 from .topics import (CONTRACT_TYPES, ExternalTorque, JointCommand, JointStates, LinkTorque, NS,
                      Recording, REQUIRED_TOPICS, Temperature)
@@ -142,6 +145,9 @@ def _open_reader(path, verify=False):
     p = Path(path)
     if not p.exists():
         raise RecordingError(f'recording {path} does not exist')
+    partial = partial_recording_error(path)       # a killed recorder's file: how to recover
+    if partial is not None:
+        raise partial
     if p.is_dir():
         if not (p / 'metadata.yaml').exists():
             raise RecordingError(f'{path} is not a rosbag2 recording: no metadata.yaml '

@@ -46,7 +46,7 @@ __all__ = ['main', 'build_parser', 'SUBCOMMANDS']
 
 #: subcommand modules of this package, in the order ``--help`` lists them
 SUBCOMMANDS = ('classic', 'experiment', 'identify', 'demo', 'record', 'replay', 'bringup',
-               'diagnose', 'import_')
+               'diagnose', 'import_', 'recover')
 
 
 def build_parser():

@@ -40,12 +40,22 @@ file's ``rosbag2`` record get ``ros_distro`` from ``ROS_DISTRO`` (default
 recorder matched, as rosbag2 stores them:
 :func:`~friction_joint.bag.checksums.seal_rosbag2`; if that fails the bag is
 kept as rosbags wrote it), and the counts are printed.  A second signal skips the
-drain.  The bag is written into a temporary directory next to ``OUT`` and
-renamed when complete, so ``OUT`` is either a complete recording or absent.
+drain.  The bag is written into a hidden staging directory next to ``OUT``
+(``.OUT.rec-XXXXXXXX.tmp``, marked and locked:
+:class:`~friction_joint.bag.staging.RecorderStaging`) and renamed when
+complete, so ``OUT`` is either a complete recording or absent.  Every
+:data:`~friction_joint.bag.staging.FLUSH_PERIOD` (1 s) the open MCAP chunk is
+closed and the file flushed and ``fsync``-ed
+(:func:`~friction_joint.bag.staging.flush_chunks`), so a recorder killed
+without a chance to finish (SIGKILL, power loss) leaves a truncated file
+holding all but the last second or so: ``friction_joint recover`` turns it into
+a recording (:mod:`~friction_joint.bag.recover`), and a later ``record`` to the
+same ``OUT`` names the staging directory left behind and that command.
 
-Readiness: the recorder publishes on :data:`READY_TOPIC` (``recorder_ready``,
+Readiness: the recorder publishes on ``READY_TOPIC`` (``recorder_ready``,
 relative, so ``/recorder_ready`` in the root namespace; ``std_msgs/msg/String``,
-:data:`READY_QOS`: reliable, transient local, keep-last 1) the comma-separated,
+``READY_QOS``: reliable, transient local, keep-last 1; both defined in
+:mod:`friction_joint.ros.qos` and exported here too) the comma-separated,
 sorted fully-qualified names of the recorded topics on which it has matched at
 least one publisher (``/external_torque,/joint_command,/joint_states``): once at
 start (possibly the empty string) and again whenever that set changes, so a
@@ -72,23 +82,16 @@ import tempfile
 import threading
 import time
 
-from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
-
 from ._rclpy import take_all
-from .qos import recorder_qos
+from .qos import READY_QOS, READY_TOPIC, recorder_qos
 from ..bag import CONTRACT_TYPES
 from ..bag.checksums import seal_rosbag2
+from ..bag.staging import (flush_chunks, FLUSH_PERIOD, killed_recordings, RecorderStaging,
+                           recovery_command, STAGING_TAG)
 from ..exceptions import RecordingError
 
 __all__ = ['record', 'Recorder', 'parse_topics', 'message_class', 'install_signals',
            'format_counts', 'qos_dict', 'READY_TOPIC', 'READY_QOS']
-
-#: topic (relative) on which the recorder announces the topics it has matched publishers on
-READY_TOPIC = 'recorder_ready'
-#: its QoS: reliable, transient local, keep-last 1 (a late subscriber gets the current set)
-READY_QOS = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=1,
-                       reliability=ReliabilityPolicy.RELIABLE,
-                       durability=DurabilityPolicy.TRANSIENT_LOCAL)
 
 
 _BATCH = 0.002      # s to let messages queue up between takes (bag time is DDS time)
@@ -236,7 +239,7 @@ class Recorder:
     ----------
     matched : dict
         Recorded topic -> number of publishers matched now; the topics with one or more
-        are announced on :data:`READY_TOPIC` (see the module docstring).
+        are announced on ``READY_TOPIC`` (see the module docstring).
     offered_qos : dict
         Topic -> list of the distinct QoS profiles (:func:`qos_dict`) of the
         publishers matched so far; see :meth:`update_offered_qos`.
@@ -301,7 +304,7 @@ class Recorder:
         return ','.join(sorted(t for t, n in self.matched.items() if n > 0))
 
     def _announce(self):
-        """Publish :meth:`ready_topics` on :data:`READY_TOPIC` if it changed."""
+        """Publish :meth:`ready_topics` on ``READY_TOPIC`` if it changed."""
         text = self.ready_topics()
         if text != self._announced:
             self._announced = text
@@ -482,12 +485,18 @@ def record(out, *, topics=None, duration=None, args=None, log=None, stop=None,
     parent = os.path.dirname(os.path.abspath(out))
     os.makedirs(parent, exist_ok=True)
     base = os.path.basename(os.path.normpath(out))
-    tmp = tempfile.mkdtemp(prefix=f'.{base}.', suffix='.tmp', dir=parent)
+    for stale, state in killed_recordings(out):
+        log(f'note: {stale} holds an earlier recording to {out} that did not finish (its '
+            f'recorder was killed{"" if state == "killed" else ", or still runs"}); recover '
+            f'it with: {recovery_command(stale, avoid=out)}')
+    tmp = tempfile.mkdtemp(prefix=f'.{base}.{STAGING_TAG}', suffix='.tmp', dir=parent)
+    staging = RecorderStaging(tmp, out, pairs, sim_time=use_sim_time)
+    keep = False                      # keep tmp: it holds messages that did not reach out
     stop = stop or threading.Event()
     force = threading.Event()
     restore = install_signals(stop, force)
     context = Context()
-    node = executor = None
+    node = executor = recorder = None
     try:
         rclpy.init(args=args, context=context, signal_handler_options=SignalHandlerOptions.NO)
         node = rclpy.create_node('friction_joint_recorder', context=context,
@@ -502,10 +511,15 @@ def record(out, *, topics=None, duration=None, args=None, log=None, stop=None,
                 f'({"for %g s" % duration if duration else "Ctrl-C to stop"}'
                 f'{", log times from /clock" if use_sim_time else ""})')
             t_end = None if duration is None else time.monotonic() + duration
+            t_flush = time.monotonic() + FLUSH_PERIOD
             while not stop.is_set() and (t_end is None or time.monotonic() < t_end):
                 timeout = 0.1 if t_end is None else max(0.0, min(0.1, t_end - time.monotonic()))
                 executor.spin_once(timeout_sec=timeout)
                 time.sleep(_BATCH)
+                if time.monotonic() >= t_flush:     # a SIGKILL loses at most this period
+                    flush_chunks(writer)
+                    staging.update(recorder.offered_qos)
+                    t_flush = time.monotonic() + FLUSH_PERIOD
             # drain: take what is queued until the topics are quiet (or the drain takes too long)
             t_stop = time.monotonic()
             while not force.is_set():
@@ -522,16 +536,22 @@ def record(out, *, topics=None, duration=None, args=None, log=None, stop=None,
                     ext=conn.ext._replace(offered_qos_profiles=profiles))
         except BaseException:
             writer.abort()
+            keep = recorder is not None and any(recorder.written.values())
             raise
         writer.close()
         _seal(os.path.join(tmp, base), out, log, recorder.offered_qos)
+        keep = True
         os.rename(os.path.join(tmp, base), out)
+        keep = False
         return dict(recorder.written)
     except RecordingError:
         raise
     except OSError as exc:
         raise RecordingError(f'cannot write {out}: {exc}') from None
     finally:
+        staging.close()
+        if keep:
+            log(f'what was recorded is kept in {tmp}; recover it with: {recovery_command(tmp)}')
         if executor is not None:
             executor.shutdown(timeout_sec=1.0)
         if node is not None:
@@ -539,7 +559,8 @@ def record(out, *, topics=None, duration=None, args=None, log=None, stop=None,
         if context.ok():
             context.try_shutdown()
         restore()
-        shutil.rmtree(tmp, ignore_errors=True)
+        if not keep:
+            shutil.rmtree(tmp, ignore_errors=True)
 
 
 def format_counts(counts):
