@@ -21,8 +21,10 @@ Benchmark of the ROS 2 side: rates, latency, lockstep speed, recorder throughput
    --quick), recorded: achieved /joint_states rate, gaps, and the state ->
    command round-trip latency (the controller answers each state with a
    command carrying the state's stamp; latency = the recorder's receive time
-   of the command - stamp); with ``--load N`` it runs again with N busy
-   processes (one busy loop each) loading the machine;
+   of the command - its receive time of that state; rate and gaps from
+   receive times too, as the states' stamps may be simulated time); with
+   ``--load N`` it runs again with N busy processes (one busy loop each)
+   loading the machine;
 2. lockstep mode (joint_sim + controller): simulated steps per wall second;
    then the full lockstep loop as ``bringup`` runs it (joint_sim + controller +
    estimator at 3 kHz with flow control on the estimator, recorded with
@@ -31,7 +33,13 @@ Benchmark of the ROS 2 side: rates, latency, lockstep speed, recorder throughput
    over the simulated seconds) and its completeness (every step on every
    loop topic); the wall time runs from the first step to the last;
 3. recorder throughput: a publisher floods /joint_states for 5 s; the
-   recorder's count written is compared with the count published.
+   recorder's count written is compared with the count published;
+4. replay timing: a 1 kHz recording (10 s, 3 s with --quick) is replayed at
+   rate 1 into the recorder; each message's receive time against its log
+   time / rate, as a lag behind the least delayed message (replay never
+   publishes early, so that one is on time): p50/p99/max.  The tests
+   only check that replay never publishes before a message's log time
+   (test/ros/test_record_replay.py); how closely it keeps them is measured here.
 
 Runs in its own ROS domain with localhost-only discovery; every process it
 starts is stopped (SIGINT, then the process group is killed).
@@ -95,9 +103,11 @@ def realtime(seconds, e):
 
     An in-process rclpy subscriber cannot keep up with 2 kHz of input (it
     takes one message per executor turn), so the recorder is the instrument:
-    rate and gaps from the /joint_states stamps, latency = DDS receive time of
-    each /joint_command minus its stamp (the stamp of the state it answers,
-    taken by the simulator when it published that state).
+    rate and gaps from its receive times of /joint_states, latency = its
+    receive time of each /joint_command minus its receive time of the state the
+    command answers (the state with the command's stamp).  Receive times, not
+    stamps: the simulator may stamp its states with simulated time, regular
+    however late it runs.
     """
     from friction_joint.bag import read_recording
     with tempfile.TemporaryDirectory() as d:
@@ -113,13 +123,15 @@ def realtime(seconds, e):
         stop(rec, timeout=60)
         r = read_recording(out)
     js, cmd = r.joint_states, r.joint_command
-    t0 = js.t[0] + 4.0                                  # skip start-up
-    sel = (js.t >= t0) & (js.t < t0 + seconds)
-    ts = js.t[sel]
-    gaps = np.diff(ts) * 1e3
-    csel = (cmd.t >= t0) & (cmd.t < t0 + seconds)
-    lat = (cmd.t_recv[csel] - cmd.t[csel]) * 1e3
-    return {'rate_hz': len(ts) / seconds, 'gap_p99_ms': float(np.percentile(gaps, 99)),
+    t0 = js.t_recv[0] + 4.0                             # skip start-up
+    sel = (js.t_recv >= t0) & (js.t_recv < t0 + seconds)
+    tr = js.t_recv[sel]
+    gaps = np.diff(tr) * 1e3
+    csel = (cmd.t_recv >= t0) & (cmd.t_recv < t0 + seconds)
+    i = np.clip(np.searchsorted(js.t, cmd.t[csel]), 0, len(js.t) - 1)
+    same = np.abs(js.t[i] - cmd.t[csel]) < 1e-6         # the state each command answers
+    lat = (cmd.t_recv[csel][same] - js.t_recv[i[same]]) * 1e3
+    return {'rate_hz': len(tr) / seconds, 'gap_p99_ms': float(np.percentile(gaps, 99)),
             'gap_max_ms': float(np.max(gaps)), 'latency_p50_ms': float(np.percentile(lat, 50)),
             'latency_p99_ms': float(np.percentile(lat, 99)), 'commands': int(csel.sum())}
 
@@ -229,6 +241,32 @@ def recorder(rate, seconds, e):
             'rate_msg_s': published / seconds, 'wall_s': wall}
 
 
+def replay_timing(seconds, e, rate=1.0):
+    """Replay a 1 kHz recording at ``rate`` into the recorder; receive times against log times."""
+    from friction_joint.bag import read_recording, write_recording
+    with tempfile.TemporaryDirectory() as d:
+        src, out = os.path.join(d, 'src'), os.path.join(d, 'rx')
+        n = int(round(seconds * 1000))
+        t = 100.0 + np.arange(n) * 1e-3
+        write_recording(src, {'/joint_states': {'t': t, 'q': np.arange(n) * 1e-3,
+                                                'qd': np.zeros(n), 'effort': np.zeros(n)}})
+        rec = start([PY, '-m', 'friction_joint', 'record', out, '--topics', '/joint_states'], e)
+        rep = subprocess.run([PY, '-m', 'friction_joint', 'replay', src, '--rate', str(rate),
+                              '--no-clock', '--wait', '60', '--topics', '/joint_states'], env=e,
+                             text=True, capture_output=True, timeout=seconds / rate + 180)
+        log = stop(rec, timeout=60)
+        if rep.returncode != 0 or not os.path.isdir(out):
+            raise RuntimeError(f'replay timing run failed:\n{rep.stdout}{rep.stderr}{log}')
+        js = read_recording(out).joint_states
+    lag = ((js.t_recv - js.t_recv[0]) - (js.t - js.t[0]) / rate) * 1e3
+    lag -= np.min(lag)                      # behind the least delayed message
+    took = re.search(r'replay took ([0-9.]+) s', rep.stdout + rep.stderr)
+    return {'messages': len(js.t), 'sent': n, 'span_s': (t[-1] - t[0]) / rate,
+            'took_s': float(took.group(1)) if took else float('nan'),
+            'lag_p50_ms': float(np.percentile(lag, 50)),
+            'lag_p99_ms': float(np.percentile(lag, 99)), 'lag_max_ms': float(np.max(lag))}
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.strip().splitlines()[0])
     ap.add_argument('--quick', action='store_true', help='10 s instead of 60 s of real time')
@@ -273,6 +311,11 @@ def main():
     for name, r in (('3 kHz', r3), ('flood', rf)):
         print(f'recorder {name}: published {r["published"]}, written {r["written"]}, '
               f'lost {r["lost"]} ({r["rate_msg_s"]:.0f} msg/s)', flush=True)
+    rp = replay_timing(3.0 if a.quick else 10.0, e)
+    print(f'replay {rp["span_s"]:.3f} s of log time at rate 1: {rp["messages"]} of '
+          f'{rp["sent"]} messages recorded, replay took {rp["took_s"]:.3f} s; receive time '
+          f'behind log time p50 {rp["lag_p50_ms"]:.3f} ms, p99 {rp["lag_p99_ms"]:.3f} ms, '
+          f'max {rp["lag_max_ms"]:.3f} ms', flush=True)
     print(f'rate_hz={rt["rate_hz"]:.1f} '
           + (f'rate_loaded_hz={loaded["rate_hz"]:.1f} ' if loaded else '')
           + f'latency_p50_ms={rt["latency_p50_ms"]:.3f} '
@@ -280,7 +323,8 @@ def main():
           f'lockstep_steps_per_s={ls["steps_per_s"]:.0f} '
           f'lockstep_recorded_steps_per_s={lr["steps_per_s"]:.0f} '
           f'lockstep_recorded_x_realtime={lr["ratio"]:.3f} '
-          f'recorder_lost={r3["lost"] + rf["lost"]} recorder_flood_msg_s={rf["rate_msg_s"]:.0f}')
+          f'recorder_lost={r3["lost"] + rf["lost"]} recorder_flood_msg_s={rf["rate_msg_s"]:.0f} '
+          f'replay_lag_p99_ms={rp["lag_p99_ms"]:.3f}')
 
 
 if __name__ == '__main__':
