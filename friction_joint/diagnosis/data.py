@@ -16,9 +16,13 @@
 Diagnosis input: recordings -> friction-torque data averaged over short time bins.
 
 For every recording the joint states are split into contiguous pieces at
-gaps in the stamps (a step longer than :data:`GAP` median sample times: a
-pause between runs, which no derivative bridges), the encoder position is
-differentiated without phase lag
+long gaps in the stamps (:func:`friction_joint.bag.stamps.split_pieces`: a
+step longer than ``GAP`` (5) median sample times that is longer than
+``BRIDGE_SAMPLES`` (50) median sample times or than ``BRIDGE_FRACTION`` (1/4)
+of the motion's time scale P90(|qd|)/P90(|qdd|), e.g. a pause between runs,
+which no derivative bridges); shorter gaps (a realtime simulator or logger
+that skipped samples) are **bridged**: the piece goes on across them.  The
+encoder position is differentiated without phase lag
 (:func:`friction_joint._filters.zero_phase_derivatives`), and
 
     y = tau - tau_ext - J q̈          (the measured friction torque tau_r, eq. 2)
@@ -27,11 +31,15 @@ is formed with ``tau_ext`` from ``/link_torque`` (or the base gear's lever
 ``m g l sin q`` when the recording has none) and J the base inertia.
 
 Measured data are often sampled irregularly (stamps that jitter, a dropped
-sample now and then).  A piece whose stamps lie further than
-:data:`REGULAR` of a sample time from a uniform grid is resampled onto the
+sample now and then, bridged gaps).  A piece whose stamps lie further than
+``REGULAR`` (1 %) of a sample time from a uniform grid is resampled onto the
 uniform grid of its median sample time (linear interpolation of position,
 torques) before the derivatives are taken; regular pieces are used as they
-are.
+are.  The samples of a bridged gap, and :data:`BRIDGE_MARGIN` time constants
+of the derivative filter (1 / cutoff) on either side, where the interpolated
+position makes the acceleration unreliable, are marked (``bridged``) and no
+bin that holds one is used.  ``gaps`` counts the bridged gaps (and the
+longest) and those that split a recording.
 
 Bins
 ----
@@ -78,6 +86,7 @@ import numpy as np
 
 from .._filters import zero_phase_derivatives
 from ..bag import read_recording
+from ..bag.stamps import gap_summary, piece_on_grid, split_pieces, uniform_grid
 from ..exceptions import ExcitationError, PreslidingDataError, RecordingError
 
 __all__ = ['BIN', 'V_STICK_FRACTION', 'V_NOISE', 'STICK_MARGIN', 'N_BLOCKS', 'DiagnosisData',
@@ -97,10 +106,8 @@ N_BLOCKS = 10
 MIN_PIECE = 1.0
 #: samples this close (s) to the start or end of a piece are not used (filter edge effects)
 EDGE = 0.1
-#: a step of the stamps longer than this many median steps is a gap between pieces
-GAP = 5.0
-#: stamps further than this fraction of a sample time from a uniform grid: resampled
-REGULAR = 0.01
+#: samples this many derivative-filter time constants (1 / cutoff) around a bridged gap: unused
+BRIDGE_MARGIN = 2.0
 
 
 @dataclasses.dataclass
@@ -112,14 +119,16 @@ class DiagnosisData:
     (zero-phase filtered position), ``qd``, ``qdd``, ``effort``, ``tau_ext``,
     ``xi``, ``tl`` (= |tau_ext|), ``piece`` (piece index), ``dt`` (per sample),
     ``bin_of`` (bin index of each sample, -1 if unused), ``block_of`` (CV block
-    of each sample, by time).
+    of each sample, by time), ``bridged`` (sample in or next to a bridged gap of the
+    stamps: interpolated, never in a bin).
 
     Bin arrays (used bins only): ``y`` (mean friction torque with the base
     inertia), ``count``, ``t_bin``, ``block``.
 
     Scales (module docstring): ``v_stick`` (rad/s), ``resolution`` (rad),
     ``friction_level`` (Nm), ``stroke`` (rad); ``has_temperature``: every
-    recording has ``/joint_temperature``.
+    recording has ``/joint_temperature``.  ``gaps``: the gaps of the stamps
+    (:func:`friction_joint.bag.stamps.gap_summary`: bridged, longest bridged, split).
     """
 
     t: np.ndarray
@@ -149,6 +158,8 @@ class DiagnosisData:
     resolution: float = 0.0
     friction_level: float = 1.0
     stroke: float = 0.0
+    bridged: np.ndarray = None
+    gaps: dict = None
 
     @property
     def n_bins(self):
@@ -160,28 +171,13 @@ class DiagnosisData:
         return np.bincount(self.bin_of[sel], weights=f[sel], minlength=self.n_bins) / self.count
 
 
-def _pieces(t, path):
-    """Index ranges of the contiguous pieces of at least MIN_PIECE s (cut at gaps)."""
-    d = np.diff(t)
-    if len(d) == 0:
-        return []
-    med = float(np.median(d))
-    if not med > 0:
+def _pieces(t, qd, path):
+    """Pieces of at least MIN_PIECE s (cut at long gaps, short ones bridged) and the cut."""
+    if len(t) > 1 and not np.median(np.diff(t)) > 0:
         raise RecordingError(f'{path}: /joint_states: stamps do not increase')
-    cuts = np.flatnonzero((d > GAP * med) | (d <= 0)) + 1
-    bounds = np.concatenate(([0], cuts, [len(t)]))
-    return [(int(a), int(b)) for a, b in zip(bounds[:-1], bounds[1:])
-            if b - a >= 2 and t[b - 1] - t[a] >= MIN_PIECE]
-
-
-def _grid(t):
-    """Return the piece's sample time and its uniform grid (None: the stamps are one)."""
-    dt = float(np.median(np.diff(t)))
-    m = int(np.floor((t[-1] - t[0]) / dt + 1e-6)) + 1
-    grid = t[0] + np.arange(m) * dt
-    if m == len(t) and np.max(np.abs(t - grid)) <= REGULAR * dt:
-        return dt, None
-    return dt, grid
+    cut = split_pieces(t, qd)
+    return [(a, b) for a, b in cut.ranges
+            if b - a >= 2 and t[b - 1] - t[a] >= MIN_PIECE], cut
 
 
 def load_data(paths, gear, joint_name=None, n_blocks=N_BLOCKS, progress=None):
@@ -216,25 +212,31 @@ def load_data(paths, gear, joint_name=None, n_blocks=N_BLOCKS, progress=None):
     joint = gear.joint_name if joint_name is None else joint_name
     recs = [read_recording(path, joint_name=joint) for path in paths]
     cols = {k: [] for k in ('t', 'q', 'qf', 'qd', 'qdd', 'effort', 'tau_ext', 'xi', 'dt',
-                            'piece', 'cutoff')}
+                            'piece', 'cutoff', 'bridged')}
     have_link = all(r.link_torque is not None and len(r.link_torque) > 1 for r in recs)
     have_temp = all(_temperature(r) is not None for r in recs)
     xi_none = float(np.mean(gear.friction.temperature_range))
     n_piece = 0
+    cuts = []
     for rec in recs:
         js = rec.joint_states
-        pieces = _pieces(js.t, rec.path)
+        pieces, cut = _pieces(js.t, js.qd, rec.path)
+        cuts.append(cut)
         if not pieces:
-            raise ExcitationError(f'{rec.path}: no contiguous stretch of /joint_states of at '
-                                  f'least {MIN_PIECE:g} s (recording {rec.duration:.2f} s long)')
+            raise ExcitationError(
+                f'{rec.path}: no contiguous stretch of /joint_states of at least {MIN_PIECE:g} s '
+                f'(recording {rec.duration:.2f} s long; {cut.split} gaps too long to bridge, '
+                f'longer than {cut.limit:.3g} s, {len(cut.bridged)} bridged)')
         for a, b in pieces:
             t = js.t[a:b]
             q, effort = js.q[a:b], js.effort[a:b]
-            dt, grid = _grid(t)
-            if grid is not None:                        # irregular stamps: resample
-                q, effort = np.interp(grid, t, q), np.interp(grid, t, effort)
-                t = grid
+            dt, _ = uniform_grid(t)
             cutoff = min(100.0, 0.2 / dt)
+            steps = cut.bridged[(cut.bridged >= a) & (cut.bridged < b - 1)] - a
+            # irregular stamps (bridged gaps, jitter): resampled onto the uniform grid
+            t, (q, effort), ok = piece_on_grid(t, (q, effort), steps,
+                                               margin=BRIDGE_MARGIN / cutoff)
+            bridged = ~ok
             try:
                 qd, qdd = zero_phase_derivatives(q, dt, cutoff=cutoff)
             except PreslidingDataError as exc:
@@ -251,7 +253,7 @@ def load_data(paths, gear, joint_name=None, n_blocks=N_BLOCKS, progress=None):
             for k, v in (('t', t), ('q', q), ('qf', qf), ('qd', qd), ('qdd', qdd),
                          ('effort', effort), ('tau_ext', te), ('xi', xi),
                          ('dt', np.full(len(t), dt)), ('piece', np.full(len(t), n_piece)),
-                         ('cutoff', np.full(len(t), cutoff))):
+                         ('cutoff', np.full(len(t), cutoff)), ('bridged', bridged)):
                 cols[k].append(v)
             n_piece += 1
     c = {k: np.concatenate(v) for k, v in cols.items()}
@@ -268,7 +270,7 @@ def load_data(paths, gear, joint_name=None, n_blocks=N_BLOCKS, progress=None):
         nb = len(idx) // m
         if nb == 0:
             continue
-        st = stick[idx].copy()
+        st = stick[idx] | c['bridged'][idx]
         edge = int(round(EDGE / dt))
         st[:edge] = True
         st[len(st) - edge:] = True
@@ -310,7 +312,8 @@ def load_data(paths, gear, joint_name=None, n_blocks=N_BLOCKS, progress=None):
         block=block, n_blocks=n_blocks, inertia=inertia,
         mgl_sim=0.0 if have_link else gear.mgl, link_torque=have_link, recordings=recs,
         has_temperature=have_temp, v_stick=v_stick, resolution=res,
-        friction_level=max(float(np.median(np.abs(y))), 1e-12), stroke=stroke)
+        friction_level=max(float(np.median(np.abs(y))), 1e-12), stroke=stroke,
+        bridged=c['bridged'], gaps=gap_summary(cuts))
 
 
 def _temperature(rec):
@@ -327,7 +330,8 @@ def _scales(c, n_piece):
     for p in range(n_piece):
         m = c['piece'] == p
         dq = np.abs(np.diff(c['q'][m]))
-        pos = dq[dq > 0]
+        real = ~c['bridged'][m]
+        pos = dq[(dq > 0) & real[1:] & real[:-1]]       # encoder steps, not interpolated ones
         if len(pos):
             steps.append(float(pos.min()))
         widths.append(float(np.median(np.abs(c['q'][m] - c['qf'][m]))))

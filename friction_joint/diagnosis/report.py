@@ -204,6 +204,19 @@ def _fmt(v, spec='.3g'):
     return '-' if v is None or (isinstance(v, float) and not math.isfinite(v)) else format(v, spec)
 
 
+def _gap_lines(gaps):
+    """Sentence on the gaps of the stamps (bridged, split), empty when there are none."""
+    if not gaps or not (gaps['bridged'] or gaps['split']):
+        return []
+    text = f'Gaps in the /joint_states stamps: {gaps["bridged"]} bridged'
+    if gaps['bridged']:
+        text += (f' (the longest {1e3 * gaps["longest_bridged_s"]:.1f} ms, '
+                 f'{gaps["longest_bridged_samples"]:.1f} sample times; interpolated, the samples '
+                 'around them left out of the fits)')
+    return [text + f', {gaps["split"]} too long to bridge (pieces cut there).  '
+            f'Rule: {gaps["rule"]}.', '']
+
+
 def markdown(diag, figure_names, model_path):
     """``report.md`` text."""
     rep = diag.report
@@ -219,6 +232,7 @@ def markdown(diag, figure_names, model_path):
              f'{rep["data"]["sliding_s"]:.1f} s of sliding data (10 ms bins), '
              f'{temp}, sliding above {rep["data"]["scales"]["v_stick"]:.3g} rad/s, '
              f'external torque from the {rep["data"]["torque_source"]}.', '',
+             *_gap_lines(rep['data'].get('gaps')),
              '## Result', '',
              ('**Missing effects: ' + ', '.join(named) + '**') if named else
              '**Nothing significant is missing from the base model.**', '',
@@ -303,6 +317,12 @@ def run_diagnose(paths, model_path, out, *, effects=EFFECTS, joint_name=None, pr
 def _diagnose_into(outputs, paths, model_path, out, start, *, effects, joint_name, progress):
     base = load_gear(model_path)
     diag = diagnose(paths, base, effects=effects, joint_name=joint_name, progress=progress)
+    gaps = getattr(diag.data, 'gaps', None)
+    if gaps is not None:
+        diag.report['data']['gaps'] = gaps
+        if progress and (gaps['bridged'] or gaps['split']):
+            progress(f'gaps in the stamps: {gaps["bridged"]} bridged (longest '
+                     f'{1e3 * gaps["longest_bridged_s"]:.1f} ms), {gaps["split"]} split')
     t0 = time.perf_counter()
     figs = figures(diag)
     diag.report['timing']['report_s'] = time.perf_counter() - t0

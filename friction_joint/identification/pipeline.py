@@ -66,21 +66,27 @@ import warnings
 import numpy as np
 import yaml
 
-from .plateaus import find_plateaus, Plateaus
+from .plateaus import DETECTION, find_plateaus, Plateaus
 from .static_fit import StaticIdentifier
 from .._filters import zero_phase_derivatives
 from ..bag import read_recording
+from ..bag.stamps import gap_summary, piece_on_grid, split_pieces
 from ..exceptions import (ExcitationError, FrictionJointError, GearConfigWarning,
                           RecordingError)
 from ..gear import load_gear, save_gear
 from ..output import ExperimentResult, json_clean, OutputSet, result_files
 
 __all__ = ['IdentificationRun', 'identify_recordings', 'run_identify',
-           'MAX_PRESLIDING_ERROR']
+           'MAX_PRESLIDING_ERROR', 'BRIDGE_MARGIN']
 
 #: step 3: a pre-sliding fit whose RMS torque error exceeds this fraction of the RMS
 #: measured friction torque is rejected (the structure's values are kept)
 MAX_PRESLIDING_ERROR = 0.10
+#: step 3: samples this many derivative-filter time constants (1 / cut-off) around a bridged
+#: gap of the stamps are unreliable; a pre-sliding segment that holds one is left out
+BRIDGE_MARGIN = 2.0
+#: cut-off (Hz) of the zero-phase derivatives of step 3
+CUTOFF = 100.0
 
 
 class IdentificationRun:
@@ -100,16 +106,22 @@ class IdentificationRun:
         per model ``params``, ``stderr``, ``rel_stderr``, ``report``.
     timings : dict
         Seconds per stage.
+    gaps : dict or None
+        Gaps of the joint-state stamps over the recordings
+        (:func:`friction_joint.bag.stamps.gap_summary`: ``bridged``, ``longest_bridged_s``,
+        ``longest_bridged_samples``, ``split``, ``bridge_limit_s``, ``rule``).
 
     """
 
-    def __init__(self, identifier, gear, recordings, plateaus, presliding, timings):
+    def __init__(self, identifier, gear, recordings, plateaus, presliding, timings, *,
+                 gaps=None):
         self.identifier = identifier
         self.gear = gear
         self.recordings = recordings
         self.plateaus = plateaus
         self.presliding = presliding
         self.timings = timings
+        self.gaps = gaps
 
     def to_dict(self):
         """Return :meth:`report` (plain JSON types)."""
@@ -124,6 +136,8 @@ class IdentificationRun:
                              for r in self.recordings]
         rep['plateaus'] = self.plateaus.to_dict()
         rep['presliding'] = self.presliding
+        if self.gaps is not None:
+            rep['gaps'] = self.gaps
         rep['timings'].update(self.timings)
         return rep
 
@@ -160,29 +174,37 @@ def _read(path, joint_name):
 
 
 def _presliding_pieces(recording, gear):
-    """Contiguous, equally spaced pieces of a recording as pre-sliding input arrays."""
+    """
+    Contiguous pieces of a recording, on their uniform grids, as pre-sliding input arrays.
+
+    Pieces are cut at long gaps and bridge short ones
+    (:func:`friction_joint.bag.stamps.split_pieces`); an irregular piece is resampled
+    onto its uniform grid (linear interpolation).  ``bridged`` marks the samples of a
+    bridged gap and :data:`BRIDGE_MARGIN` derivative-filter time constants on either
+    side: a pre-sliding segment that holds one is left out of the fit.
+    """
     js = recording.joint_states
     t = js.t
     if len(t) < 10:
         return []
-    d = np.diff(t)
-    med = float(np.median(d))
-    cuts = np.flatnonzero(np.abs(d - med) > 0.01 * med) + 1
-    bounds = np.concatenate(([0], cuts, [len(t)]))
+    cut = split_pieces(t, js.qd)
     out = []
-    for a, b in zip(bounds[:-1], bounds[1:]):
+    for a, b in cut.ranges:
         if b - a < 200:
             continue
-        tt = t[a:b]
+        steps = cut.bridged[(cut.bridged >= a) & (cut.bridged < b - 1)] - a
+        tt, (q, effort), ok = piece_on_grid(t[a:b], (js.q[a:b], js.effort[a:b]), steps,
+                                            margin=BRIDGE_MARGIN / CUTOFF)
         dt = float(np.median(np.diff(tt)))
-        qd, qdd = zero_phase_derivatives(js.q[a:b], dt)
+        qd, qdd = zero_phase_derivatives(q, dt, cutoff=CUTOFF)
         if recording.link_torque is not None and len(recording.link_torque) > 1:
             tau_ext = np.interp(tt, recording.link_torque.t, recording.link_torque.tau)
         else:
-            tau_ext = gear.mgl * np.sin(js.q[a:b])
-        tau_r = js.effort[a:b] - tau_ext - gear.inertia * qdd
-        out.append({'t': tt, 'q': js.q[a:b], 'qd': qd, 'tau_r': tau_r,
-                    'xi': recording.temperature_at(tt), 'tau_l': np.abs(tau_ext)})
+            tau_ext = gear.mgl * np.sin(q)
+        tau_r = effort - tau_ext - gear.inertia * qdd
+        out.append({'t': tt, 'q': q, 'qd': qd, 'tau_r': tau_r,
+                    'xi': recording.temperature_at(tt), 'tau_l': np.abs(tau_ext),
+                    'bridged': ~ok})
     return out
 
 
@@ -208,6 +230,7 @@ def _step3(gear, recordings, mode, progress):
         for model in models:
             cols = {k: [] for k in ('t', 'q', 'qd', 'tau_r', 'xi', 'tau_l')}
             errors = []
+            dropped = 0
             for piece in pieces:
                 try:
                     segs = presliding_segments(piece['t'], piece['qd'], gear=gear, model=model,
@@ -217,6 +240,9 @@ def _step3(gear, recordings, mode, progress):
                     continue
                 for seg in segs:
                     if seg.init != 'sliding':
+                        continue
+                    if piece['bridged'][seg.slice].any():
+                        dropped += 1                 # interpolated across a gap: left out
                         continue
                     for k in cols:
                         cols[k].append(piece[k][seg.slice])
@@ -265,6 +291,7 @@ def _step3(gear, recordings, mode, progress):
                 'status': 'done', 'params': fit.params, 'initial': fit.initial,
                 'kept_values': {k: structure_values[k] for k in kept if k in structure_values},
                 'stderr': fit.stderr, 'rel_stderr': fit.rel_stderr, 'segments': len(cols['t']),
+                'segments_across_gaps_left_out': dropped,
                 'kept_from_structure': kept, 'report': fit.report,
                 'time_s': time.perf_counter() - t0}
             if progress and fit.report.get('warnings'):
@@ -340,6 +367,12 @@ def identify_recordings(paths, structure, *, orders=None, joint_name=None, detec
                 'structure lever model (no /link_torque)'
             progress(f'{path}: {rec.duration:.1f} s, {len(part)} plateaus (tau_ext from {src})')
     plateaus = Plateaus.concatenate(parts)
+    gap = (detection or {}).get('gap_factor', DETECTION['gap_factor'])
+    gaps = gap_summary(split_pieces(r.joint_states.t, r.joint_states.qd, gap=gap)
+                       for r in recordings)
+    if progress and (gaps['bridged'] or gaps['split']):
+        progress(f'gaps in the joint-state stamps: {gaps["bridged"]} bridged (longest '
+                 f'{1e3 * gaps["longest_bridged_s"]:.1f} ms), {gaps["split"]} split')
     timings['time_read_and_plateaus_s'] = time.perf_counter() - t0
     t0 = time.perf_counter()
     ident = StaticIdentifier(structure, orders=orders, fixed=fixed,
@@ -353,7 +386,7 @@ def identify_recordings(paths, structure, *, orders=None, joint_name=None, detec
     timings['time_step_3_s'] = time.perf_counter() - t0
     if progress and step3['status'] != 'done':
         progress(f'step 3 {step3["status"]}: {step3["reason"]}')
-    return IdentificationRun(ident, gear, recordings, plateaus, step3, timings)
+    return IdentificationRun(ident, gear, recordings, plateaus, step3, timings, gaps=gaps)
 
 
 def _fmt_list(vals, ses):
@@ -378,6 +411,11 @@ def _header(run, paths, structure_path):
         'extrapolated)',
         'coefficients +- standard error (powers of xi; load: powers 1.. of tau_L):',
     ]
+    gaps = run.gaps
+    if gaps and (gaps['bridged'] or gaps['split']):
+        lines.insert(3, f'  gaps in the joint-state stamps: {gaps["bridged"]} bridged (longest '
+                        f'{1e3 * gaps["longest_bridged_s"]:.1f} ms, interpolated and left out '
+                        f'of the fits), {gaps["split"]} split the recordings')
     for name, vals in ident.coefficients.items():
         lines.append(f'  {name}: {_fmt_list(vals, ident.standard_errors[name])}')
     for name, vals in ident.structure.fixed.items():

@@ -23,9 +23,15 @@ temperature and load, each with a standard error.
 
 Detection (:data:`DETECTION` holds the thresholds)
 --------------------------------------------------
-1. The joint states are cut into contiguous pieces at time gaps (more than
-   ``gap_factor`` median sample periods) and averaged over blocks of
-   ``block`` seconds (25 ms).
+1. The joint states are cut into contiguous pieces at long time gaps and
+   averaged over blocks of ``block`` seconds (25 ms).  A step of more than
+   ``gap_factor`` median sample periods is a gap; a short one is bridged
+   (:func:`friction_joint.bag.stamps.split_pieces`: at most 50 sample
+   periods and a quarter of the motion's time scale P90(|qd|)/P90(|qdd|)):
+   the piece is resampled onto its uniform grid (linear interpolation) and
+   the samples of the gap, and ``gap_factor`` sample periods on either side
+   (where the interpolated velocity spoils qdd), are left out of the plateau
+   means; a longer gap cuts the piece.
 2. A block is *steady* if its mean speed is at least ``v_floor`` and the
    velocity changes across it by less than ``rel_slope`` of its speed per
    second plus ``abs_slope`` (ramps, reversals and oscillations fail this).
@@ -64,6 +70,7 @@ import math
 import numpy as np
 
 from ..bag import check_samples, check_values
+from ..bag.stamps import piece_on_grid, split_pieces
 from ..exceptions import ExcitationError, RecordingError
 
 __all__ = ['DETECTION', 'Plateaus', 'find_plateaus', 'plateaus_from_arrays']
@@ -349,22 +356,24 @@ def plateaus_from_arrays(t, q, qd, effort, xi, tau_ext, *, inertia, options=None
                                   'tau_ext': tau_ext}, position=('q', 'qd'))
     if n < 3:
         return Plateaus.empty((source,), (torque_source,))
-    dts = np.diff(t)
-    med = float(np.median(dts))
-    cuts = np.flatnonzero((dts > opt['gap_factor'] * med) | (dts <= 0)) + 1
-    bounds = np.concatenate(([0], cuts, [n]))
+    cut = split_pieces(t, qd, gap=opt['gap_factor'])
     rows = []
-    for a, b in zip(bounds[:-1], bounds[1:]):
+    for a, b in cut.ranges:
         if b - a < 10:
             continue
-        tt, vv = t[a:b], qd[a:b]
+        steps = cut.bridged[(cut.bridged >= a) & (cut.bridged < b - 1)] - a
+        tt, (qq, vv, ee, xx, te), ok = piece_on_grid(
+            t[a:b], [x[a:b] for x in (q, qd, effort, xi, tau_ext)], steps,
+            margin=opt['gap_factor'] * cut.dt)
         qdd = np.gradient(_moving_average(vv, 5), tt)
-        tau_r = effort[a:b] - tau_ext[a:b] - inertia * qdd
+        tau_r = ee - te - inertia * qdd
         dt = float(np.median(np.diff(tt)))
-        tl = np.abs(_moving_average(tau_ext[a:b], max(1, int(round(opt['load_smooth'] / dt)))))
+        tl = np.abs(_moving_average(te, max(1, int(round(opt['load_smooth'] / dt)))))
         for i0, i1 in _segments(tt, vv, tau_r, opt):
-            sl = slice(i0, i1)
-            x = xi[a:b][sl]
+            sl = np.arange(i0, i1)[ok[i0:i1]]
+            if len(sl) < opt['min_samples']:
+                continue
+            x = xx[sl]
             lo = tl[sl]
             rows.append((
                 _robust_mean(vv[sl], opt['clip_mad']), _batch_se(vv[sl], opt['batches']),
@@ -372,8 +381,8 @@ def plateaus_from_arrays(t, q, qd, effort, xi, tau_ext, *, inertia, options=None
                 float(x.mean()), _batch_se(x, opt['batches']), float(x.max() - x.min()),
                 float(lo.mean()), _batch_se(lo, opt['batches']),
                 float(np.mean(lo ** 2)), float(np.mean(lo ** 3)),
-                float(tau_ext[a:b][sl].mean()), float(q[a:b][sl].mean()),
-                float(tt[i0]), float(tt[i1 - 1]), i1 - i0, 0))
+                float(te[sl].mean()), float(qq[sl].mean()),
+                float(tt[i0]), float(tt[i1 - 1]), len(sl), 0))
     if not rows:
         return Plateaus.empty((source,), (torque_source,))
     cols = list(zip(*rows))
