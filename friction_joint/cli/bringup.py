@@ -39,6 +39,8 @@ def add_arguments(parser):
     parser.add_argument('--xi0', type=float,
                         help='initial gear temperature of the simulator, degC')
     parser.add_argument('--log-dir', help='write each process log here')
+    parser.add_argument('--composed', action='store_true',
+                        help='lockstep: simulator, controller and estimator in one process')
     return parser
 
 
@@ -47,5 +49,5 @@ def run(args):
     from ..ros.bringup import bringup
     bringup(args.model, args.truth, args.duration, record=args.record, mode=args.mode,
             friction=args.friction, amplitude=args.amplitude, omega=args.omega, xi0=args.xi0,
-            log_dir=args.log_dir)
+            log_dir=args.log_dir, composed=args.composed)
     return 0

@@ -48,6 +48,7 @@ import time
 
 from ..exceptions import FrictionJointError
 from ..gear import load_gear
+from ..gear.files import format_ros_params, read_ros_params_file
 
 __all__ = ['bringup', 'NodeProcess', 'LOCKSTEP_WINDOW']
 
@@ -90,10 +91,51 @@ def _node(module, gear_file, params):
     """Return the argv of node ``module``; a parameter is passed only when it has a value."""
     argv = [sys.executable, '-m', f'friction_joint.ros.nodes.{module}', '--ros-args',
             '--params-file', gear_file]
+    return argv + _overrides(params)
+
+
+def _overrides(params, node=''):
+    """Return ``-p [node:]key:=value`` for each parameter that has a value."""
+    argv = []
     for key, value in params.items():
         if value is None or value == '':
             continue                          # rcl cannot parse an empty override (key:=)
-        argv += ['-p', f'{key}:={value}']
+        argv += ['-p', f'{node}{key}:={value}']
+    return argv
+
+
+def _gear_parameters(path):
+    """Return the ``ros__parameters`` of a gear file (its node sections merged)."""
+    found = {}
+
+    def walk(tree):
+        for key, value in tree.items():
+            if key == 'ros__parameters':
+                found.update(value)
+            elif isinstance(value, dict):
+                walk(value)
+    walk(read_ros_params_file(path))
+    return found
+
+
+def _composed(model, truth, params, directory):
+    """
+    Return the composed process's argv: a params file with the gear of each node.
+
+    The nodes' own parameters go on the command line as node-specific
+    overrides (``-p estimator:friction:=lugre``): a node's own ``friction``
+    (a model name) cannot sit beside the gear's ``friction`` section in one file.
+    """
+    gears = {'joint_sim': truth, 'controller': model, 'estimator': model}
+    tree = {node: {'ros__parameters': _gear_parameters(path)} for node, path in gears.items()}
+    path = os.path.join(directory, 'composed.yaml')
+    with open(path, 'w', encoding='utf-8') as fh:
+        fh.write(format_ros_params(tree))
+    argv = [sys.executable, '-m', 'friction_joint.ros.nodes.composed', '--ros-args',
+            '--params-file', path]
+    for node, own in (('joint_sim', params['sim']), ('controller', params['controller']),
+                      ('estimator', params['estimator'])):
+        argv += _overrides(own, f'{node}:')
     return argv
 
 
@@ -126,7 +168,8 @@ def _on_signal(signum, frame):
 
 
 def bringup(model, truth, duration, *, record=None, mode='lockstep', friction='lugre',
-            amplitude=0.4, omega=1.5, xi0=None, log_dir=None, env=None, quiet=False):
+            amplitude=0.4, omega=1.5, xi0=None, log_dir=None, env=None, quiet=False,
+            composed=False):
     """
     Run the closed loop as separate processes; returns the bag path (or None).
 
@@ -152,12 +195,18 @@ def bringup(model, truth, duration, *, record=None, mode='lockstep', friction='l
         Environment of the processes (default: this process's).
     quiet : bool
         Print no progress lines.
+    composed : bool
+        Lockstep only: run simulator, controller and estimator in one process
+        (:mod:`~friction_joint.ros.nodes.composed`), the loop wired by calls;
+        the recorder stays a process of its own.
 
     """
     for path in (model, truth):
         load_gear(path)                       # fail early, with the file's own error
     if mode not in ('lockstep', 'realtime'):
         raise FrictionJointError(f"mode must be 'lockstep' or 'realtime', got {mode!r}")
+    if composed and mode != 'lockstep':
+        raise FrictionJointError('the composed loop runs in lockstep only')
     if not duration > 0:
         raise FrictionJointError(f'duration must be > 0, got {duration}')
     if record and os.path.exists(record):
@@ -170,6 +219,8 @@ def bringup(model, truth, duration, *, record=None, mode='lockstep', friction='l
     sim_params = {'mode': mode, 'duration': float(duration),
                   'wait_subscribers': 2 + (1 if record else 0), 'start_delay': 2.0}
     sim_params.update(follow='external_torque' if lockstep else '', window=LOCKSTEP_WINDOW)
+    if composed:                        # the followers are in the process: only a recorder
+        sim_params.update(wait_subscribers=1 if record else 0, follow='', start_delay=0.5)
     if xi0 is not None:
         sim_params['xi0'] = float(xi0)
     if record:
@@ -186,14 +237,20 @@ def bringup(model, truth, duration, *, record=None, mode='lockstep', friction='l
             procs.append(NodeProcess('record', [sys.executable, '-m', 'friction_joint', 'record',
                                                 record] + (['--use-sim-time'] if lockstep else []),
                                      env, log_dir))
-        procs.append(NodeProcess('estimator', _node('estimator', model, dict(
-            friction=friction, mode=mode, **rate)), env, log_dir))
-        procs.append(NodeProcess('controller', _node('controller', model, dict(
-            friction_ff=friction, amplitude=float(amplitude), omega=float(omega),
-            mode=mode, **rate)), env, log_dir))
-        sim = NodeProcess('joint_sim', _node('joint_sim', truth, sim_params), env, log_dir)
+        params = {'estimator': dict(friction=friction, mode=mode, **rate),
+                  'controller': dict(friction_ff=friction, amplitude=float(amplitude),
+                                     omega=float(omega), mode=mode, **rate),
+                  'sim': sim_params}
+        if composed:
+            sim = NodeProcess('joint_sim', _composed(model, truth, params, scratch.name), env,
+                              log_dir)
+        else:
+            for name in ('estimator', 'controller'):
+                procs.append(NodeProcess(name, _node(name, model, params[name]), env, log_dir))
+            sim = NodeProcess('joint_sim', _node('joint_sim', truth, sim_params), env, log_dir)
         procs.append(sim)
-        say(f'bringup: {len(procs)} processes up ({mode}, {duration:g} s)')
+        say(f'bringup: {len(procs)} processes up ({mode}{", composed" if composed else ""}, '
+            f'{duration:g} s)')
         t0 = time.monotonic()
         limit = duration + 30.0 if mode == 'realtime' else max(60.0, 40.0 * duration)
         while sim.alive() and time.monotonic() - t0 < limit:

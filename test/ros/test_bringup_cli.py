@@ -300,3 +300,42 @@ def test_hand_started_recording_has_every_message_from_the_first_step(mode, spaw
         # (counted as stale), but the recording starts with its first answer
         assert first['external_torque'] == k[0], (first, k[0])
         assert k[0] <= first['joint_command'] <= k[0] + 20, (first, k[0])
+
+
+def test_composed_lockstep_records_every_step_and_equals_offline(ros_env, tmp_path):
+    """
+    ``bringup --composed``: the three nodes in one process compute what the offline loop does.
+
+    Every step on every loop topic (and /clock) in the recording, and the
+    joint's trajectory and the estimate equal to the offline closed loop to
+    1e-9 (the same as the separate processes, ``test_nodes.py``).
+    """
+    from friction_joint.bag import check_lockstep
+    from test_nodes import offline_loop, XI0
+    out, log_dir = tmp_path / 'rec', tmp_path / 'logs'
+    duration = 3.0
+    proc = roshelpers.Proc([PY, '-m', 'friction_joint', 'bringup', '--model', MODEL,
+                            '--truth', TRUTH, '--duration', str(duration), '--composed',
+                            '--xi0', str(XI0), '--record', str(out), '--log-dir', str(log_dir)],
+                           ros_env)
+    try:
+        rc = proc.wait(timeout=600)
+    finally:
+        proc.stop()
+    assert rc == 0, proc.describe() + logs(log_dir)
+    assert 'composed' in proc.stdout
+    rec = read_recording(str(out))
+    check = check_lockstep(rec)
+    n = int(round(duration * 3000))
+    assert check.complete and check.steps == n + 1, check.describe()
+    assert {t.topic for t in check.topics} >= {'/joint_states', '/joint_command',
+                                               '/external_torque', '/clock'}
+    q, effort, est = offline_loop(n)
+    k = np.round(rec.joint_states.t * 3000).astype(int)
+    first = np.unique(k, return_index=True)[1]
+    np.testing.assert_allclose(rec.joint_states.q[first], q, rtol=0, atol=1e-9)
+    np.testing.assert_allclose(rec.joint_states.effort[first], effort, rtol=0, atol=1e-9)
+    ke = np.round(rec.external_torque.t * 3000).astype(int)
+    fe = np.unique(ke, return_index=True)[1]
+    np.testing.assert_allclose(rec.external_torque.effort[fe], est, rtol=0, atol=1e-9)
+    assert np.ptp(q) > 0.05

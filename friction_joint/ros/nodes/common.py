@@ -345,7 +345,9 @@ def run_node(factory, name, args=None, drain=True):
     with a one-line error naming the problem and exit status 2.  A node may
     end itself by raising ``SystemExit(0)`` from a callback.  A node with a
     ``spin_step(executor)`` method runs its own loop: it is called instead of
-    ``executor.spin_once``.
+    ``executor.spin_once``.  ``factory`` may also return a composition: an
+    object with ``nodes`` (the nodes, all added to the one executor) and
+    ``spin_step`` (see :mod:`~friction_joint.ros.nodes.composed`).
 
     The single-threaded executor is used: ``rclpy.experimental.EventsExecutor``
     is faster but was seen to stop delivering messages to one of two
@@ -386,8 +388,10 @@ def run_node(factory, name, args=None, drain=True):
     status = 0
     try:
         node = factory()
+        nodes = list(getattr(node, 'nodes', [node]))
         executor = SingleThreadedExecutor()
-        executor.add_node(node)
+        for member in nodes:
+            executor.add_node(member)
         spin = getattr(node, 'spin_step', None) or (lambda ex: ex.spin_once(timeout_sec=0.1))
         while not stop and rclpy.ok():
             spin(executor)
@@ -407,9 +411,11 @@ def run_node(factory, name, args=None, drain=True):
     finally:
         for sig, handler in old.items():
             signal.signal(sig, handler)
-        if node is not None and rclpy.ok():
+        nodes = list(getattr(node, 'nodes', [node])) if node is not None else []
+        if rclpy.ok():
             from rclpy.duration import Duration
-            for pub in node.publishers:          # let reliable peers take the last samples
+            for pub in (p for member in nodes for p in member.publishers):
+                # let reliable peers take the last samples
                 try:
                     acked = pub.wait_for_all_acked(Duration(seconds=ACK_TIMEOUT))
                 except Exception:                # noqa: BLE001 - best effort on the way out
@@ -419,7 +425,7 @@ def run_node(factory, name, args=None, drain=True):
                           f'subscriber within {ACK_TIMEOUT:g} s of stopping', file=sys.stderr)
         if executor is not None:
             executor.shutdown()
-        if node is not None:
-            node.destroy_node()
+        for member in nodes:
+            member.destroy_node()
         rclpy.try_shutdown()
     return status
