@@ -25,12 +25,13 @@ import roshelpers  # noqa: E402
 
 @pytest.fixture
 def ros_env(monkeypatch):
-    """Environment dict of a fresh ROS domain; also applied to ``os.environ`` for the test."""
+    """Environment dict of a fresh ROS domain (no other test's); also in ``os.environ``."""
     env = roshelpers.ros_environ()
     for key in ('ROS_DOMAIN_ID', 'ROS_AUTOMATIC_DISCOVERY_RANGE'):
         monkeypatch.setenv(key, env[key])
     monkeypatch.delenv('ROS_LOCALHOST_ONLY', raising=False)
-    return env
+    yield env
+    roshelpers.release_domain(env['ROS_DOMAIN_ID'])     # after spawn / ros_node have stopped
 
 
 @pytest.fixture

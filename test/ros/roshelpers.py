@@ -35,15 +35,18 @@ wall-time window (rates and latencies are measured by
 ``benchmarks/bench_nodes.py``).
 """
 import contextlib
+import fcntl
 import itertools
 import os
 import signal
 import subprocess
 import sys
+import tempfile
 import threading
 import time
 
-__all__ = ['PYTHON', 'DEADLINE', 'domain_id', 'ros_environ', 'wait_until', 'Proc', 'spawn',
+__all__ = ['PYTHON', 'DEADLINE', 'domain_id', 'release_domain', 'ros_environ', 'wait_until',
+           'Proc', 'spawn',
            'TestNode', 'ros_node', 'reliable_qos', 'stamp_ns', 'param_if_declared']
 
 #: the interpreter running the tests (the project's venv)
@@ -55,15 +58,42 @@ DEADLINE = 60.0
 
 _counter = itertools.count()
 _FIRST, _COUNT = 10, 220          # domain ids 10..229 (Fast DDS ports stay below 65535)
+_LOCKS = os.path.join(tempfile.gettempdir(), 'friction_joint-ros-domains')
+_held = {}                        # domain id -> its open lock file
 
 
 def domain_id():
     """
-    Return a ``ROS_DOMAIN_ID`` for one test, from the pid and a counter (10..229).
+    Reserve and return a ``ROS_DOMAIN_ID`` (10..229) for one test.
 
-    Different pytest processes running at the same time start at different ids.
+    Several pytest processes may run at once on one machine (engineers, CI
+    jobs): an id is taken only if no other process holds its lock file
+    (``flock``, released by :func:`release_domain` or when the process ends),
+    so two tests never share a domain (a stranger's ``/clock`` or states in a
+    test's domain made it fail).  The search starts from the pid and a counter.
     """
-    return _FIRST + (os.getpid() * 37 + next(_counter)) % _COUNT
+    os.makedirs(_LOCKS, exist_ok=True)
+    start = os.getpid() * 37 + next(_counter)
+    for i in range(_COUNT):
+        domain = _FIRST + (start + i) % _COUNT
+        if domain in _held:
+            continue
+        fh = open(os.path.join(_LOCKS, f'{domain}.lock'), 'w')
+        try:
+            fcntl.flock(fh, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except OSError:
+            fh.close()
+            continue
+        _held[domain] = fh
+        return domain
+    raise RuntimeError(f'every ROS domain id {_FIRST}..{_FIRST + _COUNT - 1} is in use')
+
+
+def release_domain(domain):
+    """Release a domain id reserved by :func:`domain_id` (its processes stopped)."""
+    fh = _held.pop(int(domain), None)
+    if fh is not None:
+        fh.close()
 
 
 def ros_environ(domain=None, base=None):
