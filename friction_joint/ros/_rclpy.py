@@ -29,6 +29,10 @@ Public rclpy does not offer two things the nodes need at 1-3 kHz:
 * the exception type of a failed publish on a keep-all publisher whose
   subscriber has stopped taking (``RCLError`` from the C extension), which
   replay turns into a named error;
+* the ``/clock`` subscription of rclpy's time source (``Node._time_source``,
+  ``TimeSource._clock_sub``): its callback raises ``ValueError`` on a
+  ``/clock`` with negative seconds, out of the executor, which ends the node;
+  :func:`guard_clock` puts a check in front of it;
 * the names of the parameters given on the command line (``-p``, params
   files) for a node, so that an unknown one is an error as an unknown key in
   a gear file is: rclpy keeps them in ``Node._parameter_overrides`` and only
@@ -45,7 +49,7 @@ from rclpy.impl.implementation_singleton import rclpy_implementation
 from rclpy.utilities import remove_ros_args
 
 __all__ = ['ExternalShutdownException', 'RCLError', 'remove_ros_args', 'take_message',
-           'take_all', 'parameter_override_names', 'Waiter']
+           'take_all', 'parameter_override_names', 'Waiter', 'guard_clock']
 
 #: raised by rcl calls that fail, e.g. publishing to a full keep-all queue
 RCLError = rclpy_implementation.RCLError
@@ -73,6 +77,27 @@ def take_all(subscription, msg_class, raw=False):
 def parameter_override_names(node):
     """Return the names of the parameters given to ``node`` on the command line (a set)."""
     return set(getattr(node, '_parameter_overrides', {}))
+
+
+def guard_clock(node, check):
+    """
+    Put ``check(msg)`` in front of rclpy's ``/clock`` callback of ``node`` (use_sim_time).
+
+    ``check`` returns True to pass the message to rclpy's time source, False to
+    drop it (it logs and counts).  Returns False when the node has no ``/clock``
+    subscription (``use_sim_time`` off).
+    """
+    source = getattr(node, '_time_source', None)
+    sub = getattr(source, '_clock_sub', None)
+    if sub is None:
+        return False
+    inner = sub.callback
+
+    def callback(msg):
+        if check(msg):
+            inner(msg)
+    sub.callback = callback
+    return True
 
 
 class Waiter:

@@ -37,6 +37,7 @@ import os
 import shutil
 import sys
 import tempfile
+import time
 
 from rcl_interfaces.msg import (FloatingPointRange, IntegerRange, ParameterDescriptor,
                                 SetParametersResult)
@@ -50,7 +51,10 @@ from ..gear.files import format_ros_params, read_ros_params_file
 from ..gear.strict_yaml import parse_yaml_text
 
 __all__ = ['gear_keys', 'declare_gear', 'declare_node_params', 'parameter_guard', 'describe',
-           'prepare_ros_args']
+           'prepare_ros_args', 'REJECT_LOG_PERIOD']
+
+#: seconds between two log lines about refused input or parameter changes (per node)
+REJECT_LOG_PERIOD = 2.0
 
 #: parameter names accepted besides the gear keys and a node's own
 STANDARD = ('use_sim_time',)
@@ -184,21 +188,33 @@ def parameter_guard(node, defaults, validators, apply):
     Install a set-parameters callback validating the node's own parameters.
 
     A bad value is rejected with a reason and the node keeps running; good
-    values are handed to ``apply(name, value)`` after acceptance.
+    values are handed to ``apply(name, value)`` after acceptance.  Every
+    parameter not in ``defaults`` (``use_sim_time`` too) is read-only.  Rejections
+    are counted and logged at most once per ``REJECT_LOG_PERIOD`` s, so a flood of
+    requests cannot keep the node busy logging.
     """
+    rejected = [0, -math.inf]                    # count, monotonic time of the last log line
+
+    def refuse(reason):
+        rejected[0] += 1
+        now = time.monotonic()
+        if now - rejected[1] >= REJECT_LOG_PERIOD:   # a flood of requests logs once a period
+            rejected[1] = now
+            node.get_logger().warning(f'rejected a parameter change: {reason} '
+                                      f'({rejected[0]} rejected so far)')
+        return SetParametersResult(successful=False, reason=reason)
+
     def callback(params):
         for p in params:
             if p.name not in defaults:
-                return SetParametersResult(successful=False,
-                                           reason=f'{p.name} cannot be changed at run time')
+                return refuse(f'{p.name} cannot be changed at run time')
             value = _plain(p.value)
             if isinstance(defaults[p.name], float) and isinstance(value, int) and \
                     not isinstance(value, bool):
                 value = float(value)
             err = _check(p.name, value, defaults[p.name], validators)
             if err:
-                node.get_logger().warning(f'rejected {p.name}={value!r}: {err}')
-                return SetParametersResult(successful=False, reason=f'{p.name}: {err}')
+                return refuse(f'{p.name}={_short(value)}: {err}')
         for p in params:
             value = _plain(p.value)
             if isinstance(defaults[p.name], float) and isinstance(value, int):

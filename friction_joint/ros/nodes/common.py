@@ -34,23 +34,26 @@ import collections
 import math
 import time
 
-from .._rclpy import RCLError, take_all, Waiter
-from ..parameters import declare_node_params, describe, prepare_ros_args
+from .._rclpy import guard_clock, RCLError, take_all, Waiter
+from ..parameters import declare_node_params, describe, prepare_ros_args, REJECT_LOG_PERIOD
 
 __all__ = ['stamp_to_ns', 'ns_to_stamp', 'joint_index', 'finite', 'take_queued',
-           'StampPairing', 'Rejects', 'PairedInput', 'run_node', 'REJECT_LOG_PERIOD',
+           'StampPairing', 'StampOrder', 'Rejects', 'PairedInput', 'run_node',
+           'REJECT_LOG_PERIOD', 'STAMP_HORIZON', 'Lossless', 'PUBLISH_WAIT',
            'MAX_STAMP_LEAD', 'EXECUTOR_EVERY', 'MODES', 'declare_follower_params']
 
 #: s a stopping node waits for reliable subscribers (a recorder on a loaded machine) to
 #: acknowledge its last samples; returns at once when they have
 ACK_TIMEOUT = 15.0
 
-#: seconds between two log lines about refused input (per node; rclpy throttling)
-REJECT_LOG_PERIOD = 2.0
 #: s between the executor turns (parameter services) of a node that takes its input directly
 EXECUTOR_EVERY = 0.05
 #: seconds a state's stamp may lie ahead of the node's wall clock (checked without sim time)
 MAX_STAMP_LEAD = 1.0
+#: s: a state newer than the last answered one by at most this continues the stream
+STAMP_HORIZON = 1.0
+#: s a lossless publisher retries a sample its full history refuses before giving up
+PUBLISH_WAIT = 60.0
 
 
 #: the loop modes of the simulator; controller and estimator take the same parameter
@@ -167,6 +170,88 @@ class StampPairing:
             self.dropped += 1
 
 
+class Lossless:
+    """
+    A keep-all publisher that waits instead of failing when its history is full.
+
+    A subscriber killed with SIGKILL stays matched until DDS drops it at the
+    end of its participant's lease (about 20 s with Fast DDS); a keep-all
+    publisher keeps every sample it has not acknowledged, and once the
+    history's resource limit is reached rcl refuses the next publish
+    (``RCLError``).  The sample is then retried every 0.05 s (logged, at most
+    once per ``REJECT_LOG_PERIOD``) until the dead subscriber is dropped, so
+    nothing is lost to the live ones; after ``PUBLISH_WAIT`` s the error is
+    raised.
+    """
+
+    def __init__(self, node, publisher):
+        self.node = node
+        self.publisher = publisher
+        self.retried = 0
+
+    def publish(self, msg):
+        t_end = None
+        while True:
+            try:
+                self.publisher.publish(msg)
+                return
+            except RCLError as exc:
+                now = time.monotonic()
+                t_end = t_end or now + PUBLISH_WAIT
+                if now > t_end:
+                    raise
+                self.retried += 1
+                if self.node._log_due(f'full {self.publisher.topic_name}', REJECT_LOG_PERIOD):
+                    self.node.get_logger().warning(
+                        f'{self.publisher.topic_name}: a subscriber does not acknowledge (a '
+                        f'killed peer, until its lease ends?); retrying ({exc})'.splitlines()[0])
+                time.sleep(0.05)
+
+    def __getattr__(self, name):
+        return getattr(self.publisher, name)
+
+
+class StampOrder:
+    """
+    Answer states in stamp order; refuse a lone outlier, follow a new timeline.
+
+    A state continues the stream when its stamp equals the last answered one
+    (answered again) or is newer by at most ``horizon`` ns.  Any other state
+    (older, or far ahead) is held as a candidate: ``confirm`` candidates that
+    continue one another are a new timeline (a replay that loops, a restarted
+    simulator, a clock that jumped): the node restarts on it and answers them;
+    a state that continues the old stream instead refuses the candidates as
+    outliers.  One state stamped far ahead therefore never silences a node.
+    """
+
+    def __init__(self, horizon=STAMP_HORIZON, confirm=3):
+        self.horizon = int(horizon * 1e9)
+        self.confirm = confirm
+        self.last = None
+        self.held = []
+        self.held_last = None
+
+    def _continues(self, last, ns):
+        return last is None or last <= ns <= last + self.horizon
+
+    def offer(self, ns, item):
+        """Return ``(restart, ready items, refused count)`` for the state ``item`` at ``ns``."""
+        refused = 0
+        if self._continues(self.last, ns):
+            refused, self.held = len(self.held), []
+            self.last = ns
+            return False, [item], refused
+        if self.held and not (self.held_last < ns <= self.held_last + self.horizon):
+            refused, self.held = len(self.held), []
+        self.held.append(item)
+        self.held_last = ns
+        if len(self.held) < self.confirm:
+            return False, [], refused
+        ready, self.held = self.held, []
+        self.last = ns
+        return True, ready, refused
+
+
 class Rejects:
     """
     Mixin: count, log (throttled) and report at shutdown the messages a node refuses.
@@ -279,7 +364,7 @@ class PairedInput(Rejects):
             self._reject('an implausible /joint_temperature', why)
             return
         for item in self.pair.temperature(stamp_to_ns(msg.header.stamp), msg.temperature):
-            self.process(*item)
+            self.dispatch(*item)
 
     def handle_state(self, msg):
         state = self.gate_state(msg)
@@ -291,7 +376,30 @@ class PairedInput(Rejects):
             self._reject('a joint state that waited too long for its temperature',
                          f'{self.pair.max_pending} states were waiting')
         for item in ready:
+            self.dispatch(*item)
+
+    order = None
+
+    def dispatch(self, ns, state, xi):
+        """Hand a paired state to ``process`` in stamp order (see :class:`StampOrder`)."""
+        if self.order is None:
+            self.order = StampOrder()
+        last = self.order.last
+        restart, ready, refused = self.order.offer(ns, (ns, state, xi))
+        for _ in range(refused):
+            self._reject('a joint state off the timeline of the stream',
+                         f'stamp not within {STAMP_HORIZON:g} s after {last * 1e-9:.6f} s '
+                         'and not followed by states continuing it')
+        if restart:
+            self.get_logger().warning(
+                f'the state stamps jumped from {last * 1e-9:.6f} s to {ready[0][0] * 1e-9:.6f} s '
+                f'and continue there ({len(ready)} states): restarting on the new timeline')
+            self.restart()
+        for item in ready:
             self.process(*item)
+
+    def restart(self):
+        """Start afresh on a new timeline of stamps (override: reset the node's state)."""
 
     def gate_state(self, msg):
         """Return ``(ns, values)`` of a state that passes the gate, else count it and None."""
@@ -306,6 +414,10 @@ class PairedInput(Rejects):
             if why:
                 self._reject(f'an implausible /joint_states {field}', why)
                 return None
+        if not 0 <= msg.header.stamp.nanosec < 1_000_000_000:
+            self._reject('a /joint_states stamp with nanosec out of range',
+                         f'nanosec {msg.header.stamp.nanosec} is not below 1e9')
+            return None
         ns = stamp_to_ns(msg.header.stamp)
         why = self.stamp_problem(ns)
         if why:
@@ -332,6 +444,35 @@ class PairedInput(Rejects):
             kind = '/clock' if clock.ros_time_is_active else 'the clock'
             return f'stamp {ns * 1e-9:.3f} s is {lead * 1e-9:.3g} s ahead of {kind}'
         return None
+
+
+class _ClockCheck:
+    """
+    Check a ``/clock`` message before rclpy's time source sees it (``use_sim_time``).
+
+    A time rclpy cannot represent (negative seconds, nanoseconds of a second or
+    more) is refused, counted and logged (throttled): it used to raise in
+    rclpy's callback and end the node.  A jump backwards (a replay that loops)
+    or forward by more than ``STAMP_HORIZON`` is logged and followed.
+    """
+
+    def __init__(self, node):
+        self.node = node
+        self.last = None
+
+    def __call__(self, msg):
+        clock = msg.clock
+        if clock.sec < 0 or not 0 <= clock.nanosec < 1_000_000_000:
+            self.node._reject('a /clock message rclpy cannot represent',
+                              f'sec {clock.sec}, nanosec {clock.nanosec}')
+            return False
+        ns = stamp_to_ns(clock)
+        if self.last is not None and not self.last <= ns <= self.last + STAMP_HORIZON * 1e9:
+            if self.node._log_due('clock jump', REJECT_LOG_PERIOD):
+                self.node.get_logger().warning(f'/clock jumped from {self.last * 1e-9:.6f} s to '
+                                               f'{ns * 1e-9:.6f} s: following it')
+        self.last = ns
+        return True
 
 
 def run_node(factory, name, args=None, drain=True):
@@ -392,10 +533,15 @@ def run_node(factory, name, args=None, drain=True):
         executor = SingleThreadedExecutor()
         for member in nodes:
             executor.add_node(member)
+            guard_clock(member, _ClockCheck(member))
         spin = getattr(node, 'spin_step', None) or (lambda ex: ex.spin_once(timeout_sec=0.1))
         while not stop and rclpy.ok():
             spin(executor)
         t_end = time.monotonic() + 30.0
+        if drain:                          # the input only: a flood of parameter requests
+            for member in nodes:           # must not hold a stopping node
+                for srv in list(member.services):
+                    member.destroy_service(srv)
         while drain and rclpy.ok() and time.monotonic() < t_end:
             t0 = time.monotonic()
             executor.spin_once(timeout_sec=1.0)

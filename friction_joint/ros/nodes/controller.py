@@ -51,7 +51,8 @@ import sys
 from rclpy.node import Node
 from sensor_msgs.msg import JointState, Temperature
 
-from .common import declare_follower_params, PairedInput, run_node, StampPairing, take_queued
+from .common import (declare_follower_params, Lossless, PairedInput, run_node, StampPairing,
+                     take_queued)
 from ..parameters import declare_gear, describe, parameter_guard
 from ..qos import overridable, stream_qos
 from ...control.controller import Controller, pd_gains, SineTrajectory
@@ -125,6 +126,8 @@ class ControllerNode(PairedInput, Node):
         self.pub = self.create_publisher(JointState, 'joint_command',
                                          stream_qos(lossless=self.p['sync']),
                                          qos_overriding_options=opts)
+        if self.p['sync']:                  # lossless: wait out a killed subscriber
+            self.pub = Lossless(self, self.pub)
         self.sub_state = self.create_subscription(JointState, 'joint_states', self.on_state, qos,
                                                   qos_overriding_options=opts)
         self.stale = 0
@@ -166,8 +169,13 @@ class ControllerNode(PairedInput, Node):
                         f'skipped {self.stale} stale joint states so far (the loop is behind: '
                         'answering the newest)', throttle_duration_sec=2.5)
             for item in self.pair.state(*state):
-                self.process(*item)
+                self.dispatch(*item)
             return
+
+    def restart(self):
+        """Restart on a new timeline of stamps: the reference and the feed-forward afresh."""
+        self.t0 = self.last_ns = self.last_cmd = None
+        self.ctrl = self._controller()
 
     def process(self, ns, state, xi):
         if ns == self.last_ns:                   # the same state again: same answer

@@ -44,7 +44,7 @@ import sys
 from rclpy.node import Node
 from sensor_msgs.msg import JointState, Temperature
 
-from .common import declare_follower_params, PairedInput, run_node, StampPairing
+from .common import declare_follower_params, Lossless, PairedInput, run_node, StampPairing
 from ..parameters import declare_gear, describe, parameter_guard
 from ..qos import overridable, stream_qos
 from ...control.observer import DisturbanceObserver
@@ -96,6 +96,8 @@ class EstimatorNode(PairedInput, Node):
         self.pub = self.create_publisher(JointState, 'external_torque',
                                          stream_qos(lossless=self.p['sync']),
                                          qos_overriding_options=opts)
+        if self.p['sync']:                  # lossless: wait out a killed subscriber
+            self.pub = Lossless(self, self.pub)
         self.sub_state = self.create_subscription(JointState, 'joint_states', self.on_state, qos,
                                                   qos_overriding_options=opts)
         self.sub_temp = self.create_subscription(Temperature, 'joint_temperature',
@@ -117,6 +119,11 @@ class EstimatorNode(PairedInput, Node):
         self.observer = self._observer()
         self.observer.reset(tau_ext=est)
         self.get_logger().info(f'{name} set to {value!r}')
+
+    def restart(self):
+        """Restart on a new timeline of stamps (a replay that loops): a fresh observer."""
+        self.observer = self._observer()
+        self.last_ns = self.last_msg = None
 
     def process(self, ns, state, xi):
         if self.last_ns is not None and ns <= self.last_ns:

@@ -85,7 +85,8 @@ applies the newest valid command only while it is younger than
 ``command_timeout``; after that (the controller stopped, or every command
 is refused) it applies ``timeout_reaction``: ``zero`` torque (default; the
 drive's safe torque off: the joint coasts and hangs) or ``brake`` (a
-damping torque J q̇ / ``BRAKE_TIME`` that stops it).  The trip and the
+damping torque J q̇ / ``BRAKE_TIME`` that stops it; see
+:mod:`~friction_joint.testbed.watchdog`).  The trip and the
 return of valid commands are logged.
 
 Implausible input is **rejected, keeping the last valid value**: a
@@ -112,13 +113,14 @@ from rosgraph_msgs.msg import Clock
 from sensor_msgs.msg import JointState, Temperature
 from std_msgs.msg import String
 
-from .common import (EXECUTOR_EVERY, joint_index, ns_to_stamp, Rejects, run_node,
+from .common import (EXECUTOR_EVERY, joint_index, Lossless, ns_to_stamp, Rejects, run_node,
                      stamp_to_ns, take_queued)
 from .._rclpy import Waiter
-from ..parameters import declare_gear, declare_node_params, describe
+from ..parameters import declare_gear, declare_node_params, describe, parameter_guard
 from ..qos import CLOCK_QOS, overridable, READY_QOS, READY_TOPIC, stream_qos
 from ...exceptions import SimulationError
 from ...testbed.plant import InputLimits, Plant
+from ...testbed.watchdog import CommandWatchdog, REACTIONS
 
 __all__ = ['JointSimNode', 'main']
 
@@ -132,10 +134,6 @@ FINAL_WAIT = 20.0
 #: ``wait_recorder:=loop``: the topics of the closed loop a recording must have from its start
 LOOP_TOPICS = ('joint_states', 'joint_temperature', 'link_torque', 'joint_command',
                'external_torque')
-#: the safe reactions of the command watchdog
-REACTIONS = ('zero', 'brake')
-#: s: the time constant of the ``brake`` reaction (a damping torque J / BRAKE_TIME x qd)
-BRAKE_TIME = 0.05
 
 DEFAULTS = {'mode': 'realtime', 'publish_rate': 1000.0, 'duration': 0.0, 'xi0': float('nan'),
             'q0': 0.0, 'seed': -1, 'friction_model': '', 'resend_period': 0.2,
@@ -219,14 +217,15 @@ class JointSimNode(Rejects, Node):
         self.n_end = (int(round(self.p['duration'] * self.plant.rate))
                       if self.p['duration'] > 0 else 0)
         qos, out, opts = stream_qos(), stream_qos(lossless=self.lockstep), overridable()
-        self.pub_state = self.create_publisher(JointState, 'joint_states', out,
-                                               qos_overriding_options=opts)
-        self.pub_temp = self.create_publisher(Temperature, 'joint_temperature', out,
-                                              qos_overriding_options=opts)
-        self.pub_link = self.create_publisher(WrenchStamped, 'link_torque', out,
-                                              qos_overriding_options=opts)
+        keep = (lambda pub: Lossless(self, pub)) if self.lockstep else (lambda pub: pub)
+        self.pub_state = keep(self.create_publisher(JointState, 'joint_states', out,
+                                                    qos_overriding_options=opts))
+        self.pub_temp = keep(self.create_publisher(Temperature, 'joint_temperature', out,
+                                                   qos_overriding_options=opts))
+        self.pub_link = keep(self.create_publisher(WrenchStamped, 'link_torque', out,
+                                                   qos_overriding_options=opts))
         # /clock is global by convention: every node of the system follows one clock
-        self.pub_clock = (self.create_publisher(Clock, '/clock', CLOCK_QOS)
+        self.pub_clock = (keep(self.create_publisher(Clock, '/clock', CLOCK_QOS))
                           if self.lockstep else None)
         self.sub_command = self.create_subscription(JointState, 'joint_command',
                                                     self.on_command, qos,
@@ -241,13 +240,16 @@ class JointSimNode(Rejects, Node):
         if self.recorder_needs:
             self.sub_ready = self.create_subscription(String, READY_TOPIC, self.on_ready,
                                                       READY_QOS)
-        self.valid_k = None                         # step of the newest valid command
-        self.tripped = 0                            # watchdog trips so far
-        self.timeout_steps = self.p['command_timeout'] * self.plant.rate
+        self.watchdog = CommandWatchdog(self.plant.rate, self.p['command_timeout'],
+                                        self.p['timeout_reaction'], inertia=self.gear.inertia,
+                                        torque_limit=self.limits.torque)
         self.followers = {}
         self.echo_subs = []
         self.waiter = None
         self.next_turn = 0.0
+        # nothing of this node changes at run time (use_sim_time included: states would
+        # be stamped with a clock that has not started)
+        parameter_guard(self, {}, {}, None)
         if self.lockstep:
             for topic in (t.strip() for t in self.p['follow'].split(',') if t.strip()):
                 name = {}
@@ -296,7 +298,7 @@ class JointSimNode(Rejects, Node):
                          f'command {why}; keeping {self.tau_cmd:.6g} Nm')
         else:
             self.tau_cmd = float(msg.effort[i])
-            self.valid_k = self.plant.k
+            self.watchdog.command(self.plant.k)
         if self.lockstep and not self.done:
             if stamp_to_ns(msg.header.stamp) != self.stamp_ns(self.plant.k):
                 return                          # a stale or duplicate command
@@ -339,40 +341,18 @@ class JointSimNode(Rejects, Node):
 
     # ---------------------------------------------------------------- watchdog
     def drive_torque(self, qd):
-        """
-        Return the torque the drive applies: the newest valid command, or the safe reaction.
-
-        The watchdog counts simulated time since the newest valid
-        ``/joint_command`` (refused commands do not count as commands).  After
-        ``command_timeout`` s the drive applies ``timeout_reaction``: ``zero``
-        torque (the joint coasts and hangs) or ``brake``, a damping torque
-        ``-J qd / BRAKE_TIME`` within the plausible torque, as a drive's
-        safe-torque-off or holding brake would.  The trip and the return of
-        valid commands are logged.  Before the first valid command the torque
-        is zero.
-        """
-        if self.valid_k is None:
-            return self.tau_cmd
-        stale = self.plant.k - self.valid_k > self.timeout_steps > 0
-        if stale and not self.tripped_now:
-            self.tripped += 1
+        """Return the drive's torque (:class:`CommandWatchdog`); log a trip and a resume."""
+        tau, event = self.watchdog.torque(self.plant.k, self.tau_cmd, qd)
+        if event == 'tripped':
             self.get_logger().warning(
                 f'no valid /joint_command for {self.p["command_timeout"]:g} s at t = '
                 f'{self.plant.t:.3f} s (rejected so far: {self.rejected}): '
                 f'{self.p["timeout_reaction"]} torque until a valid command arrives '
-                f'(trip {self.tripped})')
-        elif not stale and self.tripped_now:
+                f'(trip {self.watchdog.trips})')
+        elif event == 'resumed':
             self.get_logger().info(f'valid /joint_command again at t = {self.plant.t:.3f} s: '
                                    'the drive follows it')
-        self.tripped_now = stale
-        if not stale:
-            return self.tau_cmd
-        if self.p['timeout_reaction'] == 'zero':
-            return 0.0
-        brake = -self.gear.inertia * qd / BRAKE_TIME
-        return max(-self.limits.torque, min(self.limits.torque, brake))
-
-    tripped_now = False
+        return tau
 
     # ---------------------------------------------------------------- output
     def stamp_ns(self, k):
@@ -428,6 +408,7 @@ class JointSimNode(Rejects, Node):
         self.advance()
 
     def advance(self):
+        self.progress = time.monotonic()
         s = self.plant.step(self.drive_torque(self.plant.last.qd), self.contact)
         if self.n_end and self.plant.k >= self.n_end:
             self.done = True
@@ -454,17 +435,50 @@ class JointSimNode(Rejects, Node):
                                    f'{self.p["start_delay"]:g} s')
         return now - self.ready_since >= self.p['start_delay']
 
+    progress = 0.0
+
     def on_resend(self):
         if self.done:
             self.finish()
         if self.blocked_since is not None:
             self.warn_blocked()
-        if self.started or not self.ready():
+        if self.started:
+            self.resend_stalled()
+            return
+        if not self.ready():
             return
         now = time.monotonic()
         if self.last_sent is None or now - self.last_sent >= self.p['resend_period']:
             self.last_sent = now
             self.publish(self.plant.last, temperature=True)
+
+    def resend_stalled(self):
+        """
+        Re-send the current state while the loop stalls (a peer restarted, say).
+
+        A controller killed and restarted has never seen the state it must
+        answer; a restarted estimator that the flow control waits for neither.
+        After ``resend_period`` s without progress the current state goes out
+        again every ``resend_period`` s (peers answer a state they have
+        answered already with the same message); logged after 5 s.
+        """
+        now = time.monotonic()
+        stalled = now - max(self.progress, self.last_sent or 0.0)
+        if stalled < self.p['resend_period']:
+            return
+        self.last_sent = now
+        self.resent += 1
+        self.publish(self.plant.last, temperature=True)
+        waiting = now - self.progress
+        if waiting > 5.0 and self._log_due('stalled', 5.0):
+            what = ('the followers' if self.blocked_since is not None
+                    else f'the command of step {self.plant.k}')
+            self.get_logger().warning(
+                f'no progress for {waiting:.0f} s: waiting for {what}; re-sending the state '
+                f'every {self.p["resend_period"]:g} s ({self.resent} re-sent so far)',
+                throttle_duration_sec=2.5)
+
+    resent = 0
 
     def warn_blocked(self):
         """Log (throttled) which followers the simulation is waiting for."""
