@@ -29,6 +29,7 @@ from friction_joint.bag import read_recording
 import numpy as np
 import pytest
 import roshelpers
+from test_node_inputs import node_cmd
 
 pytestmark = pytest.mark.ros
 
@@ -48,13 +49,6 @@ def busy_machine(n=2):
         for p in procs:
             p.kill()
             p.wait()
-
-
-def node_cmd(node, gear, **params):
-    cmd = [PY, '-m', f'friction_joint.ros.nodes.{node}', '--ros-args', '--params-file', gear]
-    for k, v in params.items():
-        cmd += ['-p', f'{k}:={v}']
-    return cmd
 
 
 def logs(directory):
