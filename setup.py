@@ -46,6 +46,7 @@ setup(
     name=package_name,
     version=package_version(),
     packages=find_packages(exclude=['test', 'test.*']),
+    package_data={package_name: ['ros/fastdds.xml']},
     data_files=[
         ('share/ament_index/resource_index/packages', ['resource/' + package_name]),
         ('share/' + package_name, ['package.xml']),

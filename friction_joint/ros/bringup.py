@@ -46,6 +46,7 @@ import sys
 import tempfile
 import time
 
+from .qos import dds_environ
 from ..exceptions import FrictionJointError
 from ..gear import load_gear
 from ..gear.files import format_ros_params, read_ros_params_file
@@ -203,6 +204,7 @@ def bringup(model, truth, duration, *, record=None, mode='lockstep', friction='l
     """
     for path in (model, truth):
         load_gear(path)                       # fail early, with the file's own error
+    env = dds_environ(env)
     if mode not in ('lockstep', 'realtime'):
         raise FrictionJointError(f"mode must be 'lockstep' or 'realtime', got {mode!r}")
     if composed and mode != 'lockstep':

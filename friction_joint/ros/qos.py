@@ -23,15 +23,42 @@ The QoS profiles of this package, defined once.
   announcement (``std_msgs/String``, the sorted comma-separated topics on which
   it has matched a publisher; transient-local, so a late joiner gets the
   newest), which ``joint_sim``'s ``wait_recorder`` waits for;
+* :data:`DDS_PROFILE` / :func:`dds_environ`: the Fast DDS profile every
+  process of the package uses unless the environment names one (a larger
+  shared-memory segment and 20 ms heartbeats: a recorder taking 18 000
+  messages/s keeps up; see the file ``fastdds.xml``);
 * :func:`overridable`: the standard ``qos_overrides.<topic>.<entity>.<policy>``
   parameters for a node's publishers and subscriptions (users retune a
   topic's QoS with ``-p qos_overrides./joint_states.publisher.depth:=100``).
 """
+import os
+
 from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
 from rclpy.qos_overriding_options import QoSOverridingOptions
 
-__all__ = ['QOS_DEPTH', 'CLOCK_QOS', 'READY_TOPIC', 'READY_QOS', 'stream_qos', 'recorder_qos',
+__all__ = ['DDS_PROFILE', 'dds_environ', 'QOS_DEPTH', 'CLOCK_QOS', 'READY_TOPIC', 'READY_QOS',
+           'stream_qos', 'recorder_qos',
            'replay_qos', 'overridable']
+
+#: the Fast DDS profile of the package's processes (shared-memory segment, heartbeats)
+DDS_PROFILE = os.path.join(os.path.dirname(os.path.abspath(__file__)), 'fastdds.xml')
+_PROFILE_VARIABLES = ('FASTRTPS_DEFAULT_PROFILES_FILE', 'FASTDDS_DEFAULT_PROFILES_FILE')
+
+
+def dds_environ(env=None):
+    """
+    Return ``env`` with :data:`DDS_PROFILE` as the Fast DDS profile; ``None``: set it here.
+
+    An environment that names a profile already (``FASTRTPS_DEFAULT_PROFILES_FILE``
+    or ``FASTDDS_DEFAULT_PROFILES_FILE``) is left as it is.  With ``env=None``
+    the variable is set in ``os.environ`` (call before ``rclpy.init``) and
+    ``os.environ`` is returned.
+    """
+    target = os.environ if env is None else dict(env)
+    if not set(_PROFILE_VARIABLES) & set(target):
+        target['FASTRTPS_DEFAULT_PROFILES_FILE'] = DDS_PROFILE
+    return target
+
 
 #: keep-last depth of the topics' QoS (and of the recorder's /clock subscription)
 QOS_DEPTH = 1000

@@ -83,7 +83,7 @@ import threading
 import time
 
 from ._rclpy import take_all
-from .qos import READY_QOS, READY_TOPIC, recorder_qos
+from .qos import dds_environ, READY_QOS, READY_TOPIC, recorder_qos
 from ..bag import CONTRACT_TYPES
 from ..bag.checksums import seal_rosbag2
 from ..bag.staging import (flush_chunks, FLUSH_PERIOD, killed_recordings, RecorderStaging,
@@ -498,6 +498,7 @@ def record(out, *, topics=None, duration=None, args=None, log=None, stop=None,
     context = Context()
     node = executor = recorder = None
     try:
+        dds_environ()                     # the package's DDS profile, unless one is set
         rclpy.init(args=args, context=context, signal_handler_options=SignalHandlerOptions.NO)
         node = rclpy.create_node('friction_joint_recorder', context=context,
                                  start_parameter_services=False)

@@ -44,7 +44,7 @@ import threading
 import time
 
 from ._rclpy import RCLError
-from .qos import replay_qos
+from .qos import dds_environ, replay_qos
 from .record import install_signals, message_class
 from ..bag import iter_messages, recording_topics
 from ..exceptions import RecordingError
@@ -140,6 +140,7 @@ def replay(bag, *, rate=1.0, topics=None, clock=True, loop=False, wait=2.0, sett
     if clock:
         counts['/clock'] = 0
     try:
+        dds_environ()                     # the package's DDS profile, unless one is set
         rclpy.init(args=args, context=context, signal_handler_options=SignalHandlerOptions.NO)
         node = rclpy.create_node('friction_joint_replay', context=context,
                                  start_parameter_services=False)

@@ -162,7 +162,7 @@ def test_lockstep_survives_killed_and_restarted_peers(spawn, ros_node, tmp_path)
     every step on every loop topic from the moment it matched to the end.
     """
     from sensor_msgs.msg import JointState
-    duration = 8.0
+    duration = 5.0
     n = int(duration * 3000)
     rec_cmd = [PYTHON, '-m', 'friction_joint', 'record', str(tmp_path / 'rec1'), '--use-sim-time']
     est_cmd = node_cmd('estimator', MODEL, mode='lockstep')
@@ -180,7 +180,7 @@ def test_lockstep_survives_killed_and_restarted_peers(spawn, ros_node, tmp_path)
         qos_profile_sensor_data)
 
     def reach(k):
-        assert ros_node.spin_until(lambda: steps and steps[-1] >= k, timeout=DEADLINE * 3), (
+        assert ros_node.spin_until(lambda: steps and steps[-1] >= k, timeout=DEADLINE * 6), (
             steps[-1:], sim.describe())
 
     reach(n // 8)
@@ -191,7 +191,7 @@ def test_lockstep_survives_killed_and_restarted_peers(spawn, ros_node, tmp_path)
     rec = _kill_and_restart(spawn, rec, [PYTHON, '-m', 'friction_joint', 'record',
                                          str(tmp_path / 'rec2'), '--use-sim-time'])
     k_restart = steps[-1]
-    assert sim.wait(timeout=DEADLINE * 6) == 0, sim.describe()
+    assert sim.wait(timeout=DEADLINE * 10) == 0, sim.describe()
     for proc in (ctl, est, rec):
         proc.stop(timeout=DEADLINE)
     log = sim.stdout + sim.stderr
@@ -207,4 +207,4 @@ def test_lockstep_survives_killed_and_restarted_peers(spawn, ros_node, tmp_path)
         assert np.all(np.diff(k) == 1), (topic, np.flatnonzero(np.diff(k) != 1)[:5])
         # it joined a running loop (a few thousand steps pass while it starts), then
         # kept every step to the end
-        assert k_restart <= k[0] <= n - 3000, (topic, k[0], k_restart)
+        assert k_restart <= k[0] <= n - 1500, (topic, k[0], k_restart)

@@ -36,6 +36,7 @@ import time
 
 from .._rclpy import guard_clock, RCLError, take_all, Waiter
 from ..parameters import declare_node_params, describe, prepare_ros_args, REJECT_LOG_PERIOD
+from ..qos import dds_environ
 
 __all__ = ['stamp_to_ns', 'ns_to_stamp', 'joint_index', 'finite', 'take_queued',
            'StampPairing', 'StampOrder', 'Rejects', 'PairedInput', 'run_node',
@@ -50,8 +51,9 @@ ACK_TIMEOUT = 15.0
 EXECUTOR_EVERY = 0.05
 #: seconds a state's stamp may lie ahead of the node's wall clock (checked without sim time)
 MAX_STAMP_LEAD = 1.0
-#: s: a state newer than the last answered one by at most this continues the stream
-STAMP_HORIZON = 1.0
+#: s: a state newer than the last answered one by at most this continues the stream (a
+#: pause of a stream is seconds; a stamp from another clock is hours or years away)
+STAMP_HORIZON = 10.0
 #: s a lossless publisher retries a sample its full history refuses before giving up
 PUBLISH_WAIT = 60.0
 
@@ -518,6 +520,7 @@ def run_node(factory, name, args=None, drain=True):
         print(f'{name}: error: {exc}', file=sys.stderr)
         return 2
     try:
+        dds_environ()                     # the package's DDS profile, unless one is set
         rclpy.init(args=args, signal_handler_options=SignalHandlerOptions.NO)
     except RCLError as exc:          # e.g. a malformed -p value rcl cannot parse
         print(f'{name}: error: ROS arguments: {str(exc).splitlines()[0]}', file=sys.stderr)

@@ -72,18 +72,23 @@ gear file's friction.model), resend_period, wait_subscribers, start_delay,
 follow, window, wait_recorder, command_timeout, timeout_reaction.
 ``wait_subscribers`` and ``start_delay`` hold the first tick in realtime
 mode too (a state published before its subscribers have matched is lost to
-them).  ``wait_recorder`` (comma-separated topics, or ``loop`` for
+them).  In lockstep the state the loop waits on is re-sent every
+``resend_period`` while the loop stalls (a controller or estimator killed
+and restarted has never seen it; logged after 5 s).
+``wait_recorder`` (comma-separated topics, or ``loop`` for
 ``LOOP_TOPICS`` and, in lockstep, ``/clock``) holds the first state until a
 recorder has announced on ``recorder_ready`` that it has matched a publisher
 on each of them (``friction_joint record`` does; see
 :mod:`~friction_joint.ros.qos`), so a recording started before the nodes
 has every message from the first.
 
-**Command watchdog** (``command_timeout``, default 0.2 s of simulated time;
+**Command watchdog** (``command_timeout``, default 0.05 s of simulated time;
 0 turns it off): once the first valid command has arrived, the drive
 applies the newest valid command only while it is younger than
 ``command_timeout``; after that (the controller stopped, or every command
-is refused) it applies ``timeout_reaction``: ``zero`` torque (default; the
+is refused) it applies ``timeout_reaction``.  In realtime a command that
+answers a state older than ``command_timeout`` is refused as stale (a
+starved controller's delayed loop would go unstable).  The reactions: ``zero`` torque (default; the
 drive's safe torque off: the joint coasts and hangs) or ``brake`` (a
 damping torque J q̇ / ``BRAKE_TIME`` that stops it; see
 :mod:`~friction_joint.testbed.watchdog`).  The trip and the
@@ -138,7 +143,7 @@ LOOP_TOPICS = ('joint_states', 'joint_temperature', 'link_torque', 'joint_comman
 DEFAULTS = {'mode': 'realtime', 'publish_rate': 1000.0, 'duration': 0.0, 'xi0': float('nan'),
             'q0': 0.0, 'seed': -1, 'friction_model': '', 'resend_period': 0.2,
             'wait_subscribers': 1, 'start_delay': 0.5, 'follow': '', 'window': 300,
-            'wait_recorder': '', 'command_timeout': 0.2, 'timeout_reaction': 'zero'}
+            'wait_recorder': '', 'command_timeout': 0.05, 'timeout_reaction': 'zero'}
 VALIDATORS = {
     'mode': lambda v: (None if v in ('realtime', 'lockstep')
                        else "must be 'realtime' or 'lockstep'"),
@@ -211,6 +216,8 @@ class JointSimNode(Rejects, Node):
         self.joint = self.gear.joint_name
         self.limits = InputLimits(self.gear)
         self.lockstep = self.p['mode'] == 'lockstep'
+        self.temperature_variance = (self.gear.section('sensors')['temperature_resolution'] ** 2
+                                     / 12.0)
         self.tau_cmd = 0.0
         self.contact = 0.0
         self.done = False
@@ -293,7 +300,12 @@ class JointSimNode(Rejects, Node):
             return
         why = (f'no effort for {self.joint}' if i >= len(msg.effort)
                else self.limits.check('torque', msg.effort[i]))
-        if why:
+        age = self.command_age(msg)
+        if not why and age is not None and age > self.p['command_timeout'] > 0:
+            self._reject('a stale /joint_command',
+                         f'it answers the state of {age:.3f} s ago (command_timeout '
+                         f'{self.p["command_timeout"]:g} s)')
+        elif why:
             self._reject('a refused /joint_command effort',
                          f'command {why}; keeping {self.tau_cmd:.6g} Nm')
         else:
@@ -305,6 +317,13 @@ class JointSimNode(Rejects, Node):
             self.started = True
             self.commanded = True
             self.try_advance()
+
+    def command_age(self, msg):
+        """Return the age (s) of the state a realtime command answers (None: unstamped)."""
+        ns = stamp_to_ns(msg.header.stamp)
+        if self.lockstep or ns <= 0 or self.t0_ns is None:
+            return None
+        return (self.t0_ns + self.stamp_ns(self.plant.k) - ns) * 1e-9
 
     def on_echo(self, topic, msg):
         """Take a follower's echo (flow control): its newest processed state stamp."""
@@ -374,7 +393,7 @@ class JointSimNode(Rejects, Node):
             ns_to_stamp(ns, t.header.stamp)
             t.header.frame_id = self.joint
             t.temperature = s.xi
-            t.variance = self.gear.section('sensors')['temperature_resolution'] ** 2 / 12.0
+            t.variance = self.temperature_variance
             self.pub_temp.publish(t)
         w = WrenchStamped()
         ns_to_stamp(ns, w.header.stamp)
@@ -453,15 +472,7 @@ class JointSimNode(Rejects, Node):
             self.publish(self.plant.last, temperature=True)
 
     def resend_stalled(self):
-        """
-        Re-send the current state while the loop stalls (a peer restarted, say).
-
-        A controller killed and restarted has never seen the state it must
-        answer; a restarted estimator that the flow control waits for neither.
-        After ``resend_period`` s without progress the current state goes out
-        again every ``resend_period`` s (peers answer a state they have
-        answered already with the same message); logged after 5 s.
-        """
+        """Re-send the current state every ``resend_period`` while the loop stalls."""
         now = time.monotonic()
         stalled = now - max(self.progress, self.last_sent or 0.0)
         if stalled < self.p['resend_period']:
