@@ -51,6 +51,7 @@ import signal
 import subprocess
 import sys
 import tempfile
+import threading
 import time
 
 import numpy as np
@@ -137,22 +138,44 @@ def realtime(seconds, e):
 
 
 def _lockstep_wall(sim, start_delay):
-    """Return the wall seconds from the simulator's first step to its 'done' line."""
+    """Return the wall seconds from the simulator's first step to its 'done' line, and t0."""
     t0 = None
     for line in sim.stdout:
         if t0 is None and 'subscriber(s) matched' in line:
             t0 = time.monotonic() + start_delay
         if 'done' in line:
             break
-    return time.monotonic() - t0
+    return time.monotonic() - t0, t0
+
+
+class CpuSampler(threading.Thread):
+    """Sample the CPU seconds (user + system, all threads) of named processes until stopped."""
+
+    def __init__(self, procs):
+        super().__init__(daemon=True)
+        self.procs = procs
+        self.cpu = {}
+        self.halt = threading.Event()
+
+    def run(self):
+        tick = os.sysconf('SC_CLK_TCK')
+        while not self.halt.is_set():
+            for name, p in self.procs.items():
+                try:
+                    with open(f'/proc/{p.pid}/stat') as fh:
+                        f = fh.read().rsplit(')', 1)[1].split()
+                    self.cpu[name] = (int(f[11]) + int(f[12])) / tick
+                except (OSError, IndexError):
+                    pass
+            self.halt.wait(0.2)
 
 
 def lockstep(sim_seconds, e):
     sim = start(node('joint_sim', TRUTH, mode='lockstep', duration=float(sim_seconds),
                      start_delay=0.5), e)
-    ctrl = start(node('controller', MODEL), e)
+    ctrl = start(node('controller', MODEL, mode='lockstep'), e)
     try:
-        wall = _lockstep_wall(sim, 0.5)
+        wall, _ = _lockstep_wall(sim, 0.5)
         sim.wait(30)
     finally:
         stop(ctrl)
@@ -161,38 +184,70 @@ def lockstep(sim_seconds, e):
     return {'steps': steps, 'wall_s': wall, 'steps_per_s': steps / wall}
 
 
-def lockstep_recorded(sim_seconds, e):
-    """Sim + controller + estimator in lockstep (as bringup) with a --use-sim-time recorder."""
+def lockstep_recorded(sim_seconds, e, composed=False):
+    """
+    Time the lockstep loop as ``bringup`` runs it, with a --use-sim-time recorder.
+
+    Separate processes (sim, controller, estimator) or ``composed`` (one
+    process).  Wall time from the first step to the last (``wall_s``) and to
+    the simulator's exit, which waits until every subscriber (the recorder)
+    has acknowledged every sample (``wall_acked_s``: the recording is
+    complete); CPU seconds of each process per simulated second (start-up
+    included, measured on a 1 s run and subtracted).
+    """
     from friction_joint.bag import check_lockstep, read_recording
-    from friction_joint.ros.bringup import LOCKSTEP_WINDOW
+    from friction_joint.ros.bringup import composed_command, LOCKSTEP_WINDOW
     from rosbags.highlevel import AnyReader
     with tempfile.TemporaryDirectory() as d:
         out = os.path.join(d, 'ls')
         rec = start([PY, '-m', 'friction_joint', 'record', out, '--use-sim-time'], e)
-        time.sleep(1.0)
-        est = start(node('estimator', MODEL, friction='lugre', sync='true'), e)
-        ctrl = start(node('controller', MODEL, friction_ff='lugre', sync='true'), e)
-        sim = start(node('joint_sim', TRUTH, mode='lockstep', duration=float(sim_seconds),
-                         wait_subscribers=3, start_delay=2.0, follow='external_torque',
-                         window=LOCKSTEP_WINDOW), e)
+        procs = {'record': rec}
+        sim_params = {'mode': 'lockstep', 'duration': float(sim_seconds), 'start_delay': 2.0,
+                      'wait_recorder': 'loop'}
+        if composed:
+            sim_params.update(wait_subscribers=1)
+            sim = start(composed_command(MODEL, TRUTH, {
+                'sim': sim_params, 'controller': {'mode': 'lockstep', 'friction_ff': 'lugre'},
+                'estimator': {'mode': 'lockstep', 'friction': 'lugre'}}, d), e)
+            procs['composed'] = sim
+        else:
+            procs['estimator'] = start(node('estimator', MODEL, friction='lugre',
+                                            mode='lockstep'), e)
+            procs['controller'] = start(node('controller', MODEL, friction_ff='lugre',
+                                             mode='lockstep'), e)
+            sim = start(node('joint_sim', TRUTH, wait_subscribers=3, follow='external_torque',
+                             window=LOCKSTEP_WINDOW, **sim_params), e)
+            procs['joint_sim'] = sim
+        sampler = CpuSampler(procs)
+        sampler.start()
         try:
-            wall = _lockstep_wall(sim, 2.0)
-            sim.wait(30)
+            wall, t0 = _lockstep_wall(sim, 2.0)
+            sim.wait(120)
+            acked = time.monotonic() - t0
+            sampler.halt.set()
+            sampler.join()
             time.sleep(0.5)
         finally:
-            for p in (sim, ctrl, est):
-                stop(p)
+            for name, p in procs.items():
+                if name != 'record':
+                    stop(p)
             log = stop(rec, timeout=120)
         with AnyReader([__import__('pathlib').Path(out)]) as reader:
             js = [t for c, t, _ in reader.messages() if c.topic == '/joint_states']
         check = check_lockstep(read_recording(out))
     steps = int(round(sim_seconds * 3000))
     span = (js[-1] - js[0]) * 1e-9
-    return {'steps': steps, 'wall_s': wall, 'steps_per_s': steps / wall,
-            'ratio': sim_seconds / wall, 'bag_span_s': span,
+    return {'steps': steps, 'wall_s': wall, 'wall_acked_s': acked, 'steps_per_s': steps / wall,
+            'ratio': sim_seconds / wall, 'ratio_acked': sim_seconds / acked, 'bag_span_s': span,
             'bag_rate_hz': (len(js) - 1) / span if span > 0 else float('nan'),
             'recorded': len(js), 'log': log.strip().splitlines()[-1:],
-            'check': check.describe()}
+            'check': check.describe(), 'cpu': sampler.cpu, 'complete': check.complete}
+
+
+def cpu_per_second(long, short, seconds):
+    """CPU seconds per simulated second of each process, start-up (the short run) removed."""
+    return {name: (long['cpu'].get(name, 0.0) - short['cpu'].get(name, 0.0)) / seconds
+            for name in long['cpu']}
 
 
 FLOOD = """
@@ -299,13 +354,23 @@ def main():
     print(f'lockstep: {ls["steps"]} steps in {ls["wall_s"]:.2f} s = '
           f'{ls["steps_per_s"]:.0f} steps/s ({ls["steps_per_s"] / 3000:.3f} x real time)',
           flush=True)
-    sim_s = 1.0 if a.quick else 5.0
-    lr = lockstep_recorded(sim_s, e)
-    print(f'lockstep 3 processes + recorder (--use-sim-time): {lr["steps"]} steps in '
-          f'{lr["wall_s"]:.2f} s = {lr["steps_per_s"]:.0f} steps/s, sim/wall '
-          f'{lr["ratio"]:.3f} x real time; bag spans {lr["bag_span_s"]:.3f} s of log time, '
-          f'/joint_states {lr["recorded"]} msgs at {lr["bag_rate_hz"]:.0f} Hz', flush=True)
-    print(f'  recording: {lr["check"]}', flush=True)
+    sim_s = 3.0 if a.quick else 10.0
+    runs = {}
+    for composed in (False, True):
+        name = 'composed' if composed else '3 processes'
+        lr = lockstep_recorded(sim_s, e, composed)
+        short = lockstep_recorded(1.0, e, composed)
+        cpu = cpu_per_second(lr, short, sim_s - 1.0)
+        runs[name] = lr
+        print(f'lockstep {name} + recorder (--use-sim-time), {sim_s:g} s: last step after '
+              f'{lr["wall_s"]:.2f} s ({lr["ratio"]:.3f} x real time), every sample '
+              f'acknowledged after {lr["wall_acked_s"]:.2f} s ({lr["ratio_acked"]:.3f} x real '
+              f'time); bag spans {lr["bag_span_s"]:.3f} s of log time, /joint_states '
+              f'{lr["recorded"]} msgs at {lr["bag_rate_hz"]:.0f} Hz', flush=True)
+        print('  CPU s per simulated s: ' + ', '.join(f'{k} {v:.2f}' for k, v in cpu.items())
+              + f' (sum {sum(cpu.values()):.2f} on {os.cpu_count()} cores)', flush=True)
+        print(f'  recording: {lr["check"]}', flush=True)
+    lr, lc = runs['3 processes'], runs['composed']
     r3 = recorder(3000.0, 5.0, e)
     rf = recorder(0.0, 5.0, e)
     for name, r in (('3 kHz', r3), ('flood', rf)):
@@ -322,7 +387,8 @@ def main():
           f'latency_p99_ms={rt["latency_p99_ms"]:.3f} '
           f'lockstep_steps_per_s={ls["steps_per_s"]:.0f} '
           f'lockstep_recorded_steps_per_s={lr["steps_per_s"]:.0f} '
-          f'lockstep_recorded_x_realtime={lr["ratio"]:.3f} '
+          f'lockstep_recorded_x_realtime={lr["ratio_acked"]:.3f} '
+          f'lockstep_composed_recorded_x_realtime={lc["ratio_acked"]:.3f} '
           f'recorder_lost={r3["lost"] + rf["lost"]} recorder_flood_msg_s={rf["rate_msg_s"]:.0f} '
           f'replay_lag_p99_ms={rp["lag_p99_ms"]:.3f}')
 

@@ -51,7 +51,7 @@ from ..exceptions import FrictionJointError
 from ..gear import load_gear
 from ..gear.files import format_ros_params, read_ros_params_file
 
-__all__ = ['bringup', 'NodeProcess', 'LOCKSTEP_WINDOW']
+__all__ = ['bringup', 'NodeProcess', 'LOCKSTEP_WINDOW', 'composed_command']
 
 #: steps the estimator may lag behind the lockstep simulator (0.1 s at 3 kHz; its
 #: input queue holds 1000 states and 1000 temperatures)
@@ -119,7 +119,7 @@ def _gear_parameters(path):
     return found
 
 
-def _composed(model, truth, params, directory):
+def composed_command(model, truth, params, directory):
     """
     Return the composed process's argv: a params file with the gear of each node.
 
@@ -244,8 +244,8 @@ def bringup(model, truth, duration, *, record=None, mode='lockstep', friction='l
                                      omega=float(omega), mode=mode, **rate),
                   'sim': sim_params}
         if composed:
-            sim = NodeProcess('joint_sim', _composed(model, truth, params, scratch.name), env,
-                              log_dir)
+            sim = NodeProcess('joint_sim', composed_command(model, truth, params, scratch.name),
+                              env, log_dir)
         else:
             for name in ('estimator', 'controller'):
                 procs.append(NodeProcess(name, _node(name, model, params[name]), env, log_dir))

@@ -199,6 +199,10 @@ class JointSimNode(Rejects, Node):
 
     #: an unstable closed loop ends the node (a refused input never gets that far)
     fatal = (SimulationError,)
+    commanded = False                # lockstep: the command of the current step has come
+    progress = 0.0                   # lockstep: monotonic time of the last step
+    resent = 0                       # lockstep: states re-sent while the loop stalled
+    _messages = None                 # the outgoing messages (see messages())
 
     def __init__(self):
         super().__init__('joint_sim')
@@ -378,39 +382,43 @@ class JointSimNode(Rejects, Node):
         """Return the simulated time of step k in ns, rounded per step (no drift)."""
         return round(k * 1e9 / self.plant.rate)
 
+    def messages(self):
+        """Return the four outgoing messages, built once (a publish serializes at once)."""
+        if self._messages is None:
+            t = Temperature()
+            t.header.frame_id = self.joint
+            t.variance = self.temperature_variance
+            w = WrenchStamped()
+            w.header.frame_id = self.joint
+            js = JointState()
+            js.name = [self.joint]
+            self._messages = (Clock(), t, w, js)
+        return self._messages
+
     def publish(self, s, temperature):
         ns = self.stamp_ns(self.plant.k)
         if not self.lockstep:
             if self.t0_ns is None:
                 self.t0_ns = self.get_clock().now().nanoseconds - ns
             ns += self.t0_ns
+        c, t, w, js = self.messages()
         if self.pub_clock is not None:
-            c = Clock()
             ns_to_stamp(ns, c.clock)
             self.pub_clock.publish(c)
         if temperature:
-            t = Temperature()
             ns_to_stamp(ns, t.header.stamp)
-            t.header.frame_id = self.joint
             t.temperature = s.xi
-            t.variance = self.temperature_variance
             self.pub_temp.publish(t)
-        w = WrenchStamped()
         ns_to_stamp(ns, w.header.stamp)
-        w.header.frame_id = self.joint
         w.wrench.torque.z = s.tau_link
         self.pub_link.publish(w)
-        js = JointState()
         ns_to_stamp(ns, js.header.stamp)
-        js.name = [self.joint]
         js.position = [s.q]
         js.velocity = [s.qd]
         js.effort = [s.effort]
         self.pub_state.publish(js)
 
     # ---------------------------------------------------------------- stepping
-    commanded = False
-
     def try_advance(self):
         """Advance on the command of the current step unless a follower lags (flow control)."""
         if not self.commanded:
@@ -454,8 +462,6 @@ class JointSimNode(Rejects, Node):
                                    f'{self.p["start_delay"]:g} s')
         return now - self.ready_since >= self.p['start_delay']
 
-    progress = 0.0
-
     def on_resend(self):
         if self.done:
             self.finish()
@@ -488,8 +494,6 @@ class JointSimNode(Rejects, Node):
                 f'no progress for {waiting:.0f} s: waiting for {what}; re-sending the state '
                 f'every {self.p["resend_period"]:g} s ({self.resent} re-sent so far)',
                 throttle_duration_sec=2.5)
-
-    resent = 0
 
     def warn_blocked(self):
         """Log (throttled) which followers the simulation is waiting for."""
@@ -551,13 +555,10 @@ class JointSimNode(Rejects, Node):
 
     def lockstep_turn(self, executor):
         """
-        Lockstep: wait for the command (and echoes) on the subscriptions, take them directly.
+        Lockstep: wait on the subscriptions, take the messages without an executor turn.
 
-        Until the loop runs the executor does everything (resend timer, start);
-        then the node waits on its subscriptions and takes every queued message
-        without an executor turn (about 0.2 ms each in rclpy: one per step on
-        the loop's critical path), turning the executor every
-        ``EXECUTOR_EVERY`` s for the timer (end, warnings) and parameter services.
+        (A turn costs about 0.2 ms in rclpy.)  The executor turns before the
+        loop runs and every ``EXECUTOR_EVERY`` s (timer, parameter services).
         """
         if not self.started or self.done:
             executor.spin_once(timeout_sec=0.05)
