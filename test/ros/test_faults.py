@@ -208,3 +208,67 @@ def test_lockstep_survives_killed_and_restarted_peers(spawn, ros_node, tmp_path)
         # it joined a running loop (a few thousand steps pass while it starts), then
         # kept every step to the end
         assert k_restart <= k[0] <= n - 1500, (topic, k[0], k_restart)
+
+
+def test_replay_loop_into_an_estimator_on_sim_time_is_answered_every_loop(spawn, ros_node,
+                                                                           tmp_path):
+    """
+    Before: ``replay REC --loop`` into an estimator on sim time: 0 answers after the first loop.
+
+    The second loop starts the stamps (and /clock) over: the estimator
+    restarts on the new timeline and answers the states of every loop.
+    """
+    from friction_joint.bag import write_recording
+    from sensor_msgs.msg import JointState
+    n, t0 = 1500, 100.0
+    t = t0 + 1e-3 * np.arange(n)
+    q = 0.3 * np.sin(2.0 * (t - t0))
+    bag = write_recording(str(tmp_path / 'loop'), {
+        '/joint_states': {'t': t, 'q': q, 'qd': 0.6 * np.cos(2.0 * (t - t0)), 'effort': 2.0 + q},
+        '/joint_temperature': {'t': t[::100], 'xi': np.full(len(t[::100]), 30.0)}})
+    answers = []
+    ros_node.node.create_subscription(JointState, '/external_torque',
+                                      lambda m: answers.append(stamp_ns(m)), reliable_qos())
+    est = spawn(node_cmd('estimator', MODEL, use_sim_time='true', friction='static'))
+    assert est.wait_for('external torque observer', timeout=DEADLINE), est.describe()
+    spawn([PYTHON, '-m', 'friction_joint', 'replay', bag, '--loop', '--wait', '30'])
+    last = int(round(t[-1] * 1e9))
+
+    def loops():
+        return answers.count(last)
+
+    assert ros_node.spin_until(lambda: loops() >= 2, timeout=DEADLINE * 2), (
+        len(answers), est.describe())
+    second = answers[answers.index(last) + 1:]
+    assert len(set(second)) >= 0.9 * n, len(set(second))       # the second loop answered
+    assert 'restarting on the new timeline' in est.stdout + est.stderr
+
+
+def test_a_flood_of_rejected_parameter_requests_is_logged_throttled(spawn, ros_node):
+    """
+    Before: every rejected request logged a warning; a flood kept the node busy for minutes.
+
+    400 requests the controller must refuse: it logs a handful of lines, not
+    400, and still stops promptly on SIGINT.
+    """
+    from rcl_interfaces.srv import SetParameters
+    from rclpy.parameter import Parameter
+    ctl = spawn(node_cmd('controller', MODEL))
+    client = ros_node.node.create_client(SetParameters, '/controller/set_parameters')
+    assert ros_node.spin_until(client.service_is_ready, timeout=DEADLINE)
+    futures = []
+    for k in range(400):                    # (a service queue keeps 10 requests: 5 in flight)
+        assert ros_node.spin_until(lambda: sum(not f.done() for f in futures) < 5,
+                                   timeout=DEADLINE)
+        request = SetParameters.Request()
+        request.parameters = [Parameter('friction_ff', value=f'bogus{k}').to_parameter_msg()]
+        futures.append(client.call_async(request))
+    assert ros_node.spin_until(lambda: all(f.done() for f in futures), timeout=DEADLINE)
+    assert not any(f.result().results[0].successful for f in futures)
+    t0 = time.monotonic()
+    assert ctl.stop(timeout=DEADLINE) in (0, -signal.SIGINT, 130), ctl.describe()
+    assert time.monotonic() - t0 < 20.0, 'the controller did not stop promptly'
+    lines = [line for line in (ctl.stdout + ctl.stderr).splitlines()
+             if 'rejected a parameter change' in line]
+    assert 1 <= len(lines) <= 40, len(lines)
+    assert '400 rejected so far' in ctl.stdout + ctl.stderr or len(lines) < 400
