@@ -105,8 +105,15 @@ def old_output(tmp_path):
     return rec, snapshot(rec)
 
 
+def default_signals():
+    """Give a child the default signal actions (a suite run in the background ignores SIGINT)."""
+    for sig in (signal.SIGINT, signal.SIGTERM, signal.SIGHUP):
+        signal.signal(sig, signal.SIG_DFL)
+
+
 def start(args, **options):
     """Start ``friction_joint ARGS`` in a subprocess (stdout, stderr piped)."""
+    options.setdefault('preexec_fn', default_signals)
     return subprocess.Popen([sys.executable, '-m', 'friction_joint', *map(str, args)],
                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
                             cwd=str(ROOT), **options)
@@ -116,7 +123,8 @@ def hooked(out, step, sig, fail=0):
     """Run the import over ``out`` with the rename hook; return (status, stderr)."""
     proc = subprocess.run([sys.executable, '-c', HOOK, str(out), str(step), sig, str(fail),
                            *IMPORT, '--out', str(out), '--force'],
-                          capture_output=True, text=True, cwd=str(ROOT), timeout=TIMEOUT)
+                          capture_output=True, text=True, cwd=str(ROOT), timeout=TIMEOUT,
+                          preexec_fn=default_signals)
     return proc.returncode, proc.stderr
 
 

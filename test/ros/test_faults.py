@@ -210,8 +210,8 @@ def test_lockstep_survives_killed_and_restarted_peers(spawn, ros_node, tmp_path)
         assert k_restart <= k[0] <= n - 1500, (topic, k[0], k_restart)
 
 
-def test_replay_loop_into_an_estimator_on_sim_time_is_answered_every_loop(spawn, ros_node,
-                                                                           tmp_path):
+def test_replay_loop_into_an_estimator_on_sim_time_is_answered_every_loop(
+        spawn, ros_node, tmp_path):
     """
     Before: ``replay REC --loop`` into an estimator on sim time: 0 answers after the first loop.
 
