@@ -280,12 +280,13 @@ class Rejects:
         self.rejected += 1
         counts = self.__dict__.setdefault('_reject_counts', collections.Counter())
         counts[what] += 1
-        if self._log_due('rejected', REJECT_LOG_PERIOD):
-            detail = f': {why}' if why else ''
+        detail = f': {why}' if why else ''
+        line = f'ignored {what}{detail} (rejected so far: {self.rejected})'
+        if counts[what] == 1:              # the first of each kind, whatever came before it
+            self.get_logger().warning(line)
+        elif self._log_due('rejected', REJECT_LOG_PERIOD):
             # rclpy's own throttle stays as a second guard (half the period: never in the way)
-            self.get_logger().warning(
-                f'ignored {what}{detail} (rejected so far: {self.rejected})',
-                throttle_duration_sec=0.5 * REJECT_LOG_PERIOD)
+            self.get_logger().warning(line, throttle_duration_sec=0.5 * REJECT_LOG_PERIOD)
 
     def guarded(self, what, handler, msg):
         """Run ``handler(msg)``; an exception (not in ``fatal``) is counted, logged, survived."""
