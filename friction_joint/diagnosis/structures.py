@@ -24,6 +24,7 @@ and its nonlinear parameters by a grid (variable projection):
           + sum_k fv_k u^k sign(qd) |kappa qd|^delta_v + ...        (viscous, eq. 5)
           + sum_n a_n sin(n c q) + b_n cos(n c q)                  (position ripple)
           + offset + dJ q̈                                          (asymmetry, inertia)
+          + a sin q + b cos q                                      (gravity)
           + sum_j fc_drift_j P_j(s) h (1 - E)                          (drift)
 
 with E = exp(-|kappa qd / v_s|^delta_s), u the (clipped, centred, scaled)
@@ -103,6 +104,7 @@ class CandidateStructure:
     inertia: bool = False
     presliding: bool = False
     drift: int = 0
+    gravity: bool = False
     # nonlinear parameter values
     vs: float = 0.05
     dv: float = 1.0
@@ -306,6 +308,9 @@ def design(s, ctx):
     if s.offset:
         cols.append(np.ones_like(v))
         names.append(('offset', 0))
+    if s.gravity:                      # a direction-independent m g l sin(q - q0)
+        cols.extend((np.sin(d.q), np.cos(d.q)))
+        names.extend((('gravity_sin', 0), ('gravity_cos', 0)))
     if s.inertia:
         cols.append(d.qdd)
         names.append(('inertia', 0))
@@ -537,6 +542,8 @@ def coefficients(s, beta, names, ctx):
         out['offset'] = by['offset'][0]
     if s.inertia:
         out['d_inertia'] = by['inertia'][0]
+    if s.gravity:
+        out['gravity'] = {'sin': by['gravity_sin'][0], 'cos': by['gravity_cos'][0]}
     if s.presliding:
         out['presliding'] = {'model': s.ps[0], 'stiffness': s.ps[1]}
     if s.drift:
