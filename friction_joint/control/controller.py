@@ -132,6 +132,7 @@ class Controller:
         self.gear = gear
         self.J = gear.inertia
         self.mgl = gear.mgl
+        self.lever_offset = gear.lever_offset
         self.kp, self.kd, self.dt = float(kp), float(kd), float(dt)
         self.kind = friction
         self.ff_velocity = ff_velocity
@@ -143,8 +144,8 @@ class Controller:
         self.friction.reset()
 
     def gravity(self, q):
-        """tau_g(q) = m g l sin(q) of the model's lever."""
-        return self.mgl * math.sin(q)
+        """tau_g(q) = m g l sin(q - angle_offset) of the model's lever."""
+        return self.mgl * math.sin(q - self.lever_offset)
 
     def __call__(self, q, qd, xi, q_d, qd_d=0.0, qdd_d=0.0, *, dt=None):
         """

@@ -76,6 +76,7 @@ class DisturbanceObserver:
             raise FrictionJointError(f'observer cut-off beta must be > 0, got {beta}')
         self.J = gear.inertia
         self.mgl = gear.mgl if gravity else 0.0
+        self.lever_offset = gear.lever_offset
         self.beta, self.dt = float(beta), float(dt)
         self.kind = friction
         self.friction = friction_model(gear, friction)
@@ -107,7 +108,7 @@ class DisturbanceObserver:
                             ('temperature', xi)):
             if not math.isfinite(value):
                 raise ValueError(f'observer input {name} is {value}: sample refused')
-        tau_g = self.mgl * math.sin(q)
+        tau_g = self.mgl * math.sin(q - self.lever_offset)
         bjq = self.beta * self.J * qd
         u = tau + bjq - tau_g
         if not math.isfinite(u):

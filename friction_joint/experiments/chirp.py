@@ -55,7 +55,7 @@ def chirp(model, truth, duration_scale=1.0):
     and the lever's gravity (m g l = 11 Nm) pulls the joint back: the low
     amplitude gives stick-slip with long stiction phases, the high one
     reaches about 3 rad/s.  The model gear's LuGre and GMS joints
-    (``Joint(model, model=..., mgl=model.mgl)``) are simulated with the
+    (``Joint(model, model=..., mgl=model.mgl, lever_offset=...)``) are simulated with the
     measured effort and the measured temperature as inputs (their load
     tau_L comes from their own gravity term).
 
@@ -102,7 +102,7 @@ def chirp(model, truth, duration_scale=1.0):
         key = json_key(amp)
         sims = {}
         for m in models:
-            joint = Joint(model, model=m, mgl=model.mgl)
+            joint = Joint(model, model=m, mgl=model.mgl, lever_offset=model.lever_offset)
             sim = joint.simulate(meas['effort'], plant.dt, xi=meas['xi'])
             sims[m] = sim
             summary['velocity_rmse'][m][key] = rmse(sim.qd - meas['qd'])

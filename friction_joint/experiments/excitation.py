@@ -410,7 +410,7 @@ def simulate_identification(truth, duration_scale=1.0, seed=None, cfg=None, pres
     dt = 1.0 / rate
     every = max(1, int(round(rate / conf['publish_rate'])))
     seed0 = sim['seed'] if seed is None else int(seed)
-    J, mgl = truth.inertia, truth.mgl
+    J, lever = truth.inertia, truth.lever_torque
     kp, kd = _gains(J, conf['bandwidth'])
     temps = block_temperatures(truth, conf)
 
@@ -424,7 +424,7 @@ def simulate_identification(truth, duration_scale=1.0, seed=None, cfg=None, pres
         gear = truth.replace({'thermal': {'ambient': float(xi0), 'initial': float(xi0)}})
         plant = Plant(gear, xi0=float(xi0), seed=seed0 + b, q0=0.0)
         record_segment(plant, lambda s, k: (J * qdd_ref[k] + kp * (q_ref[k] - s.q)
-                                            + kd * (qd_ref[k] - s.qd) + mgl * math.sin(s.q)),
+                                            + kd * (qd_ref[k] - s.qd) + lever(s.q)),
                        q_ref, qd_ref, every, t_off, out=out, temp_t=temp_t, temp_xi=temp_xi)
         plateaus += [dict(p, t0=p['t0'] + t_off, t1=p['t1'] + t_off, block=b)
                      for p in plan.plateaus]

@@ -108,6 +108,31 @@ class GearParams:
         lever = self.section('lever')
         return lever['mass'] * lever['gravity'] * lever['length']
 
+    @property
+    def lever_offset(self):
+        """Angle (rad) at which the lever hangs down: gravity is m g l sin(q - offset)."""
+        return self.section('lever')['angle_offset']
+
+    def lever_torque(self, q):
+        """
+        Return the lever's gravity torque m g l sin(q - angle_offset) at ``q``.
+
+        Parameters
+        ----------
+        q : float or array_like
+            Output position(s), rad.
+
+        Returns
+        -------
+        float or numpy.ndarray
+            Torque (Nm), a float for a scalar ``q``, else an array of ``q``'s shape.
+
+        """
+        lever = self.section('lever')
+        mgl = lever['mass'] * lever['gravity'] * lever['length']
+        out = mgl * np.sin(np.asarray(q, float) - lever['angle_offset'])
+        return float(out) if out.ndim == 0 else out
+
     def replace(self, changes):
         """Return a new GearParams with ``changes`` (a nested dict) merged in and validated."""
         data = copy.deepcopy(self.data)

@@ -287,7 +287,10 @@ SCHEMA = {
         'mass': Float(0.0, nonnegative=True, doc='kg'),
         'length': Float(0.0, nonnegative=True, doc='distance of the mass from the axis, m'),
         'gravity': Float(9.81, positive=True, doc='m/s^2'),
-    }, doc='lever whose gravity m g l sin(q) loads the joint (q = 0 hanging down)'),
+        'angle_offset': Float(0.0, doc='rad: the gravity torque is m g l sin(q - angle_offset), '
+                              'q = angle_offset hangs down'),
+    }, doc='lever whose gravity m g l sin(q - angle_offset) loads the joint '
+           '(q = angle_offset hanging down)'),
     'thermal': Section({
         'capacity': Float(450.0, positive=True, doc='heat capacity of gear and housing, J/K'),
         'resistance': Float(1.2, positive=True, doc='thermal resistance housing-ambient, K/W'),

@@ -200,7 +200,7 @@ def _presliding_pieces(recording, gear):
         if recording.link_torque is not None and len(recording.link_torque) > 1:
             tau_ext = np.interp(tt, recording.link_torque.t, recording.link_torque.tau)
         else:
-            tau_ext = gear.mgl * np.sin(q)
+            tau_ext = gear.lever_torque(q)
         tau_r = effort - tau_ext - gear.inertia * qdd
         out.append({'t': tt, 'q': q, 'qd': qd, 'tau_r': tau_r,
                     'xi': recording.temperature_at(tt), 'tau_l': np.abs(tau_ext),

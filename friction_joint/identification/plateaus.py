@@ -401,7 +401,7 @@ def find_plateaus(recording, structure, options=None):
         From :func:`friction_joint.bag.read_recording`.
     structure : GearParams
         The structure gear file: its inertia (J qdd) and, when the recording has
-        no ``/link_torque``, its lever (tau_ext = m g l sin q).
+        no ``/link_torque``, its lever (tau_ext = m g l sin(q - angle_offset)).
     options : dict, optional
         Overrides of :data:`DETECTION`.
 
@@ -429,7 +429,7 @@ def find_plateaus(recording, structure, options=None):
         tau_ext = np.interp(js.t, lt.t, lt.tau)
         tsrc = 'link_torque'
     else:
-        tau_ext = structure.mgl * np.sin(js.q)
+        tau_ext = structure.lever_torque(js.q)
         tsrc = 'lever_model'
     return plateaus_from_arrays(js.t, js.q, js.qd, js.effort, xi, tau_ext,
                                 inertia=structure.inertia, options=options,

@@ -17,7 +17,8 @@ Rigid single joint with friction: J qdd = tau - tau_r - tau_ext (README, *Interf
 
 tau is the drive torque, tau_r the friction torque (static, LuGre or GMS),
 tau_ext everything from the link side: an input profile plus a linear spring
-k_ext q plus the lever's gravity mgl sin(q).  The load seen by the friction
+k_ext q plus the lever's gravity mgl sin(q - q_0) (q_0 the lever's angle
+offset, where it hangs down).  The load seen by the friction
 model is tau_L = |tau_ext|.
 
 Integration scheme
@@ -297,7 +298,8 @@ def _static_joint_step(q, v, f, jj, fc, fs, fv, vs, dv, ds, kap, h):
 
 
 @njit(inline='always')
-def _inputs(temp, load, t_lo, t_hi, kext, mgl, rip_a, rip_p, rip_c, rip_o, b, q, te_in, xi):
+def _inputs(temp, load, t_lo, t_hi, kext, mgl, qoff, rip_a, rip_p, rip_c, rip_o, b, q, te_in,
+            xi):
     """
     External torque, ripple torque and curve parameters for set b at position q.
 
@@ -305,7 +307,7 @@ def _inputs(temp, load, t_lo, t_hi, kext, mgl, rip_a, rip_p, rip_c, rip_o, b, q,
     trapezoidal position update this makes the position-dependent torques
     a position-Verlet (symplectic, second-order) scheme.
     """
-    te = te_in + kext[b] * q + mgl[b] * math.sin(q)
+    te = te_in + kext[b] * q + mgl[b] * math.sin(q - qoff[b])
     rip = rip_o[b]
     for n in range(rip_a.shape[1]):
         rip += rip_a[b, n] * math.sin((n + 1) * rip_c[b] * q + rip_p[b, n])
@@ -315,12 +317,12 @@ def _inputs(temp, load, t_lo, t_hi, kext, mgl, rip_a, rip_p, rip_c, rip_o, b, q,
 
 @njit
 def _run_lugre(temp, load, delta_s, kappa, t_lo, t_hi, rip_a, rip_p, rip_c, rip_o, sg0, sg1, jj,
-               mgl, kext, tau, tau_ext_in, xi, h, q, v, z, out_q, out_v, out_tr, out_te):
+               mgl, qoff, kext, tau, tau_ext_in, xi, h, q, v, z, out_q, out_v, out_tr, out_te):
     nb, nt = tau.shape
     for b in range(nb):
         for k in range(nt):
-            te, rip, fc, fs, fv, vs, dv = _inputs(temp, load, t_lo, t_hi, kext, mgl, rip_a, rip_p,
-                                                  rip_c, rip_o, b, q[b] + 0.5 * h * v[b],
+            te, rip, fc, fs, fv, vs, dv = _inputs(temp, load, t_lo, t_hi, kext, mgl, qoff, rip_a,
+                                                  rip_p, rip_c, rip_o, b, q[b] + 0.5 * h * v[b],
                                                   tau_ext_in[b, k], xi[b, k])
             q[b], v[b], z[b], tr = _lugre_joint_step(
                 q[b], v[b], z[b], tau[b, k] - te - rip, jj[b], sg0[b], sg1[b],
@@ -333,13 +335,13 @@ def _run_lugre(temp, load, delta_s, kappa, t_lo, t_hi, rip_a, rip_p, rip_c, rip_
 
 @njit
 def _run_gms(temp, load, delta_s, kappa, t_lo, t_hi, rip_a, rip_p, rip_c, rip_o, k_el, alpha, cc,
-             jj, mgl, kext, tau, tau_ext_in, xi, h, q, v, z, stick, slipdir,
+             jj, mgl, qoff, kext, tau, tau_ext_in, xi, h, q, v, z, stick, slipdir,
              out_q, out_v, out_tr, out_te):
     nb, nt = tau.shape
     for b in range(nb):
         for k in range(nt):
-            te, rip, fc, fs, fv, vs, dv = _inputs(temp, load, t_lo, t_hi, kext, mgl, rip_a, rip_p,
-                                                  rip_c, rip_o, b, q[b] + 0.5 * h * v[b],
+            te, rip, fc, fs, fv, vs, dv = _inputs(temp, load, t_lo, t_hi, kext, mgl, qoff, rip_a,
+                                                  rip_p, rip_c, rip_o, b, q[b] + 0.5 * h * v[b],
                                                   tau_ext_in[b, k], xi[b, k])
             q[b], v[b], tr = _gms_joint_step(
                 q[b], v[b], z[b], stick[b], slipdir[b], k_el[b], alpha[b], cc[b],
@@ -351,13 +353,13 @@ def _run_gms(temp, load, delta_s, kappa, t_lo, t_hi, rip_a, rip_p, rip_c, rip_o,
 
 
 @njit
-def _run_static(temp, load, delta_s, kappa, t_lo, t_hi, rip_a, rip_p, rip_c, rip_o, jj, mgl, kext,
-                tau, tau_ext_in, xi, h, q, v, out_q, out_v, out_tr, out_te):
+def _run_static(temp, load, delta_s, kappa, t_lo, t_hi, rip_a, rip_p, rip_c, rip_o, jj, mgl, qoff,
+                kext, tau, tau_ext_in, xi, h, q, v, out_q, out_v, out_tr, out_te):
     nb, nt = tau.shape
     for b in range(nb):
         for k in range(nt):
-            te, rip, fc, fs, fv, vs, dv = _inputs(temp, load, t_lo, t_hi, kext, mgl, rip_a, rip_p,
-                                                  rip_c, rip_o, b, q[b] + 0.5 * h * v[b],
+            te, rip, fc, fs, fv, vs, dv = _inputs(temp, load, t_lo, t_hi, kext, mgl, qoff, rip_a,
+                                                  rip_p, rip_c, rip_o, b, q[b] + 0.5 * h * v[b],
                                                   tau_ext_in[b, k], xi[b, k])
             q[b], v[b], tr = _static_joint_step(q[b], v[b], tau[b, k] - te - rip, jj[b],
                                                 fc, fs, fv, vs, dv, delta_s[b], kappa[b], h)
@@ -406,15 +408,18 @@ class Joint:
         Friction model; default each gear's ``friction.model`` (must agree
         across a batch).
     mgl : float or array_like (B,)
-        Lever gravity amplitude m g l (Nm): tau_ext includes mgl sin(q).
+        Lever gravity amplitude m g l (Nm): tau_ext includes mgl sin(q - lever_offset).
     k_ext : float or array_like (B,)
         Link-side spring (Nm/rad): tau_ext includes k_ext q.
     inertia : float or array_like (B,), optional
         Overrides the gears' inertia.
+    lever_offset : float or array_like (B,)
+        Angle (rad) at which the lever hangs down (``GearParams.lever_offset``).
 
     """
 
-    def __init__(self, gears, model=None, mgl=0.0, k_ext=0.0, inertia=None):
+    def __init__(self, gears, model=None, mgl=0.0, k_ext=0.0, inertia=None, *,
+                 lever_offset=0.0):
         self.single = not isinstance(gears, (list, tuple))
         glist = [gears] if self.single else list(gears)
         models = {model or g.friction.model for g in glist}
@@ -429,6 +434,7 @@ class Joint:
             np.asarray([g.inertia for g in glist] if inertia is None else inertia, float),
             (n,)).copy()
         self.mgl = np.broadcast_to(np.asarray(mgl, float), (n,)).copy()
+        self.lever_offset = np.broadcast_to(np.asarray(lever_offset, float), (n,)).copy()
         self.k_ext = np.broadcast_to(np.asarray(k_ext, float), (n,)).copy()
         if self.model == 'lugre':
             if any(f.lugre is None for f in flist):
@@ -486,13 +492,15 @@ class Joint:
         p = self.packed.args() + self.ripple
         h = float(dt)
         if self.model == 'lugre':
-            _run_lugre(*p, self.sigma0, self.sigma1, self.inertia, self.mgl, self.k_ext,
+            _run_lugre(*p, self.sigma0, self.sigma1, self.inertia, self.mgl, self.lever_offset,
+                       self.k_ext,
                        tau, te_in, xi, h, self.q, self.qd, self.z, *outs)
         elif self.model == 'gms':
-            _run_gms(*p, self.k_el, self.alpha, self.c, self.inertia, self.mgl, self.k_ext,
+            _run_gms(*p, self.k_el, self.alpha, self.c, self.inertia, self.mgl, self.lever_offset,
+                     self.k_ext,
                      tau, te_in, xi, h, self.q, self.qd, self.z, self.stick, self.slipdir, *outs)
         else:
-            _run_static(*p, self.inertia, self.mgl, self.k_ext,
+            _run_static(*p, self.inertia, self.mgl, self.lever_offset, self.k_ext,
                         tau, te_in, xi, h, self.q, self.qd, *outs)
         t = h * np.arange(1, tau.shape[1] + 1)
         if self.single:
@@ -527,7 +535,7 @@ class Joint:
                 pars = (self.k_el, self.alpha, self.c)
             else:
                 state, pars = (self.q, self.qd), ()
-            self._step_args = (p + pars + (self.inertia, self.mgl, self.k_ext,
+            self._step_args = (p + pars + (self.inertia, self.mgl, self.lever_offset, self.k_ext,
                                self._inp[0], self._inp[1], self._inp[2], float(dt)) + state
                                + tuple(self._out))
             self._step_fn = {'lugre': _run_lugre, 'gms': _run_gms,

@@ -185,7 +185,7 @@ class Plant:
         self.rate = sim['rate']
         self.dt = 1.0 / self.rate
         self.rng = np.random.default_rng(sim['seed'] if seed is None else seed)
-        self.joint = Joint(gear, model=model, mgl=gear.mgl)
+        self.joint = Joint(gear, model=model, mgl=gear.mgl, lever_offset=gear.lever_offset)
         self.joint.reset(q=q0)
         self.thermal = ThermalModel.from_gear(gear, initial=xi0)
         self.ideal = ideal_sensors
