@@ -247,7 +247,7 @@ def load_data(paths, gear, joint_name=None, n_blocks=N_BLOCKS, progress=None):
             if have_link:
                 te = np.interp(t, rec.link_torque.t, rec.link_torque.tau)
             else:
-                te = gear.mgl * np.sin(q)
+                te = gear.lever_torque(q)
             xi = (rec.temperature_at(t) if _temperature(rec) is not None
                   else np.full(len(t), xi_none))
             for k, v in (('t', t), ('q', q), ('qf', qf), ('qd', qd), ('qdd', qdd),
