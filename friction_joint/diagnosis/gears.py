@@ -29,6 +29,7 @@ import warnings
 import numpy as np
 
 from . import structures as dm
+from .gravity import corrected_lever
 from ..exceptions import GearConfigError, GearConfigWarning
 from ..gear import gear_from_dict, GMSParams, LuGreParams, passivity_bound, RippleParams
 
@@ -100,6 +101,8 @@ def extended_gear(base, s, coef, ctx):
     if s.offset:
         fr['offset'] = coef['offset']
     changes = {'friction': fr}
+    if s.gravity:
+        changes['lever'], coef['gravity']['lever'] = corrected_lever(base, coef['gravity'])
     if s.inertia:
         changes['inertia'] = base.inertia + coef['d_inertia']
     if s.presliding:

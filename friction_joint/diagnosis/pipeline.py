@@ -38,21 +38,24 @@ Method
    ``stribeck``: F_s and v_s; ``presliding``: LuGre or GMS friction state
    instead of sign(qd); ``inertia``: J refitted; ``asymmetry``: constant
    ``friction.offset``; ``drift``: the Coulomb term times 2 shifted Legendre
-   polynomials of the accumulated travel, 0..1).  Each extended structure is fitted on K - 1 blocks
+   polynomials of the accumulated travel, 0..1; ``gravity``: a sin q + b cos q,
+   :mod:`friction_joint.diagnosis.gravity`).  Each extended structure is fitted on K - 1 blocks
    and predicts the held-out block (its nonlinear parameter chosen on the
    training blocks only).
-4. **Significance** -- the criterion: for candidate c against the current
-   model m the per-block statistic ``d_k = log(MSE_m,k / MSE_c,k)`` of the
-   held-out mean squared torque errors is tested with a one-sided paired
-   t-test (H0: mean d <= 0) over the K blocks; the p-values of all
-   candidates of a round are Holm-Bonferroni adjusted; a candidate is
-   significant when its adjusted p-value is below :data:`ALPHA` (0.05) AND
+4. **Significance** -- the criterion (:mod:`friction_joint.diagnosis.criterion`):
+   for candidate c against the current model m the per-block statistic
+   ``d_k = log(MSE_m,k / MSE_c,k)`` of the held-out mean squared torque
+   errors over K contiguous blocks (K from the amount of data, 10..20) is
+   tested with the one-sided Wilcoxon signed-rank test (robust to one bad
+   block); the p-values of a round are Holm-Bonferroni adjusted; a candidate
+   is significant when its adjusted p-value is below :data:`ALPHA` (0.05) AND
    its gain -- the relative reduction of the pooled held-out torque RMSE,
-   ``1 - RMSE_c / RMSE_m`` -- is at least :data:`MIN_GAIN` (3 %).  The log
-   ratio makes blocks of different noise level comparable; the paired test
-   on contiguous blocks respects the time correlation of residuals; Holm
-   controls the family-wise error over the candidates tried; the minimum
-   gain keeps statistically detectable but practically irrelevant terms out.
+   ``1 - RMSE_c / RMSE_m`` -- is at least :data:`MIN_GAIN` (3 %).  Candidates
+   whose variables are one in the recording (temperature rising with the
+   travel: ``thermal`` and ``drift``; a one-way sweep: position and travel)
+   are reported as confounded, with the rank correlation and the recording
+   that would separate them; of two significant confounded candidates the
+   measured cause is added first.
 5. **Greedy**: the significant candidate with the largest gain is added, the
    extended structure becomes the current one and the remaining candidates
    are tested again, until none is significant.  So two missing effects are
@@ -72,7 +75,12 @@ Method
    ``drift``) is left out of ``extended.yaml`` (fitted without it, the other
    effects kept), reported ``"representable": false`` with the reason and in
    ``notes``; ``diagnosed`` gives the fit and held-out RMSE with it.
-8. **Residual scan** (:mod:`friction_joint.diagnosis.scan`): the held-out
+8. **Adequacy**: the report opens with how much of the measured friction
+   torque the base and the extended model explain (held-out R^2, RMSE against
+   the friction level); a model that leaves a residual comparable to the
+   friction level "does not explain the data", and the headline points at the
+   largest structure of the residual scan.
+9. **Residual scan** (:mod:`friction_joint.diagnosis.scan`): the held-out
    residual of the diagnosed model against time, position (periodogram),
    velocity, acceleration, temperature rate and dwell time, each with a
    held-out explained variance and a permutation p-value.
@@ -86,13 +94,15 @@ import dataclasses
 import time
 
 import numpy as np
-from scipy import stats
 
+from . import criterion as cr
 from . import structures as dm
 from .data import load_data
-from .gears import extended_model, sim_gear
+from .gears import extended_model
+from .gravity import gravity_untestable, linear_device
 from .scan import residual_scan
 from .testability import untestable
+from .velocity import fold_gears, simulate_windows, WINDOW
 from ..exceptions import ExcitationError, GearConfigError
 from ..output import json_clean
 
@@ -101,7 +111,7 @@ __all__ = ['EFFECTS', 'UNREPRESENTABLE', 'ALPHA', 'MIN_GAIN', 'WINDOW', 'Diagnos
 
 #: candidate effects (README, Interfaces: diagnose outputs), in the order they are reported
 EFFECTS = ('thermal', 'load', 'position_ripple', 'nonlinear_viscous', 'stribeck',
-           'presliding', 'inertia', 'asymmetry', 'drift')
+           'presliding', 'inertia', 'asymmetry', 'drift', 'gravity')
 #: effects the gear file has no key for: named and measured, not in ``extended.yaml``
 UNREPRESENTABLE = {'drift': 'not representable in the gear file (it has no key for friction '
                             'that changes with accumulated travel): extended.yaml has the '
@@ -110,8 +120,6 @@ UNREPRESENTABLE = {'drift': 'not representable in the gear file (it has no key f
 ALPHA = 0.05
 #: minimum relative reduction of the held-out torque RMSE to name a cause
 MIN_GAIN = 0.03
-#: open-loop simulation window (s)
-WINDOW = 0.5
 #: greedy rounds at most
 MAX_ROUNDS = 8
 
@@ -164,6 +172,8 @@ def extend(s, effect):
         return None if s.offset else (s.with_(offset=True), None)
     if effect == 'drift':
         return None if s.drift else (s.with_(drift=dm.DRIFT_ORDER), None)
+    if effect == 'gravity':
+        return None if s.gravity else (s.with_(gravity=True), None)
     raise ValueError(f'unknown effect {effect!r}')
 
 
@@ -178,31 +188,6 @@ def _nl_params(s):
     if s.presliding:
         out.append('ps')
     return out
-
-
-def _holm(p):
-    p = np.asarray(p, float)
-    m = len(p)
-    order = np.argsort(p)
-    adj = np.empty(m)
-    run = 0.0
-    for rank, i in enumerate(order):
-        run = max(run, min(1.0, (m - rank) * p[i]))
-        adj[i] = run
-    return adj
-
-
-def _compare(cur, cand):
-    """Paired one-sided test of per-block held-out MSE; returns dict of statistics."""
-    d = np.log(cur.mse / np.maximum(cand.mse, 1e-300))
-    if np.all(d == d[0]):
-        p = 0.0 if d[0] > 0 else 1.0
-    else:
-        p = float(stats.ttest_1samp(d, 0.0, alternative='greater').pvalue)
-    gain = 1.0 - cand.rmse / cur.rmse
-    return {'gain': float(max(gain, 0.0)), 'gain_raw': float(gain), 'p_value': p,
-            'blocks_improved': int(np.count_nonzero(d > 0)), 'blocks': int(len(d)),
-            'heldout_torque_rmse': cand.rmse, 'mean_log_mse_ratio': float(np.mean(d))}
 
 
 def _g_nom(ctx, s, beta, names):
@@ -223,59 +208,6 @@ def _refine(s, ctx, y):
     return s, beta, names, pred
 
 
-# --------------------------------------------------------------- velocity --
-
-def _windows(data):
-    """Start indices and length (samples) of open-loop simulation windows."""
-    starts, n_len = [], None
-    for p in np.unique(data.piece):
-        idx = np.flatnonzero(data.piece == p)
-        dt = data.dt[idx[0]]
-        n = int(round(WINDOW / dt))
-        if n_len is None:
-            n_len = n
-        if n != n_len:
-            continue
-        for a in range(idx[0], idx[-1] - n, n):
-            if data.block_of[a] == data.block_of[a + n]:
-                starts.append(a)
-    return np.asarray(starts, dtype=np.int64), n_len or 1
-
-
-def simulate_windows(data, gears_by_fold, offsets_by_fold):
-    """
-    Open-loop velocity of every window with its held-out fold's gear.
-
-    Returns
-    -------
-    (sim, meas, fold) : arrays (W, n-1), (W, n-1), (W,)
-
-    """
-    from ..models.joint import Joint
-    starts, n = _windows(data)
-    if len(starts) == 0:
-        return np.zeros((0, 1)), np.zeros((0, 1)), np.zeros(0, int)
-    idx = starts[:, None] + np.arange(n - 1)[None, :]
-    folds = data.block_of[starts]
-    sim = np.empty((len(starts), n - 1))
-    meas = data.qd[idx + 1]
-    by_model = {}
-    for w, f in enumerate(folds):
-        by_model.setdefault(gears_by_fold[f].friction.model, []).append(w)
-    for model, ws in by_model.items():
-        ws = np.asarray(ws)
-        glist = [gears_by_fold[folds[w]] for w in ws]
-        j = Joint(glist, model=model, mgl=data.mgl_sim)
-        j.reset(q=data.q[starts[ws]], qd=data.qd[starts[ws]])
-        off = np.array([offsets_by_fold[folds[w]] for w in ws])[:, None]
-        tau = data.effort[idx[ws]] - off
-        te = data.tau_ext[idx[ws]] if data.mgl_sim == 0.0 else 0.0
-        dt = float(data.dt[starts[0]])
-        tr = j.simulate(tau, dt, xi=data.xi[idx[ws]], tau_ext=te)
-        sim[ws] = tr.qd
-    return sim, meas, folds
-
-
 @dataclasses.dataclass
 class Diagnosis:
     """Everything a diagnosis found (see :func:`diagnose`)."""
@@ -294,17 +226,6 @@ class Diagnosis:
     def to_dict(self):
         """Return the report (``report.json`` content, plain JSON types)."""
         return json_clean(self.report)
-
-
-def _fold_gears(base, cv, ctx, data):
-    """Per fold: simulation gear and offset from the fold's training fit."""
-    gears, offsets = [], []
-    for f, s in enumerate(cv.structures):
-        beta, names = cv.betas[f], cv.names[f]
-        coef = dm.coefficients(s, beta, names, ctx)
-        gears.append(sim_gear(base, s, coef))
-        offsets.append(coef.get('offset', 0.0))
-    return gears, offsets
 
 
 def diagnose(paths, base, effects=EFFECTS, joint_name=None, progress=None):
@@ -346,6 +267,7 @@ def diagnose(paths, base, effects=EFFECTS, joint_name=None, progress=None):
         raise GearConfigError(f'unknown effect(s) {", ".join(unknown)}; '
                               f'known: {", ".join(EFFECTS)}')
     data = load_data(paths, base, joint_name=joint_name)
+    cr.reblock(data, cr.n_blocks(data.n_bins))
     ctx = dm.Context(base, data)
     if base.friction.model != 'static':
         ctx.ps_models = (base.friction.model,)
@@ -353,6 +275,11 @@ def diagnose(paths, base, effects=EFFECTS, joint_name=None, progress=None):
     say(f'read {len(paths)} recording(s): {data.n_bins} sliding bins of {1e3 * 0.01:.0f} ms, '
         f'xi {data.xi.min():.2f}..{data.xi.max():.2f} degC ({timing["read_s"]:.2f} s)')
     why = untestable(data, base.gear_ratio, effects)
+    if 'gravity' in effects:
+        reason = gravity_untestable(data, dm.design(base_structure(base), ctx)[0],
+                                    linear=linear_device(paths))
+        if reason:
+            why['gravity'] = reason
     testable = [e for e in effects if e not in why]
     if not testable:
         raise ExcitationError('no candidate effect is testable on these recordings: ' + '; '.join(
@@ -371,6 +298,7 @@ def diagnose(paths, base, effects=EFFECTS, joint_name=None, progress=None):
     say(f'base: held-out torque RMSE {base_cv.rmse:.4f} Nm ({timing["base_fit_s"]:.2f} s)')
 
     t0 = time.perf_counter()
+    pairs = cr.confounds(cr.effect_variables(data, ctx.travel), testable)
     rounds, named, added_entries = [], [], {}
     cur_cv = base_cv
     last_table = {}
@@ -388,9 +316,10 @@ def diagnose(paths, base, effects=EFFECTS, joint_name=None, progress=None):
             s_new, param = ext
             cv = _cv(s_new, param, ctx, y, block, k)
             cvs[eff] = cv
-            table[eff] = dict({'effect': eff, 'applicable': True}, **_compare(cur_cv, cv))
+            table[eff] = dict({'effect': eff, 'applicable': True}, **cr.compare(cur_cv, cv))
+            _confound_entry(table[eff], pairs)
         tested = [e for e in table if table[e]['applicable']]
-        adj = _holm([table[e]['p_value'] for e in tested]) if tested else []
+        adj = cr.holm([table[e]['p_value'] for e in tested]) if tested else []
         for e, pa in zip(tested, adj):
             table[e]['p_holm'] = float(pa)
             table[e]['significant'] = bool(pa < ALPHA and table[e]['gain_raw'] >= MIN_GAIN)
@@ -404,7 +333,11 @@ def diagnose(paths, base, effects=EFFECTS, joint_name=None, progress=None):
         last_table = table
         if not sig:
             break
-        best = max(sig, key=lambda e: table[e]['gain_raw'])
+        best = cr.prefer(sig, table, pairs)
+        if best != max(sig, key=lambda e: table[e]['gain_raw']):
+            table[best]['note'] = ('preferred to the confounded ' + ', '.join(
+                e for e in sig if e != best and e in table[best].get('confounded_with', {}))
+                + ': the measured cause first')
         named.append(best)
         added_entries[best] = table[best]
         s_new, param = extend(cur, best)
@@ -428,11 +361,9 @@ def diagnose(paths, base, effects=EFFECTS, joint_name=None, progress=None):
     timing['extended_fit_s'] = time.perf_counter() - t0
 
     t0 = time.perf_counter()
-    gb, ob = _fold_gears(base, base_cv, ctx, data)
-    vb_sim, meas, folds = simulate_windows(data, gb, ob)
+    vb_sim, meas, folds = simulate_windows(data, *fold_gears(base, base_cv, ctx, data))
     if kept:
-        ge, oe = _fold_gears(base, cur_cv, ctx, data)
-        ve_sim, _, _ = simulate_windows(data, ge, oe)
+        ve_sim, _, _ = simulate_windows(data, *fold_gears(base, cur_cv, ctx, data))
     else:
         ve_sim = vb_sim
     timing['velocity_sim_s'] = time.perf_counter() - t0
@@ -451,9 +382,22 @@ def diagnose(paths, base, effects=EFFECTS, joint_name=None, progress=None):
         if e in UNREPRESENTABLE:
             notes.append(f'{e} is {UNREPRESENTABLE[e]}; the model with it has a held-out torque '
                          f'RMSE of {diag_cv.rmse:.4g} Nm, extended.yaml {cur_cv.rmse:.4g} Nm')
+    if 'gravity' in coef:
+        lever = coef['gravity'].get('lever', {})
+        notes.append('gravity: extended.yaml corrects the lever section to m g l = '
+                     f'{lever.get("mgl", float("nan")):.4g} Nm at angle_offset '
+                     f'{lever.get("angle_offset", float("nan")):.4g} rad (base '
+                     f'{lever.get("mgl_base", float("nan")):.4g} Nm at '
+                     f'{lever.get("angle_offset_base", float("nan")):.4g} rad)' +
+                     ('; the recordings carry /link_torque, so the term stands for a '
+                      'position-dependent torque the link side does not measure'
+                      if data.link_torque else ''))
     t0 = time.perf_counter()
     scan = residual_scan(data, y - diag_cv.pred)
     timing['residual_scan_s'] = time.perf_counter() - t0
+    level = data.friction_level
+    adequacy = {'base': cr.adequacy(y, base_cv.pred, level),
+                'extended': cr.adequacy(y, cur_cv.pred, level)}
     report = {
         'named_causes': named,
         'candidates': candidates,
@@ -462,12 +406,18 @@ def diagnose(paths, base, effects=EFFECTS, joint_name=None, progress=None):
         'criterion': {
             'statistic': 'd_k = log(MSE_current,k / MSE_candidate,k) of held-out torque MSE per '
                          'contiguous time block k',
-            'test': 'one-sided paired t-test over the blocks (H0: mean d <= 0)',
+            'test': 'one-sided Wilcoxon signed-rank test of the d_k over the blocks (H0: the '
+                    'candidate does not predict held-out blocks better; robust to one bad '
+                    'block)',
             'multiplicity': 'Holm-Bonferroni over the candidates of each greedy round',
             'alpha': ALPHA, 'min_gain': MIN_GAIN, 'blocks': k,
             'gain': '1 - RMSE_candidate / RMSE_current, pooled held-out torque RMSE',
-            'selection': 'greedy: add the significant candidate with the largest gain, refit, '
-                         'test the rest again until none is significant'},
+            'selection': 'greedy: add the significant candidate with the largest gain (of '
+                         'confounded significant candidates the measured cause first), refit, '
+                         'test the rest again until none is significant',
+            'confound_rank_correlation': cr.CONFOUND_RHO},
+        'adequacy': adequacy,
+        'confounds': pairs,
         'rounds': [{'round': r['round'], 'model_torque_rmse': r['model_rmse'],
                     'candidates': list(r['candidates'].values())} for r in rounds],
         'data': {'recordings': [r.path for r in data.recordings], 'bins': data.n_bins,
@@ -489,6 +439,7 @@ def diagnose(paths, base, effects=EFFECTS, joint_name=None, progress=None):
     if final != cur:
         report['diagnosed'] = {'effects': list(named), 'torque_rmse': diag_cv.rmse,
                                'fit': dm.coefficients(cur, *_refit(cur, ctx, y))}
+    report['headline'] = cr.headline(report)
     vel = {'base': vb_sim, 'extended': ve_sim, 'measured': meas, 'folds': folds}
     return Diagnosis(report, gear, data, base, ctx, rounds, base_cv, cur_cv, vel, scan)
 
@@ -514,6 +465,18 @@ def _candidates(effects, why, named, added, last, physical, reason):
                 entry['reason'] = UNREPRESENTABLE[eff]
         out.append(entry)
     return out
+
+
+def _confound_entry(entry, pairs):
+    """Add to a candidate's entry the candidates it is confounded with in this recording."""
+    found = {}
+    for pair in pairs:
+        if entry['effect'] in pair['effects']:
+            other = next(e for e in pair['effects'] if e != entry['effect'])
+            found[other] = {'rank_correlation': pair['rank_correlation'],
+                            'separate_by': pair['separate_by']}
+    if found:
+        entry['confounded_with'] = found
 
 
 def _refit(s, ctx, y):

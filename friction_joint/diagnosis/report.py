@@ -221,7 +221,6 @@ def markdown(diag, figure_names, model_path):
     """``report.md`` text."""
     rep = diag.report
     crit = rep['criterion']
-    named = rep['named_causes']
     xi = rep['data']['xi_range']
     temp = 'no temperature signal'
     if rep['data'].get('has_temperature', True):
@@ -234,8 +233,7 @@ def markdown(diag, figure_names, model_path):
              f'external torque from the {rep["data"]["torque_source"]}.', '',
              *_gap_lines(rep['data'].get('gaps')),
              '## Result', '',
-             ('**Missing effects: ' + ', '.join(named) + '**') if named else
-             '**Nothing significant is missing from the base model.**', '',
+             f'**{rep["headline"]}**', '', *_adequacy_lines(rep), *_confound_lines(rep),
              '| held-out | base | extended |', '|---|---|---|',
              f'| torque RMSE (Nm) | {_fmt(rep["baseline"]["torque_rmse"], ".4f")} | '
              f'{_fmt(rep["extended"]["torque_rmse"], ".4f")} |',
@@ -285,6 +283,30 @@ def markdown(diag, figure_names, model_path):
     lines += ['## Timing', '', '| stage | s |', '|---|---|']
     lines += [f'| {k} | {v:.2f} |' for k, v in rep['timing'].items()]
     return '\n'.join(lines) + '\n'
+
+
+def _adequacy_lines(rep):
+    """Return the table of how much of the measured friction torque each model explains."""
+    ad = rep['adequacy']
+    rows = [('held-out R^2 of the friction torque', 'r2', '.3f'),
+            ('held-out RMSE / friction level', 'rmse_over_level', '.3f')]
+    return (['| model adequacy | base | extended |', '|---|---|---|'] +
+            [f'| {label} | {_fmt(ad["base"][k], spec)} | {_fmt(ad["extended"][k], spec)} |'
+             for label, k, spec in rows] +
+            [f'Friction level (median |measured friction torque|): '
+             f'{ad["base"]["friction_level"]:.4g} Nm.', ''])
+
+
+def _confound_lines(rep):
+    """Return the confounded candidate pairs of this recording, with what separates them."""
+    out = []
+    for c in rep.get('confounds', []):
+        a, b = c['effects']
+        out += [f'**Confounded:** {a} and {b} (rank correlation of their variables '
+                f'{c["rank_correlation"]:+.2f}): this recording cannot tell them apart; '
+                f'{c["separate_by"]} would.  Of the two, {a} (a measured cause) is preferred.',
+                '']
+    return out
 
 
 def _gear_yaml(gear, header):
