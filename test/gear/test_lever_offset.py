@@ -26,7 +26,7 @@ import pytest
 
 
 def damped_lever(rng):
-    """A lever with viscous friction only (no stiction): it comes to rest hanging down."""
+    """Return a lever with viscous friction only (no stiction), and its angle offset."""
     inertia = rng.uniform(0.05, 0.5)
     mgl = rng.uniform(2.0, 20.0)
     length = rng.uniform(0.05, 0.5)
