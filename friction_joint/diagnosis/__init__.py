@@ -20,8 +20,13 @@ Diagnosis: what a friction model gets wrong on measured data, and the extension 
   least squares with grids over their nonlinear parameters, block cross-validation;
 * :mod:`~friction_joint.diagnosis.testability`: which candidates the data can tell
   (:func:`untestable`: a one-line reason per untestable effect);
-* :mod:`~friction_joint.diagnosis.pipeline`: base fit, candidates, the criterion,
-  greedy extension (:func:`diagnose`);
+* :mod:`~friction_joint.diagnosis.gravity`: the ``gravity`` candidate's testability
+  and the corrected lever;
+* :mod:`~friction_joint.diagnosis.criterion`: blocks, the signed-rank test, Holm,
+  confounds, model adequacy and the report's headline;
+* :mod:`~friction_joint.diagnosis.pipeline`: base fit, candidates, greedy extension
+  (:func:`diagnose`);
+* :mod:`~friction_joint.diagnosis.velocity`: open-loop velocity of held-out windows;
 * :mod:`~friction_joint.diagnosis.gears`: gear files of fitted structures, the
   physical ``extended.yaml`` (:func:`extended_model`);
 * :mod:`~friction_joint.diagnosis.scan`: the open residual scan of the final
