@@ -34,6 +34,7 @@ import time
 import numpy as np
 import yaml
 
+from .criterion import effect_variables
 from .pipeline import diagnose, EFFECTS
 from .scan import markdown_lines, scan_png
 from .structures import accumulated_travel
@@ -53,7 +54,14 @@ CAUSE_VARIABLES = {
     'inertia': 'acceleration qdd (rad/s^2)',
     'asymmetry': 'velocity qd (rad/s)',
     'drift': 'accumulated travel (fraction of the total); residual x sign(qd)',
+    'gravity': 'output angle q (rad)',
 }
+
+#: confound variable -> axis label (criterion.effect_variables)
+CONFOUND_AXES = {'thermal': 'housing temperature xi (degC)',
+                 'drift': 'accumulated travel (fraction of the total)',
+                 'gravity': 'output angle q (rad)',
+                 'position_ripple': 'output angle q (rad)', 'load': 'load |tau_ext| (Nm)'}
 
 
 def _travel_since_reversal(data):
@@ -85,6 +93,8 @@ def _variable(effect, data, diag):
         return 1e3 * _travel_since_reversal(data), sgn, True
     if effect == 'inertia':
         return data.average(data.qdd), 1.0, False
+    if effect == 'gravity':
+        return data.average(data.q), 1.0, False
     if effect == 'drift':
         return data.average(accumulated_travel(data)), sgn, False
     return data.average(data.qd), 1.0, False
@@ -195,6 +205,18 @@ def figures(diag):
         ax.set_ylim(max(-20, ax.get_ylim()[0]), 100)
         ax.legend(fontsize=8)
     out.append(('gains.png', render_png(gains, (8, 4.5))))
+    variables = effect_variables(data, diag.ctx.travel) if rep.get('confounds') else {}
+    for pair in rep.get('confounds', []):
+        a, b = pair['effects']
+
+        def confound(fig, a=a, b=b, rho=pair['rank_correlation']):
+            ax = fig.subplots(1, 1)
+            ax.plot(variables[b], variables[a], '.', ms=1.5, color='k')
+            ax.set_xlabel(CONFOUND_AXES[b])
+            ax.set_ylabel(CONFOUND_AXES[a])
+            ax.set_title(f'{a} and {b} confounded in this recording: rank correlation '
+                         f'{rho:+.2f} over the sliding bins', fontsize=9)
+        out.append((f'confound_{a}_{b}.png', render_png(confound, (6, 4.5))))
     if diag.scan is not None:
         out.append(('residual_scan.png', scan_png(diag.scan)))
     return out

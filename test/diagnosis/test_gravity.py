@@ -43,7 +43,8 @@ def test_a_wrong_lever_is_named_gravity_and_corrected(tmp_path, seed):
     size = draw_effect(rng, 'gravity')
     truth = apply_effects(base, {'gravity': size})
     rec = str(tmp_path / 'rec')
-    simulate_recording(truth, rec, duration=float(rng.uniform(30, 45)), seed=int(rng.integers(1e6)),
+    simulate_recording(truth, rec, duration=float(rng.uniform(30, 45)),
+                       seed=int(rng.integers(1e6)),
                        base_gear=base, link_torque=False, n_segments=2,
                        noise_scale=float(rng.uniform(0.5, 2.0)),
                        gain_scale=float(rng.uniform(0.7, 1.5)))
