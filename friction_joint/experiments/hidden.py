@@ -96,6 +96,10 @@ Effect sizes (:data:`EFFECT_RANGES`)
     the truth inertia is the base's times 1 +- (0.15 .. 0.35).
 ``asymmetry``
     ``friction.offset``: a constant torque of 0.1-0.4 N m, either sign.
+``gravity``
+    the truth's lever differs from the base's: ``lever.mass`` times 1 +- (0.05 .. 0.4)
+    and ``lever.angle_offset`` +- (0.03 .. 0.3) rad.  ``diagnose`` sees it only without
+    ``/link_torque`` (tau_ext then comes from the base's lever; the sensor measures it).
 """
 import math
 import time
@@ -115,7 +119,7 @@ __all__ = ['EFFECTS', 'EFFECT_RANGES', 'MAGNITUDE', 'apply_effect', 'apply_effec
 
 #: effect names of README, Interfaces: diagnose outputs
 EFFECTS = ('thermal', 'load', 'position_ripple', 'nonlinear_viscous', 'stribeck',
-           'presliding', 'inertia', 'asymmetry')
+           'presliding', 'inertia', 'asymmetry', 'gravity')
 
 #: realistic size ranges drawn by :func:`draw_effect` (uniform; see the module docstring)
 EFFECT_RANGES = {
@@ -127,6 +131,8 @@ EFFECT_RANGES = {
     'presliding': {'model': ('lugre', 'gms'), 'stiffness_scale': (0.7, 1.4)},
     'inertia': {'change': (0.15, 0.35), 'sign': (-1.0, 1.0)},
     'asymmetry': {'offset': (0.1, 0.4), 'sign': (-1.0, 1.0)},
+    'gravity': {'change': (0.05, 0.4), 'sign': (-1.0, 1.0), 'angle': (0.03, 0.3),
+                'angle_sign': (-1.0, 1.0)},
 }
 
 #: excitation defaults of :func:`simulate_recording` / :func:`plan_segment`
@@ -173,6 +179,7 @@ MAGNITUDE = {
     'fs_ratio': (lambda x: x - 1.0, lambda m: 1.0 + m),
     'stiffness_scale': (lambda x: 1.0 / x, lambda m: 1.0 / m),
     'change': (lambda x: x, lambda m: m), 'offset': (lambda x: x, lambda m: m),
+    'angle': (lambda x: x, lambda m: m),
 }
 
 
@@ -196,7 +203,7 @@ def draw_effect(rng, effect, *, strength=None):
             mag, inv = MAGNITUDE[key]
             lo, hi = sorted((mag(rng_[0]), mag(rng_[1])))
             out[key] = float(inv(lo * (hi / lo) ** strength))
-        elif key == 'sign':
+        elif key.endswith('sign'):
             out[key] = float(rng.choice([-1.0, 1.0]))
         elif key == 'model':
             out[key] = str(rng.choice(list(rng_)))
@@ -210,7 +217,7 @@ def _size(effect, size):
     ranges = EFFECT_RANGES[effect]
     full = {}
     for key, r in ranges.items():
-        if key == 'sign':
+        if key.endswith('sign'):
             full[key] = 1.0
         elif key == 'model':
             full[key] = r[0]
@@ -295,6 +302,13 @@ def _apply(base_gear, effect, s, temperatures):
             'k': [x * k for x in gm.k], 'alpha': list(gm.alpha), 'c': gm.c}}})
     if effect == 'inertia':
         return base_gear.replace({'inertia': base_gear.inertia * (1.0 + s['sign'] * s['change'])})
+    if effect == 'gravity':
+        if not base_gear.mgl > 0.0:
+            raise FrictionJointError('gravity: the base has no lever (lever.mass or length 0)')
+        lever = base_gear.section('lever')
+        return base_gear.replace({'lever': {
+            'mass': lever['mass'] * (1.0 + s['sign'] * s['change']),
+            'angle_offset': lever['angle_offset'] + s['angle_sign'] * s['angle']}})
     # asymmetry
     return base_gear.replace({'friction': {'offset': s['sign'] * s['offset']}})
 

@@ -206,7 +206,8 @@ def relative_size(base, effect, size):
     max over |v| <= 3 rad/s of Fv | |v|^delta_v - |v| | / Fc; ``stribeck``:
     Fs / Fc - 1; ``presliding``: 1 / stiffness scale (pre-sliding length relative
     to the base's ``lugre``/``gms`` section; not a torque); ``inertia``: the
-    inertia change times J * 10 rad/s^2 / Fc; ``asymmetry``: offset / Fc.
+    inertia change times J * 10 rad/s^2 / Fc; ``asymmetry``: offset / Fc; ``gravity``:
+    the amplitude over q of the truth's minus the base's lever torque, / Fc.
     """
     fc, fv = base.friction.fc[0], base.friction.fv[0]
     s = size
@@ -227,4 +228,7 @@ def relative_size(base, effect, size):
         return s['change'] * base.inertia * 10.0 / fc
     if effect == 'asymmetry':
         return s['offset'] / fc
+    if effect == 'gravity':     # |a sin(q - d) - b sin q| peaks at sqrt(a^2 + b^2 - 2ab cos d)
+        a, b, d = base.mgl * (1.0 + s['sign'] * s['change']), base.mgl, s['angle']
+        return math.sqrt(max(a * a + b * b - 2.0 * a * b * math.cos(d), 0.0)) / fc
     return float('nan')
