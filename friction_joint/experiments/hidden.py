@@ -64,10 +64,11 @@ optional topics out, as measured data may.
 Plant variation (keyword-only options; the defaults are the plant above)
 -----------------------------------------------------------------------
 ``kinds`` (run kind per segment: ``rich`` as above, ``plateaus``, ``sweep``,
-``oneway``; :mod:`~friction_joint.experiments.hidden_plant`), ``gain_scale``
+``oneway``, ``sweep_oneway``; :mod:`~friction_joint.experiments.hidden_plant`),
+``encoder_bits`` (coarse encoder), ``warmup`` (temperature only rising), ``gain_scale``
 (PD gains), ``noise_scale`` (sensor noise), ``current_bandwidth_scale``
 (drive-torque lag), ``temperature_lag_scale`` (temperature sensor lag), and
-through ``cfg`` the ``publish_rate`` and the ``gap`` between segments;
+through ``cfg`` the ``publish_rate``, the ``gap`` between segments and ``speed_ratio``;
 :func:`~friction_joint.experiments.hidden_plant.draw_plant` draws them all.
 ``draw_effect(rng, effect, strength=u)`` sets the size from weak (u = 0) to
 strong (u = 1).
@@ -108,7 +109,7 @@ import warnings
 import numpy as np
 
 from .excitation import record_segment
-from .hidden_plant import add_sweep, plan_kind, RUN_KINDS
+from .hidden_plant import add_sweep, plan_kind, RUN_KINDS, speed_bands, sweep_oneway
 from ..bag import write_recording
 from ..control.controller import Controller, pd_gains
 from ..exceptions import FrictionJointError, GearConfigWarning
@@ -143,6 +144,7 @@ SEGMENT = {
     'gap': 1.0,                     # s without messages between segments
     'hold': 0.2,                    # s at rest at the start of a segment
     'speed_bands': ((0.02, 0.04), (0.08, 0.2), (0.4, 1.0), (1.5, 3.0)),   # rad/s
+    'speed_ratio': None,            # extra slow plateau: fastest band's lower edge / ratio
     'center_range': 1.2,            # rad, plateau centres drawn in +-this
     'window': 0.6,                  # s per plateau at nominal (30 s) segment length
     'min_window': 0.25,             # s
@@ -341,9 +343,13 @@ def plan_segment(rng, gear_ratio, dt, duration, q0=0.0, cfg=SEGMENT, *, kind='ri
     ``kind='rich'``: plateau pairs, pre-sliding sinusoids and a multi-sine sweep
     (module docstring); the sweep fills whatever time the other parts leave.  Other
     kinds of :data:`~friction_joint.experiments.hidden_plant.RUN_KINDS`: see
-    :func:`~friction_joint.experiments.hidden_plant.plan_kind`.
+    :func:`~friction_joint.experiments.hidden_plant.plan_kind` and
+    :func:`~friction_joint.experiments.hidden_plant.sweep_oneway` (which starts at its
+    own angle, not at ``q0``).
     """
     from .excitation import BlockPlan
+    if kind == 'sweep_oneway':
+        return sweep_oneway(rng, dt, duration, cfg)
     scale = duration / 30.0
     plan = BlockPlan(dt)
     plan._add(np.array([q0]), np.zeros(1), np.zeros(1))
@@ -352,7 +358,7 @@ def plan_segment(rng, gear_ratio, dt, duration, q0=0.0, cfg=SEGMENT, *, kind='ri
         plan_kind(plan, rng, kind, duration, cfg)
         q, qd, qdd = plan.arrays()
         return q[1:], qd[1:], qdd[1:]
-    bands = list(cfg['speed_bands'])
+    bands = speed_bands(cfg)
     order = rng.permutation(len(bands))
     for i in order:
         v = float(np.exp(rng.uniform(*np.log(bands[i]))))
@@ -388,7 +394,8 @@ def plan_segment(rng, gear_ratio, dt, duration, q0=0.0, cfg=SEGMENT, *, kind='ri
 def simulate_recording(truth_gear, path=None, *, duration=90.0, seed=0, base_gear=None,
                        n_segments=None, link_torque=True, command=True, compress=False,
                        cfg=None, kinds=None, gain_scale=1.0, noise_scale=1.0,
-                       current_bandwidth_scale=1.0, temperature_lag_scale=1.0):
+                       current_bandwidth_scale=1.0, temperature_lag_scale=1.0,
+                       encoder_bits=None, warmup=False):
     """
     Run ``truth_gear`` on the simulated test bed under the rich excitation; write a recording.
 
@@ -428,13 +435,22 @@ def simulate_recording(truth_gear, path=None, *, duration=90.0, seed=0, base_gea
         Factor on the current-loop bandwidth (smaller: more drive-torque lag).
     temperature_lag_scale : float
         Factor on the temperature sensor's time constant.
+    encoder_bits : int, optional
+        Output encoder resolution (bits per turn; e.g. 10-14 for a coarse encoder of
+        1 024-16 384 counts); default the gear's ``sensors.encoder_bits``.
+    warmup : bool
+        A warm-up recording: the housing starts at the lowest segment temperature and
+        one ambient (a heat input) above it warms it, through the segments and the
+        gaps, to about the highest at the end: the temperature only rises (no
+        segment resets it).  Default: each segment soaked at its own temperature.
 
     Returns
     -------
     topics : dict
         Topic -> dict of arrays, as written.
     summary : dict
-        ``temperatures`` (segment set-points), ``segments`` (t0, t1, xi_start, xi_end),
+        ``temperatures`` (segment set-points; warm-up: start temperatures), ``segments``
+        (temperature, t0, t1, xi_start, xi_end, kind), ``warmup`` (the ambient or None),
         ``duration_s``, ``samples``, ``gains``, ``seed``, ``wall_time_s``, ``kinds``.
 
     """
@@ -449,7 +465,7 @@ def simulate_recording(truth_gear, path=None, *, duration=90.0, seed=0, base_gea
         raise FrictionJointError(f'duration must be > 0 s, got {duration}')
     base = truth_gear if base_gear is None else base_gear
     truth_gear = _vary_sensors(truth_gear, noise_scale, current_bandwidth_scale,
-                               temperature_lag_scale)
+                               temperature_lag_scale, encoder_bits)
     kinds = ['rich'] if kinds is None else [str(k) for k in kinds]
     bad = [k for k in kinds if k not in RUN_KINDS]
     if bad or not kinds:
@@ -467,26 +483,38 @@ def simulate_recording(truth_gear, path=None, *, duration=90.0, seed=0, base_gea
         gk = np.broadcast_to(np.asarray(gain_scale, dtype=float), (2,))
         kp, kd = kp * float(gk[0]), kd * float(gk[1])
     seg_len = duration / nseg
+    ambient = None
+    if warmup:      # lowest to highest temperature over the motion and the gaps
+        ends = temps if nseg > 1 else segment_temperatures(base, 2, conf)
+        th = truth_gear.section('thermal')
+        total = duration + (nseg - 1) * conf['gap']
+        xi_warm = float(np.min(ends))
+        ambient = xi_warm + (float(np.max(ends)) - xi_warm) / -math.expm1(
+            -total / (th['capacity'] * th['resistance']))
 
     keys = ('t', 'q', 'qd', 'effort', 'tau', 'cmd', 'q_d', 'qd_d')
     out = {k: [] for k in keys}
     temp_t, temp_xi, segments = [], [], []
     t_off, q_start = 0.0, 0.0
-    for b, xi0 in enumerate(temps):
+    for b, xi_set in enumerate(temps):
+        xi0 = float(xi_set if ambient is None else xi_warm)
         q_ref, qd_ref, qdd_ref = plan_segment(rng, truth_gear.gear_ratio, dt, seg_len,
                                               q_start, conf, kind=kinds[b % len(kinds)])
         with warnings.catch_warnings():
             warnings.simplefilter('ignore', GearConfigWarning)
-            gear = truth_gear.replace({'thermal': {'ambient': float(xi0), 'initial': float(xi0)}})
-        plant = Plant(gear, xi0=float(xi0), seed=int(seed) * 101 + b, q0=q_start)
+            gear = truth_gear.replace({'thermal': {
+                'ambient': xi0 if ambient is None else ambient, 'initial': xi0}})
+        plant = Plant(gear, xi0=xi0, seed=int(seed) * 101 + b, q0=float(q_ref[0]))
         ctrl = Controller(base, kp, kd, 'none', dt)
         n = len(q_ref)
         record_segment(plant, lambda s, k: ctrl(s.q, s.qd, s.xi, q_ref[k], qd_ref[k], qdd_ref[k]),
                        q_ref, qd_ref, every, t_off, out=out, temp_t=temp_t, temp_xi=temp_xi)
-        segments.append({'temperature': float(xi0), 't0': t_off, 't1': t_off + n * dt,
+        segments.append({'temperature': xi0, 't0': t_off, 't1': t_off + n * dt, 'xi_start': xi0,
                          'xi_end': float(plant.thermal.xi), 'kind': kinds[b % len(kinds)]})
         q_start = float(plant.last.q_true)
         t_off += n * dt + conf['gap']
+        if ambient is not None:     # the warm-up goes on during the gap
+            xi_warm = plant.thermal.step(0.0, conf['gap'])
 
     cat = {k: np.concatenate(v) for k, v in out.items()}
     name = truth_gear.joint_name
@@ -507,17 +535,17 @@ def simulate_recording(truth_gear, path=None, *, duration=90.0, seed=0, base_gea
             _write_compressed(path, topics, name)
         else:
             write_recording(path, topics, joint_name=name)
-    summary = {'temperatures': [float(x) for x in temps], 'segments': segments,
+    summary = {'temperatures': [s['temperature'] for s in segments], 'segments': segments,
                'duration_s': float(cat['t'][-1] - cat['t'][0]), 'samples': int(len(cat['t'])),
                'gains': {'kp': kp, 'kd': kd}, 'seed': int(seed),
-               'wall_time_s': time.perf_counter() - wall,
+               'wall_time_s': time.perf_counter() - wall, 'warmup': ambient,
                'kinds': [kinds[b % len(kinds)] for b in range(nseg)]}
     return topics, summary
 
 
-def _vary_sensors(gear, noise_scale, bandwidth_scale, lag_scale):
-    """``gear`` with its sensor noise, current-loop bandwidth and temperature lag scaled."""
-    if noise_scale == 1.0 and bandwidth_scale == 1.0 and lag_scale == 1.0:
+def _vary_sensors(gear, noise_scale, bandwidth_scale, lag_scale, encoder_bits=None):
+    """``gear`` with its sensor noise, bandwidth, temperature lag scaled, encoder bits set."""
+    if noise_scale == 1.0 and bandwidth_scale == 1.0 and lag_scale == 1.0 and not encoder_bits:
         return gear
     for name, x in (('noise_scale', noise_scale), ('current_bandwidth_scale', bandwidth_scale),
                     ('temperature_lag_scale', lag_scale)):
@@ -528,6 +556,10 @@ def _vary_sensors(gear, noise_scale, bandwidth_scale, lag_scale):
                                               'link_torque_noise', 'temperature_noise')}
     new['current_bandwidth'] = sens['current_bandwidth'] * bandwidth_scale
     new['temperature_time_constant'] = sens['temperature_time_constant'] * lag_scale
+    if encoder_bits:
+        if int(encoder_bits) != encoder_bits or not 1 <= encoder_bits <= 52:
+            raise FrictionJointError(f'encoder_bits must be an integer 1..52, got {encoder_bits}')
+        new['encoder_bits'] = int(encoder_bits)
     with warnings.catch_warnings():
         warnings.simplefilter('ignore', GearConfigWarning)
         return gear.replace({'sensors': new})

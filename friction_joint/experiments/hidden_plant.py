@@ -21,12 +21,22 @@ default and a benchmark of the diagnosis should vary:
 * run kinds (:data:`RUN_KINDS`, one per temperature segment, glued as separate
   pieces with a gap): ``rich`` (the default plan: plateaus, pre-sliding sinusoids,
   multi-sine sweep), ``plateaus`` (constant-velocity plateau pairs only),
-  ``sweep`` (the multi-sine sweep only) and ``oneway`` (stretches at constant
-  speeds in one direction with stops between them: no velocity reversal);
+  ``sweep`` (the multi-sine sweep only), ``oneway`` (stretches at constant
+  speeds in one direction with stops between them: no velocity reversal) and
+  ``sweep_oneway`` (:func:`sweep_oneway`: one sweep in one direction through
+  large angles, -a .. +b with a, b in 1.5-3 rad, under a random smooth speed
+  profile, like a cobot joint sweeping through gravity; the segment starts at
+  rest at the sweep's start angle, the lever repositioned during the gap);
 * the plant: controller gains, publish rate of ``/joint_states``, sensor noise,
   current-loop bandwidth (drive-torque lag), temperature-sensor lag, number of
   segments, gap between them and total length (:data:`PLANT_RANGES`,
-  :func:`draw_plant`).
+  :func:`draw_plant`);
+* the nuisances of real robot data, each drawn with the odds of
+  :data:`PLANT_ODDS`, independently: a coarse output encoder
+  (``encoder_bits`` 10-14: 1 024-16 384 counts per turn), a wide speed range
+  (an extra plateau speed 300-1000 times below the fastest band's lower edge:
+  ``cfg['speed_ratio']``, see :func:`speed_bands`) and a warm-up recording
+  (``warmup=True``: the housing temperature only rises, over the whole recording).
 
 :func:`relative_size` expresses a drawn effect size relative to the base
 friction level (the Coulomb level F_c).
@@ -35,13 +45,14 @@ import math
 
 import numpy as np
 
+from .excitation import BlockPlan
 from ..exceptions import FrictionJointError
 
-__all__ = ['RUN_KINDS', 'PLANT_RANGES', 'add_sweep', 'plan_kind', 'draw_plant',
-           'relative_size']
+__all__ = ['RUN_KINDS', 'PLANT_RANGES', 'PLANT_ODDS', 'SWEEP_ONEWAY', 'add_sweep',
+           'speed_bands', 'sweep_oneway', 'plan_kind', 'draw_plant', 'relative_size']
 
 #: segment run kinds (see the module docstring); ``rich`` is the default plan
-RUN_KINDS = ('rich', 'plateaus', 'sweep', 'oneway')
+RUN_KINDS = ('rich', 'plateaus', 'sweep', 'oneway', 'sweep_oneway')
 
 #: ranges of :func:`draw_plant` (log-uniform unless noted)
 PLANT_RANGES = {
@@ -54,7 +65,18 @@ PLANT_RANGES = {
     'n_segments': (2, 5),               # uniform integer
     'gap': (0.5, 60.0),                 # s between segments
     'duration': (30.0, 300.0),          # s of motion in total
+    'encoder_bits': (10, 14),           # uniform integer (coarse encoder)
+    'speed_ratio': (300.0, 1000.0),     # fastest band's lower edge / extra slow plateau speed
 }
+
+#: probability per case of each real-data nuisance of :func:`draw_plant` (independent)
+PLANT_ODDS = {'coarse_encoder': 0.4, 'wide_speeds': 0.4, 'warmup': 0.3}
+
+#: one-way sweep (:func:`sweep_oneway`): extent each side of 0 (rad, uniform), fastest
+#: mean speed (rad/s; the slowest fills the segment), max/min speed of the profile
+#: (uniform), speed-profile harmonics, envelope ramp (s, at most a quarter of the sweep)
+SWEEP_ONEWAY = {'extent': (1.5, 3.0), 'mean_speed_max': 2.0, 'spread': (1.5, 4.0),
+                'harmonics': 3, 'ramp': 1.0}
 
 ONEWAY_TRAVEL = 2.0 * math.pi           # rad, at most per one-way segment
 ONEWAY_STOP = 0.3                       # s at rest between one-way stretches
@@ -102,6 +124,63 @@ def add_sweep(plan, rng, rest, cfg):
     plan.hold(0.1)
 
 
+def speed_bands(cfg):
+    """
+    Plateau speed bands of ``cfg``: ``speed_bands`` plus the slow band of ``speed_ratio``.
+
+    ``cfg['speed_ratio']`` (optional, None: none) adds one plateau speed at the
+    fastest band's lower edge divided by the ratio: a plan with plateaus in every
+    band then spans at least that ratio between its slowest and fastest plateau.
+    """
+    bands = [tuple(b) for b in cfg['speed_bands']]
+    ratio = cfg.get('speed_ratio')
+    if ratio:
+        v = max(b[0] for b in bands) / float(ratio)
+        bands.append((v, v))
+    return bands
+
+
+def sweep_oneway(rng, dt, duration, cfg):
+    """
+    Plan one sweep in one direction through large angles: ``(q, qd, qdd)`` of a segment.
+
+    From rest at -a to +b (or +a to -b; a, b drawn from ``SWEEP_ONEWAY['extent']``)
+    after ``cfg['hold']`` s, then 0.1 s at rest.  The mean speed is log-uniform
+    between the one that fills ``duration`` and ``mean_speed_max`` (never below the
+    former); the speed profile is a smooth random positive function (exp of a few
+    random harmonics over the sweep, max/min ratio from ``spread``) under a C2
+    envelope, so the velocity never changes sign.
+    """
+    sw = SWEEP_ONEWAY
+    sign = float(rng.choice([-1.0, 1.0]))
+    a, b = (float(x) for x in rng.uniform(*sw['extent'], 2))
+    travel = a + b
+    avail = max(duration - cfg['hold'] - 0.2, 1.0)
+    v_fill = travel / avail
+    v_mean = _log_uniform(rng, v_fill, max(v_fill * 1.0001, sw['mean_speed_max']))
+    m = max(8, int(round(travel / v_mean / dt)))
+    T = m * dt
+    t = dt * np.arange(1, m + 1)
+    g = np.zeros(m)
+    for k in range(1, sw['harmonics'] + 1):
+        g += rng.standard_normal() / k * np.sin(math.pi * k * t / T + rng.uniform(0, 2 * math.pi))
+    g -= 0.5 * (g.max() + g.min())
+    g *= 0.5 * math.log(rng.uniform(*sw['spread'])) / max(np.max(np.abs(g)), 1e-12)
+    ramp = min(sw['ramp'], 0.25 * T)
+    env = np.ones(m)
+    for sl, x in ((t < ramp, t / ramp), (t > T - ramp, (T - t) / ramp)):
+        env[sl] = (0.5 - 0.5 * np.cos(math.pi * x[sl])) ** 2
+    w = np.exp(g) * env
+    v = w * (travel / (dt * np.sum(w)))                 # rectangle rule: exact travel
+    plan = BlockPlan(dt)
+    plan._add(np.array([-sign * a]), np.zeros(1), np.zeros(1))
+    plan.hold(cfg['hold'])
+    plan._add(-sign * a + sign * dt * np.cumsum(v), sign * v, sign * np.gradient(v, dt))
+    plan.hold(0.1)
+    q, qd, qdd = plan.arrays()
+    return q[1:], qd[1:], qdd[1:]
+
+
 def _plateau_pair(plan, rng, band, window, cfg, duration):
     """Append one +v/-v plateau pair if it fits in ``duration``; return whether it did."""
     v = float(np.exp(rng.uniform(*np.log(band))))
@@ -124,7 +203,7 @@ def _plateau_pair(plan, rng, band, window, cfg, duration):
 def _oneway(plan, rng, duration, cfg):
     sign = float(rng.choice([-1.0, 1.0]))
     plan.move(-sign * cfg['center_range'], cfg['move_accel'], cfg['move_speed'])
-    bands = list(cfg['speed_bands'])
+    bands = speed_bands(cfg)
     window = max(cfg['min_window'], 0.05 * duration)
     left = ONEWAY_TRAVEL
     while left > 0.05:
@@ -145,15 +224,16 @@ def plan_kind(plan, rng, kind, duration, cfg):
     """
     Fill ``plan`` (a started :class:`~friction_joint.experiments.excitation.BlockPlan`).
 
-    ``kind`` is one of :data:`RUN_KINDS` except ``rich`` (planned by
-    :func:`~friction_joint.experiments.hidden.plan_segment` itself); the plan
+    ``kind`` is one of :data:`RUN_KINDS` except ``rich`` and ``sweep_oneway``
+    (planned by :func:`~friction_joint.experiments.hidden.plan_segment` itself and
+    :func:`sweep_oneway`: their start is not the plan's); the plan
     ends when its content is done, at most ``duration`` s.
     """
     if kind == 'sweep':
         plan.move(0.0, cfg['move_accel'], cfg['move_speed'])
         add_sweep(plan, rng, duration - plan.t_end, cfg)
     elif kind == 'plateaus':
-        bands = list(cfg['speed_bands'])
+        bands = speed_bands(cfg)
         window = max(cfg['min_window'], 2.0 * cfg['window'])
         done = False
         while not done:
@@ -168,16 +248,21 @@ def plan_kind(plan, rng, kind, duration, cfg):
     plan.hold(0.1)
 
 
-def draw_plant(rng, duration=None, kinds=RUN_KINDS):
+def draw_plant(rng, duration=None, kinds=RUN_KINDS, odds=None):
     """
     Draw keyword options of ``simulate_recording`` that vary the plant and the runs.
 
     ``duration``: ``(lo, hi)`` s (log-uniform; default :data:`PLANT_RANGES`).  The
     segments' run kinds are drawn from ``kinds`` with at least one ``rich`` run
-    (if ``rich`` is among them).  Returns ``(kwargs, cfg)``: keyword arguments and
-    the ``cfg`` overrides (publish rate, gap).
+    (if ``rich`` is among them).  The nuisances of :data:`PLANT_ODDS` (``odds``
+    overrides them, e.g. ``{'warmup': 1.0}``) are drawn independently: a coarse
+    encoder (``encoder_bits``, else the gear's), a wide speed range (the ``cfg``
+    entry ``speed_ratio``, see :func:`speed_bands`) and a warm-up recording
+    (``warmup``).  Returns ``(kwargs, cfg)``: keyword arguments and the ``cfg``
+    overrides (publish rate, gap, speed ratio).
     """
     r = PLANT_RANGES
+    p = dict(PLANT_ODDS, **(odds or {}))
     lo, hi = r['duration'] if duration is None else duration
     nseg = int(rng.integers(r['n_segments'][0], r['n_segments'][1] + 1))
     seg_kinds = [str(k) for k in rng.choice(list(kinds), nseg)]
@@ -194,6 +279,15 @@ def draw_plant(rng, duration=None, kinds=RUN_KINDS):
         'temperature_lag_scale': _log_uniform(rng, *r['temperature_lag_scale']),
     }
     cfg = {'publish_rate': 3000.0 / every, 'gap': _log_uniform(rng, *r['gap'])}
+    # the nuisances: one uniform draw each, whatever the odds (same draws for other odds)
+    u_enc, u_wide, u_warm = rng.uniform(size=3)
+    bits = int(rng.integers(r['encoder_bits'][0], r['encoder_bits'][1] + 1))
+    ratio = _log_uniform(rng, *r['speed_ratio'])
+    if u_enc < p['coarse_encoder']:
+        kwargs['encoder_bits'] = bits
+    if u_wide < p['wide_speeds']:
+        cfg['speed_ratio'] = ratio
+    kwargs['warmup'] = bool(u_warm < p['warmup'])
     return kwargs, cfg
 
 
