@@ -63,10 +63,30 @@ No threshold is in rad/s, Nm or Nm/rad: every one derives from the data
 * ``resolution`` (rad): the position resolution, the larger of the smallest
   nonzero encoder step and the (robust) width of the encoder noise
   ``sqrt(12) * 1.4826 * median|q - q_filtered|``;
+* ``quantisation_noise`` (rad/s): the velocity noise a position error
+  uniform over one ``resolution`` gives through the zero-phase derivative,
+  ``resolution / sqrt(12)`` times the noise gain of the derivative filter
+  (the root sum of squares of its impulse response, about
+  ``1.37 cutoff`` at a cutoff of a tenth of the sample rate), i.e.
+  ``0.40 resolution * cutoff``: the noise of a moving joint whose encoder
+  steps are uncorrelated from sample to sample;
+* ``standstill_noise`` (rad/s): the velocity noise measured where the joint
+  stands still, the robust standard deviation ``1.4826 MAD`` of ``qd`` over
+  the samples whose filtered position moves less than one ``resolution``
+  within :data:`STILL_WINDOW` derivative-filter time constants (1 / cutoff)
+  around them (0 when fewer than :data:`MIN_STILL` samples stand still: a
+  recording that never stands still has the quantisation model alone);
+* ``velocity_noise`` (rad/s): the larger of the two, the noise as it is
+  (no margin: a pure quantiser standing still shows none, a moving one
+  the quantisation noise; dither or vibration shows at standstill);
 * ``v_stick`` (rad/s): the sliding threshold, the larger of
-  :data:`V_STICK_FRACTION` of the 99th percentile of ``|qd|`` and
-  :data:`V_NOISE` times the velocity noise ``resolution * cutoff`` of the
-  zero-phase derivative;
+  :data:`V_NOISE` (3) times ``velocity_noise`` and :data:`V_STICK_FRACTION`
+  of the 99th percentile of ``|qd|`` (the floor the data prove).  A
+  threshold at the measured noise, not at a multiple of the quantisation
+  step, keeps the transitions after velocity reversals of a coarse encoder
+  in the data, where pre-sliding acts: a reversal costs the samples below
+  ``v_stick`` and :data:`STICK_MARGIN` around them, a few ms at the
+  accelerations of a servo;
 * ``friction_level`` (Nm): the median of ``|y|`` over the sliding bins;
 * ``stroke`` (rad): the largest position range of a piece.
 
@@ -89,17 +109,28 @@ from ..bag import read_recording
 from ..bag.stamps import gap_summary, piece_on_grid, split_pieces, uniform_grid
 from ..exceptions import ExcitationError, PreslidingDataError, RecordingError
 
-__all__ = ['BIN', 'V_STICK_FRACTION', 'V_NOISE', 'STICK_MARGIN', 'N_BLOCKS', 'DiagnosisData',
-           'load_data']
+__all__ = ['BIN', 'V_STICK_FRACTION', 'V_NOISE', 'STICK_MARGIN', 'STILL_WINDOW', 'MIN_STILL',
+           'N_BLOCKS', 'DiagnosisData', 'load_data', 'derivative_noise_gain']
 
 #: bin length (s) over which samples are averaged
 BIN = 0.01
 #: |qd| below this fraction of its 99th percentile counts as sticking (2 mrad/s on the CSD-25)
 V_STICK_FRACTION = 7e-4
-#: ... or below this many times the velocity noise (resolution x filter cutoff)
-V_NOISE = 10.0
+#: ... or below this many standard deviations of the measured velocity noise
+V_NOISE = 3.0
+#: highest cutoff (Hz) of the zero-phase derivative, and as a fraction of the sample rate
+MAX_CUTOFF = 100.0
+MAX_CUTOFF_RATE = 0.2
+#: quantisation noise allowed in the bin-averaged acceleration, relative to the motion's
+ACC_NOISE = 0.2
+#: the cutoff is lowered in steps of sqrt(2), at most this many (a factor 8 at 6)
+CUTOFF_STEPS = 6
 #: margin (s) around sticking samples also left out
 STICK_MARGIN = 0.005
+#: window (derivative-filter time constants 1 / cutoff) over which a still joint moves < resolution
+STILL_WINDOW = 10.0
+#: fewest standing-still samples from which the standstill velocity noise is measured
+MIN_STILL = 200
 #: number of contiguous cross-validation blocks
 N_BLOCKS = 10
 #: shortest contiguous piece of a recording used (s)
@@ -126,7 +157,12 @@ class DiagnosisData:
     inertia), ``count``, ``t_bin``, ``block``.
 
     Scales (module docstring): ``v_stick`` (rad/s), ``resolution`` (rad),
-    ``friction_level`` (Nm), ``stroke`` (rad); ``has_temperature``: every
+    ``friction_level`` (Nm), ``stroke`` (rad), the velocity noise (rad/s, standard
+    deviations) ``velocity_noise`` (the larger of ``quantisation_noise``, the
+    encoder step through the derivative filter, and ``standstill_noise``, measured
+    where the joint stands still, 0 when it never does), ``standstill_fraction`` (of
+    the samples), ``cutoff`` (Hz, the derivative filter's, the highest over the pieces);
+    ``has_temperature``: every
     recording has ``/joint_temperature``.  ``gaps``: the gaps of the stamps
     (:func:`friction_joint.bag.stamps.gap_summary`: bridged, longest bridged, split).
     """
@@ -160,6 +196,11 @@ class DiagnosisData:
     stroke: float = 0.0
     bridged: np.ndarray = None
     gaps: dict = None
+    velocity_noise: float = 0.0
+    quantisation_noise: float = 0.0
+    standstill_noise: float = 0.0
+    standstill_fraction: float = 0.0
+    cutoff: float = 0.0
 
     @property
     def n_bins(self):
@@ -216,8 +257,7 @@ def load_data(paths, gear, joint_name=None, n_blocks=N_BLOCKS, progress=None):
     have_link = all(r.link_torque is not None and len(r.link_torque) > 1 for r in recs)
     have_temp = all(_temperature(r) is not None for r in recs)
     xi_none = float(np.mean(gear.friction.temperature_range))
-    n_piece = 0
-    cuts = []
+    cuts, raw = [], []
     for rec in recs:
         js = rec.joint_states
         pieces, cut = _pieces(js.t, js.qd, rec.path)
@@ -228,37 +268,40 @@ def load_data(paths, gear, joint_name=None, n_blocks=N_BLOCKS, progress=None):
                 f'(recording {rec.duration:.2f} s long; {cut.split} gaps too long to bridge, '
                 f'longer than {cut.limit:.3g} s, {len(cut.bridged)} bridged)')
         for a, b in pieces:
-            t = js.t[a:b]
-            q, effort = js.q[a:b], js.effort[a:b]
-            dt, _ = uniform_grid(t)
-            cutoff = min(100.0, 0.2 / dt)
+            dt, _ = uniform_grid(js.t[a:b])
             steps = cut.bridged[(cut.bridged >= a) & (cut.bridged < b - 1)] - a
-            # irregular stamps (bridged gaps, jitter): resampled onto the uniform grid
-            t, (q, effort), ok = piece_on_grid(t, (q, effort), steps,
-                                               margin=BRIDGE_MARGIN / cutoff)
-            bridged = ~ok
-            try:
-                qd, qdd = zero_phase_derivatives(q, dt, cutoff=cutoff)
-            except PreslidingDataError as exc:
-                raise ExcitationError(f'{rec.path}: {exc}') from None
-            from scipy import signal
-            bb, aa = signal.butter(2, cutoff, fs=1.0 / dt)
-            qf = signal.filtfilt(bb, aa, q)
-            if have_link:
-                te = np.interp(t, rec.link_torque.t, rec.link_torque.tau)
-            else:
-                te = gear.lever_torque(q)
-            xi = (rec.temperature_at(t) if _temperature(rec) is not None
-                  else np.full(len(t), xi_none))
-            for k, v in (('t', t), ('q', q), ('qf', qf), ('qd', qd), ('qdd', qdd),
-                         ('effort', effort), ('tau_ext', te), ('xi', xi),
-                         ('dt', np.full(len(t), dt)), ('piece', np.full(len(t), n_piece)),
-                         ('cutoff', np.full(len(t), cutoff)), ('bridged', bridged)):
-                cols[k].append(v)
-            n_piece += 1
+            raw.append({'rec': rec, 'dt': dt, 'steps': steps,
+                        't': js.t[a:b], 'q': js.q[a:b], 'effort': js.effort[a:b]})
+    # position resolution at the highest cutoff, then the cutoff the encoder allows
+    top = [_on_grid(r, _max_cutoff(r['dt'])) + (r['dt'],) for r in raw]
+    res, stroke = _resolution(top)
+    scale = _cutoff_scale(top, res)
+    for n_piece, r in enumerate(raw):
+        rec, dt = r['rec'], r['dt']
+        cutoff = scale * _max_cutoff(dt)
+        t, q, effort, bridged = _on_grid(r, cutoff)
+        try:
+            qd, qdd = zero_phase_derivatives(q, dt, cutoff=cutoff)
+        except PreslidingDataError as exc:
+            raise ExcitationError(f'{rec.path}: {exc}') from None
+        qf = _lowpass(q, dt, cutoff)
+        if have_link:
+            te = np.interp(t, rec.link_torque.t, rec.link_torque.tau)
+        else:
+            te = gear.lever_torque(q)
+        xi = (rec.temperature_at(t) if _temperature(rec) is not None
+              else np.full(len(t), xi_none))
+        for k, v in (('t', t), ('q', q), ('qf', qf), ('qd', qd), ('qdd', qdd),
+                     ('effort', effort), ('tau_ext', te), ('xi', xi),
+                     ('dt', np.full(len(t), dt)), ('piece', np.full(len(t), n_piece)),
+                     ('cutoff', np.full(len(t), cutoff)), ('bridged', bridged)):
+            cols[k].append(v)
+    n_piece = len(raw)
     c = {k: np.concatenate(v) for k, v in cols.items()}
     n = len(c['t'])
-    res, v_stick, stroke = _scales(c, n_piece)
+    sc = _scales(c, n_piece, res)
+    sc.update(resolution=res, stroke=stroke, cutoff=float(np.max(c['cutoff'])))
+    v_stick = sc['v_stick']
     # bins: per piece, consecutive samples, BIN long
     bin_raw = np.full(n, -1, dtype=np.int64)
     nb_total = 0
@@ -287,7 +330,8 @@ def load_data(paths, gear, joint_name=None, n_blocks=N_BLOCKS, progress=None):
             f'too little sliding motion to diagnose: {nb_total * BIN:.1f} s of the recordings '
             f'have the joint sliding (|qd| >= {v_stick:.3g} rad/s, the larger of '
             f'{V_STICK_FRACTION:g} x the 99th percentile of |qd| and {V_NOISE:g} x the velocity '
-            f'noise), at least {20 * n_blocks * BIN:.0f} s are needed ({n_blocks} '
+            f'noise {sc["velocity_noise"]:.3g} rad/s), at least {20 * n_blocks * BIN:.0f} s '
+            f'are needed ({n_blocks} '
             'cross-validation blocks)')
     sel = bin_raw >= 0
     count = np.bincount(bin_raw[sel], minlength=nb_total).astype(float)
@@ -311,9 +355,11 @@ def load_data(paths, gear, joint_name=None, n_blocks=N_BLOCKS, progress=None):
         dt=c['dt'], bin_of=bin_raw, block_of=block_of, y=y, count=count, t_bin=t_bin,
         block=block, n_blocks=n_blocks, inertia=inertia,
         mgl_sim=0.0 if have_link else gear.mgl, link_torque=have_link, recordings=recs,
-        has_temperature=have_temp, v_stick=v_stick, resolution=res,
-        friction_level=max(float(np.median(np.abs(y))), 1e-12), stroke=stroke,
-        bridged=c['bridged'], gaps=gap_summary(cuts))
+        has_temperature=have_temp, v_stick=v_stick, resolution=sc['resolution'],
+        friction_level=max(float(np.median(np.abs(y))), 1e-12), stroke=sc['stroke'],
+        bridged=c['bridged'], gaps=gap_summary(cuts), velocity_noise=sc['velocity_noise'],
+        quantisation_noise=sc['quantisation_noise'], standstill_noise=sc['standstill_noise'],
+        standstill_fraction=sc['standstill_fraction'], cutoff=sc['cutoff'])
 
 
 def _temperature(rec):
@@ -324,21 +370,130 @@ def _temperature(rec):
     return temp
 
 
-def _scales(c, n_piece):
-    """Position resolution, sliding threshold and stroke from the samples (module docstring)."""
+def derivative_noise_gain(dt, cutoff):
+    """
+    Return the white-noise gain (1/s) of the zero-phase derivative filter.
+
+    The root sum of squares of the impulse response of
+    :func:`friction_joint._filters.zero_phase_derivatives` (velocity): a position
+    noise of standard deviation s, white from sample to sample, gives a velocity noise
+    of standard deviation ``s * gain`` (about ``1.37 cutoff`` at a cutoff of a tenth
+    of the sample rate).
+    """
+    return _noise_gains(dt, cutoff)[0]
+
+
+def _max_cutoff(dt):
+    """Return the highest cutoff (Hz) of the zero-phase derivative at sample time ``dt``."""
+    return min(MAX_CUTOFF, MAX_CUTOFF_RATE / dt)
+
+
+def _on_grid(r, cutoff):
+    """Piece ``r`` on its uniform grid: t, q, effort and the bridged mask for ``cutoff``."""
+    t, (q, effort), ok = piece_on_grid(r['t'], (r['q'], r['effort']), r['steps'],
+                                       margin=BRIDGE_MARGIN / cutoff)
+    return t, q, effort, ~ok
+
+
+def _lowpass(q, dt, cutoff):
+    """Zero-phase Butterworth low-pass of the position (the derivative filter's)."""
+    from scipy import signal
+
+    bb, aa = signal.butter(2, cutoff, fs=1.0 / dt)
+    return signal.filtfilt(bb, aa, q)
+
+
+def _resolution(pieces):
+    """Position resolution and stroke of pieces ``(t, q, effort, bridged, dt)`` (docstring)."""
     steps, widths, stroke = [], [], 0.0
-    for p in range(n_piece):
-        m = c['piece'] == p
-        dq = np.abs(np.diff(c['q'][m]))
-        real = ~c['bridged'][m]
+    for _, q, _, bridged, dt in pieces:
+        dq = np.abs(np.diff(q))
+        real = ~bridged
         pos = dq[(dq > 0) & real[1:] & real[:-1]]       # encoder steps, not interpolated ones
         if len(pos):
             steps.append(float(pos.min()))
-        widths.append(float(np.median(np.abs(c['q'][m] - c['qf'][m]))))
-        stroke = max(stroke, float(np.ptp(c['q'][m])))
-    res = max(min(steps) if steps else 0.0, math.sqrt(12.0) * 1.4826 * max(widths))
-    res = max(res, 1e-12 * max(stroke, 1.0))
+        if len(q) > 12:
+            widths.append(float(np.median(np.abs(q - _lowpass(q, dt, _max_cutoff(dt))))))
+        stroke = max(stroke, float(np.ptp(q)))
+    res = max(min(steps) if steps else 0.0,
+              math.sqrt(12.0) * 1.4826 * max(widths) if widths else 0.0)
+    return max(res, 1e-12 * max(stroke, 1.0)), stroke
+
+
+def _noise_gains(dt, cutoff):
+    """White-noise gains of the zero-phase velocity and of its bin-averaged acceleration."""
+    half = int(math.ceil(40.0 / (cutoff * dt))) + 10
+    x = np.zeros(2 * half + 1)
+    x[half] = 1.0
+    qd, qdd = zero_phase_derivatives(x, dt, cutoff=cutoff)
+    m = max(1, int(round(BIN / dt)))
+    acc = np.convolve(qdd, np.full(m, 1.0 / m))
+    return float(np.sqrt(np.sum(qd ** 2))), float(np.sqrt(np.sum(acc ** 2)))
+
+
+def _cutoff_scale(pieces, res):
+    """
+    Factor (<= 1) on the highest derivative cutoff that the encoder's resolution allows.
+
+    The largest of ``2 ** (-k / 2)``, k = 0 .. :data:`CUTOFF_STEPS`, at which the
+    quantisation noise of the bin-averaged acceleration is at most
+    :data:`ACC_NOISE` of the acceleration the motion has (the RMS of the
+    bin-averaged measured acceleration, its noise taken out); the smallest when none.
+    """
+    scales = 2.0 ** (-0.5 * np.arange(CUTOFF_STEPS + 1))
+    for f in scales:
+        noise2 = signal2 = 0.0
+        for _, q, _, bridged, dt in pieces:
+            cutoff = f * _max_cutoff(dt)
+            m = max(1, int(round(BIN / dt)))
+            if len(q) <= 12 + m:
+                continue
+            _, qdd = zero_phase_derivatives(q, dt, cutoff=cutoff)
+            acc = np.convolve(qdd, np.full(m, 1.0 / m), mode='valid')
+            acc = acc[~bridged[:len(acc)]]
+            noise2 += len(acc) * (res / math.sqrt(12.0) * _noise_gains(dt, cutoff)[1]) ** 2
+            signal2 += float(np.sum(acc ** 2))
+        if noise2 <= ACC_NOISE ** 2 * max(signal2 - noise2, 0.0):
+            return float(f)
+    return float(scales[-1])
+
+
+def _standstill(c, m, res):
+    """Mark the samples of piece mask ``m`` whose filtered position moves < ``res`` nearby."""
+    from scipy.ndimage import maximum_filter1d, minimum_filter1d
+
+    qf = c['qf'][m]
+    cutoff, dt = float(c['cutoff'][m][0]), float(c['dt'][m][0])
+    w = max(3, int(round(STILL_WINDOW / (cutoff * dt))))
+    still = (maximum_filter1d(qf, w) - minimum_filter1d(qf, w)) < res
+    still &= ~c['bridged'][m]
+    edge = int(round(EDGE / dt))
+    still[:edge] = False
+    still[len(still) - edge:] = False
+    return still
+
+
+def _scales(c, n_piece, res):
+    """
+    Velocity noise and sliding threshold from the samples (module docstring).
+
+    Returns a dict with ``quantisation_noise``, ``standstill_noise``,
+    ``standstill_fraction``, ``velocity_noise`` and ``v_stick``.
+    """
+    masks = [c['piece'] == p for p in range(n_piece)]
+    # the encoder step seen through the derivative filter (white quantisation error)
+    q_noise = max(res / math.sqrt(12.0)
+                  * derivative_noise_gain(float(c['dt'][m][0]), float(c['cutoff'][m][0]))
+                  for m in masks)
+    # the velocity noise where the joint stands still
+    still = np.concatenate([_standstill(c, m, res) for m in masks])
+    s_noise = 0.0
+    if int(still.sum()) >= MIN_STILL:
+        v = c['qd'][still]
+        s_noise = 1.4826 * float(np.median(np.abs(v - np.median(v))))
+    v_noise = max(q_noise, s_noise)
     aq = np.abs(c['qd'])
-    v_stick = max(V_STICK_FRACTION * float(np.percentile(aq, 99)),
-                  V_NOISE * res * float(np.max(c['cutoff'])))
-    return res, v_stick, stroke
+    v_stick = max(V_STICK_FRACTION * float(np.percentile(aq, 99)), V_NOISE * v_noise)
+    return {'quantisation_noise': q_noise,
+            'standstill_noise': s_noise, 'standstill_fraction': float(np.mean(still)),
+            'velocity_noise': v_noise, 'v_stick': v_stick}
