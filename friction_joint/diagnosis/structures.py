@@ -17,7 +17,9 @@ Friction model structures for diagnosis, as linear regressions over the bin aver
 
 Every structure the diagnosis tries is *linear in its coefficients* once a
 few nonlinear parameters are fixed, so it is fitted by linear least squares
-and its nonlinear parameters by a grid (variable projection):
+and its nonlinear parameters by a grid, then by bounded continuous
+optimisation between the grid points (variable projection,
+:mod:`~friction_joint.diagnosis.refine`):
 
     tau_r = sum_k fc_k u^k h (1 - E) + sum_k fs_k u^k h E          (Coulomb/Stribeck, eq. 1, 7)
           + sum_j fc_load_j tl^j h (1 - E) + ...                   (load, eq. 7)
@@ -45,7 +47,11 @@ numbers of one gear: ``vs`` spans ``max(1.5 v_stick, P1 / 2)`` to
 ``0.3 P99`` of the sliding speeds (:data:`N_VS` points, log spaced); the
 pre-sliding stiffness is ``g / L`` for pre-sliding lengths L from
 :data:`PS_MIN_RESOLUTIONS` position resolutions to :data:`PS_MAX_STROKE` of
-the stroke, a factor :data:`PS_STEP` apart (g the mean Coulomb level).
+the stroke, a factor :data:`PS_STEP` apart (g the mean Coulomb level); the
+ripple fundamentals are those that repeat within a piece
+(:func:`~friction_joint.diagnosis.ripple.ripple_cycles`).  The refinement
+moves every parameter continuously from the best grid point, so a true value
+between grid points leaves no systematic residual for another candidate.
 
 Physical fits
 -------------
@@ -54,21 +60,23 @@ Every least-squares fit is bounded (:func:`solve_physical`): F_c, F_s and F_v
 fit is valid on (the data's, clipped to the base's) and over the data's load
 range.  The unconstrained solution is kept when it satisfies this; otherwise
 the quadratic problem is solved with the inequalities (SLSQP).  v_s > 0 and
-delta_v in [0.3, 1.7] hold by their grids.
+delta_v in [0.3, 1.7] hold by their grids and the refinement's bounds.
 """
 import dataclasses
 import math
 
 import numpy as np
 
-from .data import BIN
-from .scan import position_periodogram
+from .refine import Refiner
+from .ripple import ripple_cycles
 from .._jit import njit
 
-__all__ = ['CandidateStructure', 'design', 'solve', 'solve_physical', 'CVResult',
+__all__ = ['CandidateStructure', 'design', 'column_groups', 'solve', 'solve_physical', 'CVResult',
            'cross_validate_structures', 'fit_all', 'grid_of', 'coefficients', 'presliding_state',
            'fit_range', 'drift_basis', 'DRIFT_ORDER', 'accumulated_travel', 'ripple_cycles']
 
+#: floats the context's cache of design column groups holds at most
+CACHE_FLOATS = 10_000_000
 #: points of the Stribeck velocity grid
 N_VS = 15
 DV_GRID = np.array([0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9, 0.95, 1.0, 1.05, 1.1, 1.2, 1.35, 1.5, 1.7])
@@ -161,7 +169,10 @@ class Context:
         self.g_nom = level
         self.ps_models = ('lugre', 'gms')
         self.data = data
+        self.dv_grid = DV_GRID
         self._travel = None
+        self.columns = {}
+        self._cached = 0
 
     @property
     def travel(self):
@@ -169,35 +180,6 @@ class Context:
         if self._travel is None:
             self._travel = accumulated_travel(self.data)
         return self._travel
-
-
-def ripple_cycles(data, gear_ratio):
-    """
-    Ripple fundamentals (cycles per output turn) tried by the ``position_ripple`` candidate.
-
-    2 N and N (tooth engagement of a gear of ratio N), plus the strongest
-    period of a periodogram of the measured friction torque against position
-    after a Coulomb + viscous fit, between twice the travel of a bin and half
-    the travel of the data, when it is not one of those: a ripple at another
-    period (motor cogging, a bearing) is found instead of assumed.
-    """
-    cycles = [2.0 * gear_ratio, float(gear_ratio)]
-    y = np.asarray(getattr(data, 'y', ()), float)
-    if len(y) < 50:
-        return cycles
-    q, v = data.average(data.q), data.average(data.qd)
-    x = np.column_stack([np.sign(v), v, np.ones_like(v)])
-    r = y - x @ np.linalg.lstsq(x, y, rcond=None)[0]
-    travel = float(np.sum(np.abs(np.diff(data.qf)))) if len(data.qf) > 1 else 0.0
-    p_min = max(2.0 * float(np.median(np.abs(v))) * BIN, 2.0 * getattr(data, 'resolution', 0.0))
-    p_max = min(0.5 * travel, float(np.ptp(q)))
-    if not (p_min > 0.0 and p_max > 2.0 * p_min):
-        return cycles
-    periods, power = position_periodogram(q, [r], p_min, p_max)
-    found = 2.0 * math.pi / float(periods[int(np.argmax(power[0]))])
-    if all(abs(found / c - 1.0) > 0.02 for c in cycles):
-        cycles.append(found)
-    return cycles
 
 
 def accumulated_travel(data):
@@ -268,18 +250,61 @@ def presliding_state(ctx, ps):
     return out
 
 
+#: a structure without columns: the column groups of :func:`design` set only their own fields
+_NONE = CandidateStructure(nfc=0, nfv=0, vs=0.0, dv=1.0, cyc=0.0, ps=None)
+
+
+def column_groups(s):
+    """
+    Return the column groups of ``s``'s design, each a structure with only those columns.
+
+    Coulomb/Stribeck/drift (on ``vs``, ``ps``), viscous (on ``dv``), ripple (on
+    ``cyc``), and offset/gravity/inertia: a change of one nonlinear parameter
+    changes one group only.
+    """
+    out = []
+    if s.nfc or s.nfc_load or s.drift or s.nfs or s.nfs_load:
+        out.append(_NONE.with_(nfc=s.nfc, nfc_load=s.nfc_load, drift=s.drift, nfs=s.nfs,
+                               nfs_load=s.nfs_load, vs=s.vs if s.nfs else 0.0,
+                               presliding=s.presliding, ps=s.ps if s.presliding else None))
+    if s.nfv or s.nfv_load:
+        out.append(_NONE.with_(nfv=s.nfv, nfv_load=s.nfv_load, dv=s.dv))
+    if s.ripple:
+        out.append(_NONE.with_(ripple=s.ripple, cyc=s.cyc))
+    if s.offset or s.gravity or s.inertia:
+        out.append(_NONE.with_(offset=s.offset, gravity=s.gravity, inertia=s.inertia))
+    return out
+
+
 def design(s, ctx):
-    """Bin-averaged design matrix (n_bins, p) and column names of structure ``s``."""
+    """
+    Bin-averaged design matrix (n_bins, p) and column names of structure ``s``.
+
+    Assembled from its :func:`column_groups`, each computed once per context
+    (cached, up to :data:`CACHE_FLOATS` floats).
+    """
+    xs, names = [], []
+    for g in column_groups(s):
+        hit = ctx.columns.get(g)
+        if hit is None:
+            hit = _columns(g, ctx)
+            if ctx._cached + hit[0].size > CACHE_FLOATS:
+                ctx.columns.clear()
+                ctx._cached = 0
+            ctx.columns[g] = hit
+            ctx._cached += hit[0].size
+        xs.append(hit[0])
+        names.extend(hit[1])
+    x = np.hstack(xs) if xs else np.empty((len(ctx.data.y), 0))
+    return x, names
+
+
+def _columns(s, ctx):
+    """Bin-averaged columns and names of ``s`` (computed)."""
     d = ctx.data
     v = ctx.kappa * d.qd
     sgn = np.sign(d.qd)
-    h = presliding_state(ctx, s.ps) if s.presliding else sgn
     cols, names = [], []
-    if s.nfs:
-        vs = s.vs * ctx.kappa * ctx.vs_shape
-        e = np.exp(-np.abs(v / vs) ** ctx.ds)
-    else:
-        e = 0.0
 
     def terms(base, name, n_temp, n_load):
         # polynomial in the temperature variable u (powers 0..) and the load vl (powers 1..)
@@ -290,21 +315,31 @@ def design(s, ctx):
             cols.append(base * ctx.vl ** m)
             names.append((name + '_load', m))
 
-    terms(h * (1.0 - e), 'fc', s.nfc, s.nfc_load)
-    if s.drift:
-        for j, phi in enumerate(drift_basis(ctx.travel, s.drift), 1):
-            cols.append(h * (1.0 - e) * phi)
-            names.append(('fc_drift', j))
-    if s.nfs:
-        terms(h * e, 'fs', s.nfs, s.nfs_load)
-    dv = s.dv + ctx.dv_shift
-    terms(sgn * np.abs(v) ** np.maximum(dv, 0.05), 'fv', s.nfv, s.nfv_load)
-    for n in range(1, s.ripple + 1):
-        arg = n * s.cyc * d.q
-        cols.append(np.sin(arg))
-        names.append(('ripple_sin', n))
-        cols.append(np.cos(arg))
-        names.append(('ripple_cos', n))
+    if s.nfc or s.nfc_load or s.drift or s.nfs or s.nfs_load:
+        h = presliding_state(ctx, s.ps) if s.presliding else sgn
+        if s.nfs:
+            vs = s.vs * ctx.kappa * ctx.vs_shape
+            e = np.exp(-np.abs(v / vs) ** ctx.ds)
+        else:
+            e = 0.0
+        terms(h * (1.0 - e), 'fc', s.nfc, s.nfc_load)
+        if s.drift:
+            for j, phi in enumerate(drift_basis(ctx.travel, s.drift), 1):
+                cols.append(h * (1.0 - e) * phi)
+                names.append(('fc_drift', j))
+        if s.nfs:
+            terms(h * e, 'fs', s.nfs, s.nfs_load)
+    if s.nfv or s.nfv_load:
+        dv = s.dv + ctx.dv_shift
+        terms(sgn * np.abs(v) ** np.maximum(dv, 0.05), 'fv', s.nfv, s.nfv_load)
+    if s.ripple:
+        s1, c1 = np.sin(s.cyc * d.q), np.cos(s.cyc * d.q)
+        sn, cn = s1, c1
+        for n in range(1, s.ripple + 1):
+            if n > 1:           # sin/cos of n c q by the angle-addition recurrence
+                sn, cn = sn * c1 + cn * s1, cn * c1 - sn * s1
+            cols.extend((sn, cn))
+            names.extend((('ripple_sin', n), ('ripple_cos', n)))
     if s.offset:
         cols.append(np.ones_like(v))
         names.append(('offset', 0))
@@ -326,25 +361,12 @@ def grid_of(s, new, ctx):
         return [s.with_(vs=float(v)) for v in ctx.vs_grid]
     if new == 'dv':
         return [s.with_(dv=float(v)) for v in DV_GRID]
-    if new == 'cyc':
-        return [s.with_(cyc=float(c)) for c in ctx.ripple_cycles]
+    if new == 'cyc':           # none repeats within a piece: the structure's own
+        return [s.with_(cyc=float(c)) for c in ctx.ripple_cycles] or [s]
     if new == 'ps':
         return [s.with_(ps=(m, float(ctx.g_nom / length))) for m in ctx.ps_models
                 for length in ctx.ps_lengths[::-1]]
     raise ValueError(new)
-
-
-def _normal(x, y, block, k):
-    g = np.empty((k, x.shape[1], x.shape[1]))
-    b = np.empty((k, x.shape[1]))
-    yy = np.empty(k)
-    for i in range(k):
-        m = block == i
-        xi = x[m]
-        g[i] = xi.T @ xi
-        b[i] = xi.T @ y[m]
-        yy[i] = y[m] @ y[m]
-    return g, b, yy
 
 
 def solve(g, b):
@@ -454,28 +476,28 @@ def _penalty(s, ctx):
     return 1.02 if s.ripple and abs(s.cyc - 2.0 * ctx.gear_ratio) > 1e-9 else 1.0
 
 
+def _refiner(ctx, y, block, k):
+    return Refiner(ctx, y, block, k, {'design': design, 'solve': solve_physical,
+                                      'constraints': constraints, 'penalty': _penalty})
+
+
 def cross_validate_structures(structures, ctx, y, block, k):
-    """K-fold contiguous-block CV; per fold the grid point with the least training error wins."""
-    mats, colnames, cons = [], [], []
-    for s in structures:
-        x, nm = design(s, ctx)
-        mats.append((x, _normal(x, y, block, k)))
-        colnames.append(nm)
-        cons.append(constraints(nm, ctx))
+    """
+    K-fold contiguous-block CV of a grid of structures, refined per fold.
+
+    Per fold the grid point with the least training error wins and its
+    nonlinear parameters are refined continuously on the training blocks
+    (:class:`~friction_joint.diagnosis.refine.Refiner`); the held-out block
+    never takes part in the choice.
+    """
+    ref = _refiner(ctx, y, block, k)
     sse = np.zeros(k)
     n = np.bincount(block, minlength=k).astype(float)
     chosen, betas, names = [], [], []
     pred = np.empty_like(y)
     for f in range(k):
-        best = None
-        for (x, (g, b, yy)), s, nm, a in zip(mats, structures, colnames, cons):
-            gt, bt = g.sum(0) - g[f], b.sum(0) - b[f]
-            beta = solve_physical(gt, bt, a)
-            train = ((yy.sum() - yy[f]) - 2 * beta @ bt + beta @ gt @ beta) * _penalty(s, ctx)
-            if best is None or train < best[0]:
-                best = (train, beta, x, s, nm)
-        _, beta, x, s, nm = best
-        m = block == f
+        s, beta, x, nm = ref.best(structures, f)
+        m = ref.rows[f]
         pred[m] = x[m] @ beta
         sse[f] = float(np.sum((y[m] - pred[m]) ** 2))
         chosen.append(s)
@@ -485,16 +507,14 @@ def cross_validate_structures(structures, ctx, y, block, k):
 
 
 def fit_all(structures, ctx, y):
-    """Fit on all bins; returns (structure, beta, names, prediction) of the best grid point."""
-    best = None
-    for s in structures:
-        x, names = design(s, ctx)
-        beta = solve_physical(x.T @ x, x.T @ y, constraints(names, ctx))
-        r = y - x @ beta
-        sse = float(r @ r) * _penalty(s, ctx)
-        if best is None or sse < best[0]:
-            best = (sse, s, beta, names, x @ beta)
-    return best[1:]
+    """
+    Fit on all bins: the best grid point, its nonlinear parameters refined continuously.
+
+    Returns ``(structure, beta, names, prediction)``.
+    """
+    ref = _refiner(ctx, y, np.zeros(len(y), int), 1)
+    s, beta, x, names = ref.best(structures)
+    return s, beta, names, x @ beta
 
 
 def _raw_poly(c, xc, xs):

@@ -25,8 +25,11 @@ sliding threshold, position resolution), none in rad/s, Nm or Nm/rad:
   span while sliding is at least :data:`MIN_XI_SPAN` degC;
 * ``load``: a 2.5-97.5 % span of |tau_ext| of at least :data:`LOAD_SPAN`
   times the friction level;
-* ``position_ripple``: travel over at least two ripple periods (2 pi / (2 N))
-  with every eighth of the period visited by five bins;
+* ``position_ripple``: a candidate ripple period that repeats at least
+  :data:`~friction_joint.diagnosis.ripple.MIN_REPEATS` times within the
+  stroke of a piece (2 pi / (2 N), 2 pi / N or the periodogram's strongest,
+  :func:`~friction_joint.diagnosis.ripple.ripple_cycles`), every eighth of
+  the shortest one visited by five bins;
 * ``nonlinear_viscous``, ``stribeck``: sliding speeds spanning a ratio of at
   least :data:`SPEED_RATIO` (5-95 %);
 * ``presliding``: at least :data:`MIN_REVERSALS` velocity reversals (sign
@@ -38,9 +41,9 @@ sliding threshold, position resolution), none in rad/s, Nm or Nm/rad:
 * ``drift``: an accumulated travel of at least :data:`DRIFT_STROKES` strokes
   (so the travel is not confounded with the position).
 """
-import math
-
 import numpy as np
+
+from .ripple import ripple_untestable
 
 __all__ = ['MIN_XI_SPAN', 'LOAD_SPAN', 'SPEED_RATIO', 'MIN_REVERSALS', 'INERTIA_SPAN',
            'MIN_DIRECTION', 'DRIFT_STROKES', 'untestable']
@@ -101,13 +104,9 @@ def untestable(data, gear_ratio, effects):
             why['load'] = (f'the load |tau_ext| spans {span:.3g} Nm while the joint slides, '
                            f'less than {LOAD_SPAN:g} x the friction level {level:.3g} Nm')
     if 'position_ripple' in effects:
-        period = 2 * math.pi / (2 * gear_ratio)
-        phase = np.mod(data.average(data.q), period) / period
-        hist = np.bincount(np.minimum((phase * 8).astype(int), 7), minlength=8)
-        travel = float(np.ptp(data.q))
-        if travel < 2 * period or np.any(hist < 5):
-            why['position_ripple'] = (f'the joint travels {travel:.4g} rad, too little to cover '
-                                      f'the ripple period 2 pi / (2 N) = {period:.4g} rad')
+        reason = ripple_untestable(data, gear_ratio)
+        if reason:
+            why['position_ripple'] = reason
     aq = np.abs(qd)
     lo, hi = np.percentile(aq, 5), np.percentile(aq, 95)
     for eff in ('nonlinear_viscous', 'stribeck'):
