@@ -52,7 +52,7 @@ Per plateau
   ``clip_mad`` median absolute deviations from the median are left out).
 * ``tau_r``: friction torque tau_r = effort - tau_ext - J qdd (README,
   Interfaces: sign convention), same robust mean.  tau_ext is the ``/link_torque`` sensor when
-  the recording has it, else the lever gravity m g l sin q of the STRUCTURE
+  the recording has it, else the lever gravity m g l sin(q - angle_offset) of the STRUCTURE
   gear file (no contact torque); J is the structure's inertia and qdd the
   derivative of the measured velocity.
 * ``xi``: mean housing temperature (zero-order hold of ``/joint_temperature``).
