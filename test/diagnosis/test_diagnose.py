@@ -62,17 +62,24 @@ def _draws():
     out = {}
     for i, (case, effects) in enumerate(cases.items()):
         r = np.random.default_rng([MASTER_SEED, i])
-        out[case] = ({e: draw_effect(r, e) for e in effects}, int(r.integers(0, 2**31 - 1)))
+        sizes = {e: draw_effect(r, e) for e in effects}
+        out[case] = (sizes, int(r.integers(0, 2**31 - 1)), bool(r.random() < 0.5))
     return out
 
 
 DRAWS = _draws()
 
 
-def _fmt(effects, seed):
+def _fmt(effects, seed, link):
     sizes = {e: {k: (round(v, 4) if isinstance(v, float) else v) for k, v in s.items()}
              for e, s in effects.items()}
-    return f'[master seed {MASTER_SEED}] hidden {sizes or "nothing"}, recording seed {seed}'
+    return (f'[master seed {MASTER_SEED}] hidden {sizes or "nothing"}, recording seed {seed}, '
+            f'/link_torque {"recorded" if link else "absent"}')
+
+
+def _visible(effects, link):
+    """Return the effects a recording shows: a lever error is measured by a link torque sensor."""
+    return {e: s for e, s in effects.items() if not (link and e == 'gravity')}
 
 
 def _check_report(report, what):
@@ -95,13 +102,15 @@ def _check_report(report, what):
 @pytest.mark.slow
 @pytest.mark.parametrize('case', sorted(DRAWS))
 def test_diagnose_names_the_hidden_effect(case, tmp_path_factory):
-    effects, seed = DRAWS[case]
-    what = _fmt(effects, seed)
+    hidden, seed, link = DRAWS[case]
+    what = _fmt(hidden, seed, link)
     base = friction_joint.load_gear(BASE)
-    truth = apply_effects(base, effects)
+    truth = apply_effects(base, hidden)
+    effects = _visible(hidden, link)
     work = tmp_path_factory.mktemp('case')
     rec = work / 'rec'
-    simulate_recording(truth, rec, duration=DURATION, seed=seed, base_gear=base)
+    simulate_recording(truth, rec, duration=DURATION, seed=seed, base_gear=base,
+                       link_torque=link)
 
     out = work / 'out'
     res = _diagnose([rec], BASE, out)
