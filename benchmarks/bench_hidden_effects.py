@@ -52,9 +52,10 @@ What it does
 The expected set is the hidden set except what the recording cannot show
 (:func:`expected`): a lever error (``gravity``) is invisible when
 ``/link_torque`` is recorded, because the friction torque is then formed with
-the measured link torque instead of the base's lever model.  A case is a
-``none``, single or pair case by its expected set (a ``gravity`` single with
-link torque counts as ``none``).
+the measured link torque instead of the base's lever model; ``presliding`` is
+invisible when one encoder count is longer than the truth's pre-sliding length.
+A case is a ``none``, single or pair case by its expected set (a ``gravity``
+single with link torque counts as ``none``).
 
 The last line is always
 ``singles=<x> false_pos=<y> pairs=<z> n=<n> diag_s_per_90s=<t>``.
@@ -89,9 +90,32 @@ LINK_TORQUE_ODDS = 0.5
 LINK_HIDES = ('gravity',)
 
 
-def expected(hidden, link_torque):
-    """Return the hidden effects the recording can show: no lever error with /link_torque."""
-    return [e for e in hidden if not (link_torque and e in LINK_HIDES)]
+def presliding_length(base, size):
+    """Return the truth's pre-sliding length (rad): Coulomb level over the contact stiffness."""
+    fr = base.friction
+    k = fr.lugre.sigma0 if size['model'] == 'lugre' else sum(fr.gms.k)
+    return fr.fc[0] / (k * size['stiffness_scale'])
+
+
+def expected(hidden, link_torque, encoder_bits=None, sizes=None, base=None):
+    """
+    Return the hidden effects the recording can show.
+
+    Two rules, from the truth and the plant only: no lever error (``gravity``)
+    with /link_torque (the friction torque then uses the measured output torque,
+    not the base's lever); no ``presliding`` when one encoder count
+    (2 pi / 2^bits) exceeds the truth's pre-sliding length (the whole pre-sliding
+    travel lies within one count).
+    """
+    out = []
+    for e in hidden:
+        if link_torque and e in LINK_HIDES:
+            continue
+        if (e == 'presliding' and encoder_bits
+                and 2 * np.pi / 2 ** encoder_bits > presliding_length(base, sizes[e])):
+            continue
+        out.append(e)
+    return out
 
 
 def nuisances(case):
@@ -150,7 +174,8 @@ def draw_cases(seed, n, durations, u_min):
             strength[e] = u
             rel[e] = float(relative_size(base, e, sizes[e]))
         cases.append({'case': i, 'hidden': list(hidden), 'link_torque': link,
-                      'expected': expected(hidden, link), 'sizes': sizes, 'strength': strength,
+                      'expected': expected(hidden, link, plant.get('encoder_bits'), sizes, base),
+                      'sizes': sizes, 'strength': strength,
                       'relative_size': rel, 'plant': plant, 'cfg': cfg,
                       'seed': int(r.integers(0, 2**31 - 1))})
     return cases
@@ -253,7 +278,8 @@ def summarize(results):
     motion = sum(r['motion_s'] for r in results)
     return {
         'n': len(results), 'n_none': len(none), 'n_single': len(single), 'n_pair': len(pair),
-        'link_hidden': sum(len(r['hidden']) - len(r['expected']) for r in results),
+        'not_expected': {e: sum(e in r['hidden'] and e not in r['expected'] for r in results)
+                         for e in effects},
         'singles_exact': _rate(sum(map(_exact, single)), len(single)),
         'singles_exact_k': sum(map(_exact, single)),
         'false_pos': _rate(sum(bool(r['named']) for r in none), len(none)),
@@ -296,8 +322,8 @@ def print_report(s, results, args, not_drawn, wall):
           f'{args.durations[0]:g}-{args.durations[1]:g} s (mean {s["motion_s_mean"]:.0f} s), '
           f'strength u in [{args.u_min:g}, 1]')
     print(f'not drawn (in diagnosis.EFFECTS, simulator cannot draw): '
-          f'{", ".join(not_drawn) or "-"}; hidden but not expected (/link_torque recorded): '
-          f'{s["link_hidden"]}')
+          f'{", ".join(not_drawn) or "-"}; hidden but not expected: '
+          + (', '.join(f'{e} {k}' for e, k in s['not_expected'].items() if k) or '-'))
     print(f'{"metric":<34}{"value":>9}  {"count":>8}  target')
     print(f'{"single-effect exact match":<34}{_pct(s["singles_exact"]):>9}  '
           f'{s["singles_exact_k"]:>3}/{s["n_single"]:<4}  >= 95 %')
