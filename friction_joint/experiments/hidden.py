@@ -436,8 +436,10 @@ def simulate_recording(truth_gear, path=None, *, duration=90.0, seed=0, base_gea
     temperature_lag_scale : float
         Factor on the temperature sensor's time constant.
     encoder_bits : int, optional
-        Output encoder resolution (bits per turn; e.g. 10-14 for a coarse encoder of
-        1 024-16 384 counts); default the gear's ``sensors.encoder_bits``.
+        Resolution of the recorded output encoder (bits per turn; e.g. 10-14 for a
+        coarse encoder of 1 024-16 384 counts): ``/joint_states`` positions are its
+        counts, while the drive's loop runs on its fine (motor-side) encoder, the
+        gear's ``sensors.encoder_bits``, and reports its velocity; default that one.
     warmup : bool
         A warm-up recording: the housing starts at the lowest segment temperature and
         one ambient (a heat input) above it warms it, through the segments and the
@@ -465,7 +467,7 @@ def simulate_recording(truth_gear, path=None, *, duration=90.0, seed=0, base_gea
         raise FrictionJointError(f'duration must be > 0 s, got {duration}')
     base = truth_gear if base_gear is None else base_gear
     truth_gear = _vary_sensors(truth_gear, noise_scale, current_bandwidth_scale,
-                               temperature_lag_scale, encoder_bits)
+                               temperature_lag_scale)
     kinds = ['rich'] if kinds is None else [str(k) for k in kinds]
     bad = [k for k in kinds if k not in RUN_KINDS]
     if bad or not kinds:
@@ -517,6 +519,12 @@ def simulate_recording(truth_gear, path=None, *, duration=90.0, seed=0, base_gea
             xi_warm = plant.thermal.step(0.0, conf['gap'])
 
     cat = {k: np.concatenate(v) for k, v in out.items()}
+    if encoder_bits:
+        # the drive's loop runs on its fine motor-side encoder; the recorded output encoder
+        # is the coarse one
+        _vary_sensors(truth_gear, 1.0, 1.0, 1.0, encoder_bits)          # checks the value
+        count = 2.0 * math.pi / 2.0 ** int(encoder_bits)
+        cat['q'] = np.round(cat['q'] / count) * count
     name = truth_gear.joint_name
     topics = {
         '/joint_states': {'t': cat['t'], 'q': cat['q'], 'qd': cat['qd'],
