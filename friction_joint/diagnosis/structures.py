@@ -250,8 +250,13 @@ def presliding_state(ctx, ps):
     return out
 
 
-#: a structure without columns: the column groups of :func:`design` set only their own fields
-_NONE = CandidateStructure(nfc=0, nfv=0, vs=0.0, dv=1.0, cyc=0.0, ps=None)
+#: the fields of each column group of :func:`design`, and their values when a group is left out
+_GROUPS = (
+    {'nfc': 0, 'nfc_load': 0, 'drift': 0, 'nfs': 0, 'nfs_load': 0, 'vs': 0.0,
+     'presliding': False, 'ps': None},                             # Coulomb/Stribeck/drift
+    {'nfv': 0, 'nfv_load': 0, 'dv': 1.0},                          # viscous
+    {'ripple': 0, 'cyc': 0.0},                                     # ripple
+    {'offset': False, 'gravity': False, 'inertia': False})         # the others
 
 
 def column_groups(s):
@@ -259,20 +264,19 @@ def column_groups(s):
     Return the column groups of ``s``'s design, each a structure with only those columns.
 
     Coulomb/Stribeck/drift (on ``vs``, ``ps``), viscous (on ``dv``), ripple (on
-    ``cyc``), and offset/gravity/inertia: a change of one nonlinear parameter
-    changes one group only.
+    ``cyc``), and offset/gravity/inertia, in the design's order: a change of
+    one nonlinear parameter changes one group only.  A group is ``s`` with the
+    other groups' fields cleared (and the unused parameters of its own).
     """
     out = []
-    if s.nfc or s.nfc_load or s.drift or s.nfs or s.nfs_load:
-        out.append(_NONE.with_(nfc=s.nfc, nfc_load=s.nfc_load, drift=s.drift, nfs=s.nfs,
-                               nfs_load=s.nfs_load, vs=s.vs if s.nfs else 0.0,
-                               presliding=s.presliding, ps=s.ps if s.presliding else None))
-    if s.nfv or s.nfv_load:
-        out.append(_NONE.with_(nfv=s.nfv, nfv_load=s.nfv_load, dv=s.dv))
-    if s.ripple:
-        out.append(_NONE.with_(ripple=s.ripple, cyc=s.cyc))
-    if s.offset or s.gravity or s.inertia:
-        out.append(_NONE.with_(offset=s.offset, gravity=s.gravity, inertia=s.inertia))
+    for i, own in enumerate(_GROUPS):
+        if not any(getattr(s, f) for f in own if f not in ('vs', 'ps', 'dv', 'cyc')):
+            continue
+        clear = {f: v for j, g in enumerate(_GROUPS) if j != i for f, v in g.items()}
+        clear['dv_free'] = False
+        if i == 0:
+            clear.update({} if s.nfs else {'vs': 0.0}, **({} if s.presliding else {'ps': None}))
+        out.append(s.with_(**clear))
     return out
 
 
@@ -295,6 +299,8 @@ def design(s, ctx):
             ctx._cached += hit[0].size
         xs.append(hit[0])
         names.extend(hit[1])
+    if len(set(names)) < len(names):
+        raise ValueError(f'a column in two groups of the design: {names}')
     x = np.hstack(xs) if xs else np.empty((len(ctx.data.y), 0))
     return x, names
 
