@@ -24,7 +24,7 @@ import json
 import math
 import os
 
-from friction_joint.diagnosis import diagnose
+from friction_joint.diagnosis import diagnose, EFFECTS
 from friction_joint.diagnosis.gravity import gravity_untestable, linear_device
 from friction_joint.experiments.hidden import apply_effects, draw_effect, simulate_recording
 from friction_joint.gear import load_gear
@@ -98,3 +98,23 @@ def test_an_imported_linear_device_is_recognised(tmp_path):
         (d / 'metadata.yaml').write_text(yaml.safe_dump(meta))
     assert not linear_device([str(tmp_path / 'rot')])
     assert linear_device([str(tmp_path / 'rot'), str(tmp_path / 'lin')])
+
+
+def test_a_model_that_explains_less_than_the_friction_says_so(tmp_path):
+    """Before: "Nothing significant is missing" with a held-out RMSE above the friction level."""
+    rng = np.random.default_rng(1820)
+    base = load_gear(BASE)
+    lever = base.section('lever')
+    # a payload the base does not know: its gravity torque several times the friction level
+    mass = lever['mass'] * float(rng.uniform(1.5, 2.5))
+    truth = base.replace({'lever': {'mass': mass,
+                                    'angle_offset': float(rng.uniform(-0.3, 0.3))}})
+    rec = str(tmp_path / 'rec')
+    simulate_recording(truth, rec, duration=30.0, seed=int(rng.integers(1e6)), base_gear=base,
+                       link_torque=False, n_segments=2)
+    effects = [e for e in EFFECTS if e != 'gravity']       # a candidate set without the cause
+    rep = diagnose([rec], base, effects=effects).report
+    assert not rep['adequacy']['extended']['explains']
+    assert rep['adequacy']['base']['rmse_over_level'] > 0.5
+    assert rep['headline'].startswith('The model does not explain the data'), rep['headline']
+    assert 'Largest unexplained structure' in rep['headline']
