@@ -23,7 +23,9 @@ parameter of the winner in turn (one coordinate sweep, the gridded parameter
 first) by :func:`scipy.optimize.minimize_scalar` (bounded Brent) between
 the neighbouring grid points of the winner, or one grid step either side of
 the value when the parameter was not gridded.  The refined value is kept
-only when it fits the training data better than the grid point.
+only when it fits the training data better than the grid point.  Which
+parameters: those the grid varies; with no grid (a single structure) all
+of the structure's (:meth:`Refiner.best`).
 
 Parameters and their scales (``t``, in which the search is done):
 
@@ -180,18 +182,20 @@ class Refiner:
         err = self.train(s_new, fold)[0]
         return (err, s_new) if err < cur else (cur, s)
 
-    def best(self, structures, fold=None):
+    def best(self, structures, fold=None, every=False):
         """
         Best structure for the training blocks (all but ``fold``): grid, then refinement.
 
-        Returns ``(structure, beta, x, names)``.
+        The parameters the grid varies are refined; with ``every`` (or no grid)
+        then every other nonlinear parameter of the winner too.  Returns
+        ``(structure, beta, x, names)``.
         """
         errs = [self.train(s, fold)[0] for s in structures]
         i = int(np.argmin(errs))
         s, err = structures[i], errs[i]
         active = active_params(s)
         varying = [p for p in varying_params(structures) if p in active]
-        order = varying + [p for p in active if p not in varying]
+        order = varying + [p for p in active if p not in varying and (every or not varying)]
         for p in order:
             err, s = self.search(s, p, structures if p in varying else [s], fold, err)
         beta = self.train(s, fold)[1]

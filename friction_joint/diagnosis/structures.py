@@ -491,18 +491,24 @@ def cross_validate_structures(structures, ctx, y, block, k):
     """
     K-fold contiguous-block CV of a grid of structures, refined per fold.
 
-    Per fold the grid point with the least training error wins and its
-    nonlinear parameters are refined continuously on the training blocks
+    Per fold the grid point with the least training error wins and the
+    gridded parameter is refined continuously on the training blocks
     (:class:`~friction_joint.diagnosis.refine.Refiner`); the held-out block
-    never takes part in the choice.
+    never takes part in the choice.  A single structure (no grid) keeps its
+    nonlinear parameters (fitted on all data by :func:`fit_all`).
     """
     ref = _refiner(ctx, y, block, k)
+    one = len(structures) == 1             # the parameters of a structure are fitted already
     sse = np.zeros(k)
     n = np.bincount(block, minlength=k).astype(float)
     chosen, betas, names = [], [], []
     pred = np.empty_like(y)
     for f in range(k):
-        s, beta, x, nm = ref.best(structures, f)
+        if one:
+            s = structures[0]
+            beta, (x, nm) = ref.train(s, f)[1], ref.normal(s)[:2]
+        else:
+            s, beta, x, nm = ref.best(structures, f)
         m = ref.rows[f]
         pred[m] = x[m] @ beta
         sse[f] = float(np.sum((y[m] - pred[m]) ** 2))
