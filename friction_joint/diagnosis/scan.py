@@ -30,37 +30,73 @@ named effects) per 10 ms bin, against:
   first :data:`BREAKAWAY_BINS` bins after every breakaway (the residual
   times sign(qd) there).
 
-Significance, the same for every variable: ``explained`` is the fraction of
-the residual's held-out variance explained by a smooth fit on the variable
--- the residual's mean over :data:`N_QUANT` quantile bins of the variable
-(for ``position``: a sine at the strongest period), fitted on K - 1 of the
-contiguous cross-validation blocks and scored on the held-out one, against
-the training mean.  The ``p_value`` is that of a permutation test with
-:data:`N_PERM` circular shifts of the residual against the variables (at
-least a tenth of the data apart): a shift keeps the residual's own time
-correlation, which a free permutation would destroy and so overstate the
-significance.  For ``position`` the statistic is the periodogram's largest
-peak, searched again in every shift, so the search over periods is paid
-for.  A variable the data do not have (no temperature signal, too few
-breakaways) gets a ``note`` and no figure.
+Held-out fit.  ``explained`` is the fraction of the residual's held-out
+variance explained by a smooth fit on the variable -- the residual's mean
+over quantile cells of the variable (at least :data:`N_QUANT`, and no fewer
+than the cross-validation blocks); for ``position`` a sine at the strongest
+period of the training blocks' periodogram -- fitted on the contiguous
+cross-validation blocks that are neither the held-out block nor one of its
+neighbours on either side (at least :data:`BUFFER`, and as many as the
+residual's autocorrelation takes to fall below :data:`CORR_FLOOR`), scored on
+the held-out block against the training mean.  Leaving the neighbours out
+keeps the residual's own slow correlation (a drift, slowly varying noise)
+from passing for a dependence: a block is only predicted from stretches of
+the recording away from it in time.  Bins whose cell no training block
+visits are predicted by the training mean.
+
+Null.  The ``p_value`` is that of a permutation test with :data:`N_PERM`
+random orders of block-long contiguous pieces of the residual (cut at the
+block boundaries moved by a random offset) against the variables: the null
+keeps the residual's correlation within a piece (a free permutation would
+destroy it and overstate the significance), and together with the held-out
+fit away from the neighbours it stays meaningful when the variable is
+monotone or periodic in time, where a circular shift of a drifting residual
+is not.  The period search of ``position`` is repeated in every
+fold of every permutation, so the search is paid for.
+
+Untestable.  A variable whose value ranges are each visited in one stretch
+of the recording only (``time`` always; position and velocity of a one-way
+sweep) cannot be told from a drift of the residual: when fewer than
+:data:`MIN_COVERAGE` of the bins lie in a cell some training block visits,
+the entry is ``untestable`` (its reason, no p-value).  So is every variable
+of data with fewer than :data:`MIN_UNITS` blocks (too few orders for a
+p-value below the level), and a variable the data do not have (no
+temperature signal, too few breakaways).
+
+Collinear variables.  ``time``, ``position``, ``velocity``, ``acceleration``
+(and ``temperature_rate``) whose rank correlation over the bins exceeds
+:data:`COLLINEAR` in magnitude are one entry (``'time ~ position ~
+velocity'``, its members in ``group``), tested once: by the fit on position
+(the richest: any period) when position is in the group and testable, else
+by the first testable member's.
 """
 import numpy as np
 
 from .data import BIN
 
 __all__ = ['N_PERM', 'N_QUANT', 'SCAN_ALPHA', 'SCAN_MIN_EXPLAINED', 'BREAKAWAY_BINS',
-           'RATE_WINDOW', 'residual_scan', 'draw_scan', 'scan_png', 'markdown_lines',
-           'position_periodogram']
+           'RATE_WINDOW', 'BUFFER', 'CORR_FLOOR', 'MIN_UNITS', 'MIN_COVERAGE', 'COLLINEAR',
+           'residual_scan', 'draw_scan', 'scan_png', 'markdown_lines', 'position_periodogram']
 
-#: circular shifts of the permutation test
+#: random block orders of the permutation test
 N_PERM = 199
-#: quantile bins of the smooth fit
+#: fewest quantile cells of the smooth fit
 N_QUANT = 8
 #: a variable is ``flagged`` when its p-value is below this ...
 SCAN_ALPHA = 0.01
 #: ... and it explains at least this fraction of the held-out residual variance (the
 #: variance counterpart of the criterion's 3 % minimum RMSE gain: 1 - 0.97 ** 2)
 SCAN_MIN_EXPLAINED = 1.0 - (1.0 - 0.03) ** 2
+#: fewest blocks on either side of the held-out block left out of its training set ...
+BUFFER = 1
+#: ... and more while the residual's autocorrelation at that many blocks is above this
+CORR_FLOOR = 0.05
+#: fewest cross-validation blocks (exchangeable units) for a p-value (6! = 720 orders)
+MIN_UNITS = 6
+#: fewest fraction of the bins whose cell a training block visits for a variable to be tested
+MIN_COVERAGE = 0.5
+#: |rank correlation| over the bins above which variables are one collinear entry
+COLLINEAR = 0.95
 #: bins after a breakaway whose residual is scanned against the dwell time
 BREAKAWAY_BINS = 5
 #: window (s) of the temperature-rate smoothing
@@ -71,67 +107,123 @@ MIN_BINS = 50
 PAD = 8
 #: most position cells of the periodogram
 MAX_CELLS = 2 ** 15
-#: fixed seed of the circular shifts (the scan is reproducible)
+#: longest FFT of the per-fold period search (the padding is reduced beyond it)
+MAX_FFT = 2 ** 16
+#: fixed seed of the block orders (the scan is reproducible)
 SEED = 20260101
+#: note of a collinear group
+COLLINEAR_NOTE = ('collinear in this recording: a recording that moves them independently '
+                  'would separate them')
 
 
-def _shifted(r, rng):
-    """Rows: ``r`` and :data:`N_PERM` circular shifts of it."""
-    n = len(r)
-    lo = max(1, n // 10)
-    offs = rng.integers(lo, max(lo + 1, n - lo), N_PERM)
-    idx = (np.arange(n)[None, :] - offs[:, None]) % n
-    return np.vstack([r[None, :], r[idx]])
+def _folds(r, block, k):
+    """Cross-validation folds: blocks, buffer and training matrix (row i: fold i's blocks)."""
+    r0 = r - r.mean()
+    n = len(r0)
+    f = np.fft.rfft(r0, 2 * n)
+    acf = np.fft.irfft(np.abs(f) ** 2)[:n]
+    below = np.flatnonzero(acf <= CORR_FLOOR * acf[0]) if acf[0] > 0 else np.array([0])
+    lag = int(below[0]) if len(below) else n
+    size = max(1, int(np.min(np.bincount(block, minlength=k))))
+    h = max(BUFFER, int(np.ceil(lag / size)))
+    i = np.arange(k)
+    return {'block': block, 'k': k, 'h': h, 'corr_s': lag * BIN,
+            'm': (np.abs(i[:, None] - i[None, :]) > h).astype(float)}
 
 
-def _explained(rows, key, block, k, n_cells):
-    """Held-out explained variance of cell means (cell ``key``) per row of ``rows``."""
-    n = rows.shape[1]
-    cnt = np.bincount(block * n_cells + key, minlength=k * n_cells).reshape(k, n_cells)
-    tc = cnt.sum(0)[None, :] - cnt
-    nb = np.bincount(block, minlength=k)
-    out = np.empty(rows.shape[0])
-    for i, r in enumerate(rows):
-        s = np.bincount(block * n_cells + key, weights=r, minlength=k * n_cells)
-        s = s.reshape(k, n_cells)
-        sb = s.sum(1)
-        tm = (sb.sum() - sb) / np.maximum(n - nb, 1)          # training mean per fold
-        ts = s.sum(0)[None, :] - s
-        cm = np.where(tc > 0, ts / np.maximum(tc, 1), tm[:, None])
-        sse = np.sum((r - cm[block, key]) ** 2)
-        sst = np.sum((r - tm[block]) ** 2)
-        out[i] = 1.0 - sse / sst if sst > 0 else 0.0
-    return out
+def _permuted(r, block, k, rng):
+    """
+    Rows: ``r`` and :data:`N_PERM` copies cut into ``k`` contiguous pieces put in random order.
+
+    The cuts are the block boundaries moved by a random offset (one per copy, circular), so
+    a residual tied to a motion that repeats with the blocks does not stay tied to it.
+    """
+    order = np.argsort(block, kind='stable')
+    rs = r[order]
+    n = len(rs)
+    edges = np.r_[0, np.cumsum(np.bincount(block, minlength=k))]
+    rows = np.empty((N_PERM + 1, n))
+    rows[0] = r
+    for i in range(1, N_PERM + 1):
+        rolled = np.roll(rs, -int(rng.integers(0, max(n, 1))))
+        parts = [rolled[a:b] for a, b in zip(edges[:-1], edges[1:])]
+        rows[i, order] = np.concatenate([parts[j] for j in rng.permutation(k)])
+    return rows
 
 
-def _quantile_cells(x):
-    edges = np.unique(np.quantile(x, np.linspace(0, 1, N_QUANT + 1)[1:-1]))
+def _quantile_cells(x, n_quant=N_QUANT):
+    edges = np.unique(np.quantile(x, np.linspace(0, 1, n_quant + 1)[1:-1]))
     return np.searchsorted(edges, x, side='right'), len(edges) + 1
 
 
-def _scan_variable(name, x, r, block, k, rng):
-    """Table entry and plot data of one variable (quantile-bin smooth fit)."""
+def _coverage(key, n_cells, block, k, m):
+    """Training counts per fold and cell, and whether each bin's cell has training bins."""
+    cnt = np.bincount(block * n_cells + key, minlength=k * n_cells).reshape(k, n_cells)
+    tc = m @ cnt
+    return tc, tc[block, key] > 0
+
+
+def _explained(rows, key, block, k, n_cells, m):
+    """Held-out explained variance of cell means (cell ``key``) per row of ``rows``."""
+    nr, n = rows.shape
+    tc, _ = _coverage(key, n_cells, block, k, m)
+    tn = np.maximum(m @ np.bincount(block, minlength=k), 1)
+    flat = (np.arange(nr)[:, None] * (k * n_cells) + (block * n_cells + key)[None, :]).ravel()
+    s = np.bincount(flat, weights=rows.ravel(), minlength=nr * k * n_cells)
+    ts = np.einsum('ij,rjc->ric', m, s.reshape(nr, k, n_cells))
+    tm = ts.sum(axis=2) / tn
+    cm = np.where(tc[None] > 0, ts / np.maximum(tc, 1)[None], tm[:, :, None])
+    sse = np.sum((rows - cm[:, block, key]) ** 2, axis=1)
+    sst = np.sum((rows - tm[:, block]) ** 2, axis=1)
+    return np.where(sst > 0, 1.0 - sse / np.where(sst > 0, sst, 1.0), 0.0)
+
+
+def _monotone_reason(cov, cv):
+    return (f'untestable: only {100 * cov:.0f} % of the bins have their value range visited '
+            f'again more than {cv["h"]} block(s) away (the residual is correlated over '
+            f'{cv["corr_s"]:.3g} s): a dependence on the variable cannot be told from a drift '
+            'of the residual')
+
+
+def _result(stat=None, reason='', note='', plot=None, extra=None):
+    return {'stat': stat, 'reason': reason, 'note': note, 'plot': plot, 'extra': extra or {}}
+
+
+def _scan_variable(x, rows, cv):
+    """Statistic per row of one variable (quantile-cell smooth fit), or why there is none."""
     if len(x) < MIN_BINS:
-        return {'variable': name, 'explained': None, 'p_value': None,
-                'note': f'only {len(x)} bins (at least {MIN_BINS} needed)'}, None
-    key, n_cells = _quantile_cells(x)
+        return _result(reason=f'only {len(x)} bins (at least {MIN_BINS} needed)')
+    block, k, m = cv['block'], cv['k'], cv['m']
+    key, n_cells = _quantile_cells(x, max(N_QUANT, k))
     if n_cells < 2:
-        return {'variable': name, 'explained': None, 'p_value': None,
-                'note': 'the variable does not vary'}, None
-    stat = _explained(_shifted(r, rng), key, block, k, n_cells)
-    p = float((1 + np.count_nonzero(stat[1:] >= stat[0])) / (1 + N_PERM))
-    return ({'variable': name, 'explained': float(stat[0]), 'p_value': p, 'note': ''},
-            {'x': x, 'r': r})
+        return _result(reason='the variable does not vary')
+    plot = {'x': x, 'r': rows[0]}
+    if k < MIN_UNITS:
+        return _result(reason=_units_reason(k), plot=plot)
+    cov = float(_coverage(key, n_cells, block, k, m)[1].mean())
+    if cov < MIN_COVERAGE:
+        return _result(reason=_monotone_reason(cov, cv), plot=plot)
+    return _result(_explained(rows, key, block, k, n_cells, m), plot=plot)
 
 
-def position_periodogram(q, rows, p_min, p_max):
-    """Return periods and |FFT|^2 (per row) of residuals ``rows`` on a uniform grid of ``q``."""
+def _units_reason(k):
+    return (f'untestable: only {k} cross-validation blocks, at least {MIN_UNITS} are needed for '
+            'a block-permutation p-value below the level')
+
+
+def _grid(q, p_min):
+    """Position cells of the periodogram: index per bin, count, width and weights."""
     span = float(np.ptp(q))
     cell = max(p_min / 4.0, span / MAX_CELLS)
     idx = np.minimum(((q - q.min()) / cell).astype(np.int64), int(span / cell))
     n_cells = int(idx.max()) + 1
-    cnt = np.bincount(idx, minlength=n_cells)
-    w = 1.0 / np.sqrt(np.maximum(cnt, 1))
+    w = 1.0 / np.sqrt(np.maximum(np.bincount(idx, minlength=n_cells), 1))
+    return idx, n_cells, cell, w
+
+
+def position_periodogram(q, rows, p_min, p_max):
+    """Return periods and |FFT|^2 (per row) of residuals ``rows`` on a uniform grid of ``q``."""
+    idx, n_cells, cell, w = _grid(q, p_min)
     grid = np.stack([np.bincount(idx, weights=r - r.mean(), minlength=n_cells) * w
                      for r in rows])
     nfft = 1 << int(np.ceil(np.log2(PAD * n_cells)))
@@ -141,39 +233,139 @@ def position_periodogram(q, rows, p_min, p_max):
     return 1.0 / f[band], power[:, band] / n_cells
 
 
-def _sine_explained(q, r, period, block, k):
-    """Held-out explained variance of a sine and a constant at ``period`` (K - 1 blocks fit)."""
-    x = np.column_stack([np.ones_like(q), np.sin(2 * np.pi * q / period),
-                         np.cos(2 * np.pi * q / period)])
-    g = np.stack([x[block == i].T @ x[block == i] for i in range(k)])
-    b = np.stack([x[block == i].T @ r[block == i] for i in range(k)])
-    sse = sst = 0.0
-    for i in range(k):
-        m = block == i
-        beta = np.linalg.lstsq(g.sum(0) - g[i], b.sum(0) - b[i], rcond=None)[0]
-        sse += float(np.sum((r[m] - x[m] @ beta) ** 2))
-        sst += float(np.sum((r[m] - np.mean(r[~m])) ** 2))
-    return 1.0 - sse / sst if sst > 0 else 0.0
+def _fold_periods(q, rows, cv, p_range):
+    """Strongest period of the training blocks' periodogram, per row and fold."""
+    block, k, h = cv['block'], cv['k'], cv['h']
+    idx, n_cells, cell, w = _grid(q, p_range[0])
+    nfft = max(min(1 << int(np.ceil(np.log2(PAD * n_cells))), MAX_FFT),
+               1 << int(np.ceil(np.log2(n_cells))))
+    f = np.fft.rfftfreq(nfft, d=cell)
+    band = (f >= 1.0 / p_range[1]) & (f <= 1.0 / p_range[0])
+    if not band.any():
+        return None
+    periods = 1.0 / f[band]
+    key = block * n_cells + idx
+
+    lo, hi = np.flatnonzero(band)[[0, -1]]
+    near = np.clip(np.arange(k)[:, None] + np.array([[-h, h + 1]]), 0, k)
+
+    def training(v):
+        """Per fold: the sum over all blocks minus that over the held-out one and its buffer."""
+        c = np.concatenate([np.zeros((1,) + v.shape[1:], v.dtype), np.cumsum(v, axis=0)])
+        return c[-1][None] - (c[near[:, 1]] - c[near[:, 0]])
+
+    def spectra(v):
+        g = np.bincount(key, weights=v * w[idx], minlength=k * n_cells).reshape(k, n_cells)
+        return training(np.fft.rfft(g, nfft, axis=1)[:, lo:hi + 1])
+
+    f1 = spectra(np.ones(len(q)))
+    tn = np.maximum(training(np.bincount(block, minlength=k).astype(float)), 1)
+    out = np.empty((rows.shape[0], k))
+    for i, r in enumerate(rows):
+        mean = training(np.bincount(block, weights=r, minlength=k)) / tn
+        power = np.abs(spectra(r) - mean[:, None] * f1) ** 2
+        out[i] = periods[np.argmax(power, axis=1)]
+    return out
 
 
-def _scan_position(data, r, rows, block, k):
-    q = data.average(data.q)
+def _sine_explained(q, rows, cv, periods, covered):
+    """Held-out explained variance of a sine at each row's and fold's period (training fit)."""
+    nr, block, m = rows.shape[0], cv['block'], cv['m']
+    sse, sst = np.zeros(nr), np.zeros(nr)
+    for i in range(m.shape[0]):
+        test, train = block == i, m[i][block] > 0
+        if not test.any() or not train.any():
+            continue
+        ph = 2 * np.pi * q[None, :] / periods[:, i][:, None]
+        xs = [np.ones_like(ph), np.sin(ph), np.cos(ph)]
+        g = np.stack([np.stack([np.sum((a * b)[:, train], axis=1) for b in xs], -1)
+                      for a in xs], -2)
+        b = np.stack([np.sum((a * rows)[:, train], axis=1) for a in xs], -1)
+        g += 1e-12 * np.trace(g, axis1=1, axis2=2)[:, None, None] * np.eye(3)
+        beta = np.linalg.solve(g, b[:, :, None])[:, :, 0]
+        tm = rows[:, train].mean(axis=1)
+        pred = sum(beta[:, j][:, None] * xs[j][:, test] for j in range(3))
+        pred = np.where(covered[test][None, :], pred, tm[:, None])
+        sse += np.sum((rows[:, test] - pred) ** 2, axis=1)
+        sst += np.sum((rows[:, test] - tm[:, None]) ** 2, axis=1)
+    return np.where(sst > 0, 1.0 - sse / np.where(sst > 0, sst, 1.0), 0.0)
+
+
+def _scan_position(data, rows, cv):
+    q, r = data.average(data.q), rows[0]
     travel = float(np.median(np.abs(data.average(data.qd)))) * BIN
     p_min = max(2.0 * travel, 2.0 * data.resolution)
     p_max = float(min(data.stroke or np.ptp(q), np.ptp(q)))
     if not p_max > 2.0 * p_min:
-        return {'variable': 'position', 'explained': None, 'p_value': None,
-                'note': f'the stroke {p_max:.4g} rad is too short for periods above '
-                        f'{p_min:.4g} rad'}, None
-    periods, power = position_periodogram(q, rows, p_min, p_max)
-    j = int(np.argmax(power[0]))
-    peak = power.max(axis=1)
-    p = float((1 + np.count_nonzero(peak[1:] >= peak[0])) / (1 + N_PERM))
-    period = float(periods[j])
-    entry = {'variable': 'position', 'explained': _sine_explained(q, r, period, block, k),
-             'p_value': p, 'period': period,
-             'note': f'strongest period {period:.4g} rad of {p_min:.3g}..{p_max:.3g} rad'}
-    return entry, {'x': q, 'r': r, 'periods': periods, 'power': power[0], 'period': period}
+        return _result(reason=f'the stroke {p_max:.4g} rad is too short for periods above '
+                              f'{p_min:.4g} rad')
+    periods, power = position_periodogram(q, r[None], p_min, p_max)
+    period = float(periods[int(np.argmax(power[0]))])
+    note = f'strongest period {period:.4g} rad of {p_min:.3g}..{p_max:.3g} rad'
+    plot = {'x': q, 'r': r, 'periods': periods, 'power': power[0], 'period': period}
+    out = _result(note=note, plot=plot, extra={'period': period})
+    block, k, m = cv['block'], cv['k'], cv['m']
+    key, n_cells = _quantile_cells(q, max(N_QUANT, k))
+    if len(q) < MIN_BINS:
+        out['reason'] = f'only {len(q)} bins (at least {MIN_BINS} needed)'
+    elif k < MIN_UNITS:
+        out['reason'] = _units_reason(k)
+    else:
+        covered = _coverage(key, n_cells, block, k, m)[1]
+        if covered.mean() < MIN_COVERAGE:
+            out['reason'] = _monotone_reason(float(covered.mean()), cv)
+            return out
+        fold_periods = _fold_periods(q, rows, cv, (p_min, p_max))
+        if fold_periods is None:
+            out['reason'] = 'no period of the position grid in the band'
+        else:
+            out['stat'] = _sine_explained(q, rows, cv, fold_periods, covered)
+    return out
+
+
+def _ranks(x):
+    """Return the ranks of ``x``, ties averaged."""
+    _, inv, cnt = np.unique(x, return_inverse=True, return_counts=True)
+    return ((np.cumsum(cnt) - cnt) + (cnt - 1) / 2.0)[inv.ravel()]
+
+
+def _collinear(xs):
+    """Return groups (name lists, in order) of variables with |rank correlation| > COLLINEAR."""
+    names = list(xs)
+    with np.errstate(invalid='ignore', divide='ignore'):
+        c = np.nan_to_num(np.corrcoef(np.stack([_ranks(xs[n]) for n in names])))
+    label = list(range(len(names)))
+    for i in range(len(names)):
+        for j in range(i + 1, len(names)):
+            if abs(c[i, j]) > COLLINEAR and label[j] != label[i]:
+                old = label[j]
+                label = [label[i] if lab == old else lab for lab in label]
+    return [[n for n, lab in zip(names, label) if lab == g] for g in dict.fromkeys(label)]
+
+
+def _combine(group, results):
+    """Table entry and plot data of a group of variables, tested once (position or the first)."""
+    entry = {'variable': ' ~ '.join(group), 'explained': None, 'p_value': None, 'note': '',
+             'untestable': ''}
+    for res in results:
+        entry.update(res['extra'])
+    test = [res for res in results if res['stat'] is not None]
+    if test:
+        best = next((res for name, res in zip(group, results)
+                     if name == 'position' and res['stat'] is not None), test[0])
+        stat = best['stat']
+        entry['explained'] = float(stat[0])
+        entry['p_value'] = float((1 + np.count_nonzero(stat[1:] >= stat[0])) / len(stat))
+        entry['note'] = best['note']
+        pdata = best['plot']
+    else:
+        reason = next((res['reason'] for res in results if res['reason']), 'untestable')
+        entry['note'] = entry['untestable'] = reason
+        pdata = next((res['plot'] for res in results if res['plot'] is not None), None)
+    if len(group) > 1:
+        entry['group'] = list(group)
+        entry['note'] = f'{COLLINEAR_NOTE}; {entry["note"]}' if entry['note'] else COLLINEAR_NOTE
+    return entry, pdata
 
 
 def _temperature_rate(data):
@@ -230,38 +422,45 @@ def residual_scan(data, r):
     Returns
     -------
     dict
-        ``table``: list of ``{variable, explained, p_value, note, flagged}``
-        (``position`` also has ``period``, rad); ``plot``: variable -> plot data (None for a
-        variable with a note only).
+        ``table``: list of ``{variable, explained, p_value, note, flagged, untestable}``
+        (``untestable``: the reason there is no p-value, '' when there is one; ``position``
+        also has ``period``, rad; a collinear entry has ``group``, its variables, and is
+        named after them joined by ' ~ '); ``plot``: variable -> plot data (None for a
+        variable the data do not have).
 
     """
     rng = np.random.default_rng(SEED)
+    r = np.asarray(r, dtype=float)
     block, k = data.block, data.n_blocks
+    rows = _permuted(r, block, k, rng)
+    cv = _folds(r, block, k)
     table, plot = [], {}
-    rows = _shifted(r, rng)
 
     def add(entry, pdata):
         table.append(entry)
         plot[entry['variable']] = pdata
 
-    add(*_scan_variable('time', np.arange(len(r)) * BIN, r, block, k, rng))
-    add(*_scan_position(data, r, rows, block, k))
-    add(*_scan_variable('velocity', data.average(data.qd), r, block, k, rng))
-    add(*_scan_variable('acceleration', data.average(data.qdd), r, block, k, rng))
+    xs = {'time': np.arange(len(r)) * BIN, 'position': data.average(data.q),
+          'velocity': data.average(data.qd), 'acceleration': data.average(data.qdd)}
     if data.has_temperature:
-        add(*_scan_variable('temperature_rate', data.average(_temperature_rate(data)),
-                            r, block, k, rng))
-    else:
-        add({'variable': 'temperature_rate', 'explained': None, 'p_value': None,
-             'note': 'no temperature signal in the recordings'}, None)
+        xs['temperature_rate'] = data.average(_temperature_rate(data))
+    res = {name: _scan_position(data, rows, cv) if name == 'position'
+           else _scan_variable(x, rows, cv) for name, x in xs.items()}
+    for group in _collinear(xs):
+        add(*_combine(group, [res[name] for name in group]))
+    if not data.has_temperature:
+        add(*_combine(['temperature_rate'],
+                      [_result(reason='no temperature signal in the recordings')]))
     dw, sel = _dwell(data)
     sgn = np.sign(data.average(data.qd))
-    entry, pdata = _scan_variable('dwell', dw[sel], (r * sgn)[sel], block[sel], k, rng)
-    if entry['explained'] is not None:
-        entry['note'] = (f'{int(sel.sum())} bins within {BREAKAWAY_BINS} bins after a '
-                         'breakaway; residual x sign(qd)')
+    rd = (r * sgn)[sel]
+    out = _scan_variable(dw[sel], _permuted(rd, block[sel], k, rng), {**cv, 'block': block[sel]})
+    entry, pdata = _combine(['dwell'], [out])
+    if out['reason'].startswith('only'):
+        entry['note'] = entry['untestable'] = f'{out["reason"]} after a breakaway'
     else:
-        entry['note'] = f'{entry["note"]} after a breakaway'
+        entry['note'] = (f'{int(sel.sum())} bins within {BREAKAWAY_BINS} bins after a '
+                         f'breakaway; residual x sign(qd); {out["reason"]}').rstrip('; ')
     add(entry, pdata)
     for e in table:
         e['flagged'] = bool(e['p_value'] is not None and e['p_value'] < SCAN_ALPHA
@@ -299,13 +498,21 @@ def scan_png(scan, size=(12, 7), dpi=100):
     return buf.getvalue()
 
 
+def _title(entry):
+    if entry['p_value'] is None:
+        return f'{entry["variable"]}: untestable'
+    return (f'{entry["variable"]}: explained {100 * entry["explained"]:.1f} %, '
+            f'p {entry["p_value"]:.3g}')
+
+
 def draw_scan(fig, scan):
     """Draw the residual scan (:func:`residual_scan`'s result) on a matplotlib figure."""
     ax = fig.subplots(2, 3).ravel()
+    for a in ax[len(scan['table']):]:
+        a.set_axis_off()
     for a, entry in zip(ax, scan['table']):
         name = entry['variable']
         pdata = scan['plot'].get(name)
-        a.set_xlabel(LABELS[name], fontsize=8)
         a.locator_params(nbins=4)
         a.tick_params(labelsize=7)
         if pdata is None:
@@ -315,19 +522,21 @@ def draw_scan(fig, scan):
             a.set_yticks([])
             a.set_title(name, fontsize=9)
             continue
-        if name == 'position':
+        if 'periods' in pdata:
+            a.set_xlabel(LABELS['position'], fontsize=8)
             a.plot(1.0 / pdata['periods'], pdata['power'] / max(pdata['power'].max(), 1e-300),
                    '-', color='C0', lw=0.8)
             a.axvline(1.0 / pdata['period'], color='C3', ls=':', lw=1)
             a.set_ylabel('periodogram of the residual (of its peak)', fontsize=8)
         else:
+            first = entry.get('group', [name])[0]
+            a.set_xlabel(LABELS.get(first, first), fontsize=8)
             pick = np.unique(np.linspace(0, len(pdata['x']) - 1, MAX_POINTS).astype(int))
             a.plot(pdata['x'][pick], pdata['r'][pick], '.', ms=1.0, color='0.6')
             xm, rm = _binned_means(pdata['x'], pdata['r'])
             a.plot(xm, rm, 'o-', color='C3', lw=1.5, ms=3)
             a.set_ylabel('held-out residual (Nm)', fontsize=8)
-        a.set_title(f'{name}: explained {100 * entry["explained"]:.1f} %, '
-                    f'p {entry["p_value"]:.3g}', fontsize=9,
+        a.set_title(_title(entry), fontsize=9 if len(name) < 30 else 7,
                     color='C3' if entry['flagged'] else 'k')
     fig.subplots_adjust(left=0.07, right=0.98, bottom=0.08, top=0.95, wspace=0.3, hspace=0.35)
 
@@ -337,16 +546,22 @@ def markdown_lines(table):
     lines = ['## Residual scan', '',
              'The held-out residual of the diagnosed model (all named effects) against '
              'variables no candidate has to cover.  *explained*: the fraction of the held-out '
-             f'residual variance a smooth fit on the variable explains ({N_QUANT} quantile '
-             'bins, for position a sine at the strongest period; fitted on the other blocks); '
-             f'*p*: permutation test over {N_PERM} circular shifts of the residual (the period '
-             'search repeated in each).  *flagged*: p < '
-             f'{SCAN_ALPHA:g} and explained >= {100 * SCAN_MIN_EXPLAINED:.1f} % -- an effect '
-             'outside the candidate list may be there.', '',
+             f'residual variance a smooth fit on the variable explains (at least {N_QUANT} '
+             'quantile bins, for position a sine at the strongest period; fitted on the blocks '
+             'farther from the held-out one than the residual is correlated, at least '
+             f'{BUFFER + 1} blocks away); *p*: permutation test '
+             f"over {N_PERM} random orders of the residual's cross-validation blocks (the "
+             'period search repeated in each); *untestable*: the recording cannot tell the '
+             'variable from a drift of the residual, or has too few blocks.  Variables '
+             f'collinear in the recording (|rank correlation| > {COLLINEAR:g}) are one entry '
+             f'(a ~ b).  *flagged*: p < {SCAN_ALPHA:g} and explained >= '
+             f'{100 * SCAN_MIN_EXPLAINED:.1f} % -- an effect outside the candidate list may be '
+             'there.', '',
              '| variable | explained | p | flagged | note |', '|---|---|---|---|---|']
     for e in table:
         ex = '-' if e['explained'] is None else f'{100 * e["explained"]:.1f} %'
-        p = '-' if e['p_value'] is None else f'{e["p_value"]:.3g}'
+        p = (('untestable' if e.get('untestable') else '-') if e['p_value'] is None
+             else f'{e["p_value"]:.3g}')
         lines.append(f'| {e["variable"]} | {ex} | {p} | {"**yes**" if e["flagged"] else "no"} '
                      f'| {e["note"]} |')
     return lines + ['', '![residual_scan.png](residual_scan.png)', '']

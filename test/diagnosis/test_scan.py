@@ -79,8 +79,9 @@ def test_scan_finds_a_period_in_position(tmp_path):
 def test_scan_clean_recording(tmp_path):
     """No hidden effect: no variable flagged; variables the data lack get a note."""
     scan, _, what, rep = _scan(tmp_path, 2, False)
-    assert set(scan) == {'time', 'position', 'velocity', 'acceleration', 'temperature_rate',
-                         'dwell'}, what
+    members = {v for name, e in scan.items() for v in e.get('group', [name])}
+    assert members == {'time', 'position', 'velocity', 'acceleration', 'temperature_rate',
+                       'dwell'}, what
     assert not [e for e in scan.values() if e['flagged']], f'{what}: {scan}'
     for e in scan.values():
         assert e['note'] or e['p_value'] is not None, e
