@@ -276,18 +276,17 @@ def _sine_explained(q, rows, cv, periods, covered):
         test, train = block == i, m[i][block] > 0
         if not test.any() or not train.any():
             continue
-        ph = 2 * np.pi * q[None, :] / periods[:, i][:, None]
-        xs = [np.ones_like(ph), np.sin(ph), np.cos(ph)]
-        g = np.stack([np.stack([np.sum((a * b)[:, train], axis=1) for b in xs], -1)
-                      for a in xs], -2)
-        b = np.stack([np.sum((a * rows)[:, train], axis=1) for a in xs], -1)
-        g += 1e-12 * np.trace(g, axis1=1, axis2=2)[:, None, None] * np.eye(3)
-        beta = np.linalg.solve(g, b[:, :, None])[:, :, 0]
         tm = rows[:, train].mean(axis=1)
-        pred = sum(beta[:, j][:, None] * xs[j][:, test] for j in range(3))
-        pred = np.where(covered[test][None, :], pred, tm[:, None])
-        sse += np.sum((rows[:, test] - pred) ** 2, axis=1)
         sst += np.sum((rows[:, test] - tm[:, None]) ** 2, axis=1)
+        for period in np.unique(periods[:, i]):
+            sel = periods[:, i] == period
+            ph = 2 * np.pi * q / period
+            x = np.column_stack([np.ones_like(q), np.sin(ph), np.cos(ph)])
+            g = x[train].T @ x[train]
+            g += 1e-12 * np.trace(g) * np.eye(3)
+            beta = np.linalg.solve(g, x[train].T @ rows[sel][:, train].T)
+            pred = np.where(covered[test][None, :], (x[test] @ beta).T, tm[sel][:, None])
+            sse[sel] += np.sum((rows[sel][:, test] - pred) ** 2, axis=1)
     return np.where(sst > 0, 1.0 - sse / np.where(sst > 0, sst, 1.0), 0.0)
 
 
