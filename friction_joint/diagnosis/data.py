@@ -62,7 +62,16 @@ No threshold is in rad/s, Nm or Nm/rad: every one derives from the data
 
 * ``resolution`` (rad): the position resolution, the larger of the smallest
   nonzero encoder step and the (robust) width of the encoder noise
-  ``sqrt(12) * 1.4826 * median|q - q_filtered|``;
+  ``sqrt(12) * 1.4826 * median|q - q_filtered|`` (filtered at the highest cutoff);
+* ``cutoff`` (Hz): the derivative filter's cutoff, at most
+  :data:`MAX_CUTOFF` (100 Hz) and :data:`MAX_CUTOFF_RATE` of the sample
+  rate, lowered in steps of sqrt(2) (at most :data:`CUTOFF_STEPS`) until
+  the quantisation noise of the bin-averaged acceleration (a position error
+  uniform over one ``resolution``, white) is at most :data:`ACC_NOISE` of the
+  motion's (RMS of the bin-averaged acceleration, noise taken out): a coarse
+  encoder's steps would otherwise put a noise ``J q̈`` in ``y`` correlated
+  with the acceleration regressor (a spurious ``inertia``); a fine encoder
+  keeps the highest cutoff;
 * ``quantisation_noise`` (rad/s): the velocity noise a position error
   uniform over one ``resolution`` gives through the zero-phase derivative,
   ``resolution / sqrt(12)`` times the noise gain of the derivative filter
