@@ -427,7 +427,10 @@ def diagnose(paths, base, effects=EFFECTS, joint_name=None, progress=None):
                  'velocity_windows': int(meas.shape[0]), 'window_s': WINDOW,
                  'has_temperature': bool(data.has_temperature),
                  'scales': {'v_stick': data.v_stick, 'resolution': data.resolution,
-                            'friction_level': data.friction_level, 'stroke': data.stroke}},
+                            'friction_level': data.friction_level, 'stroke': data.stroke,
+                            **{k: getattr(data, k, None) for k in (
+                                'velocity_noise', 'quantisation_noise', 'standstill_noise',
+                                'standstill_fraction', 'cutoff')}}},
         'base_fit': dm.coefficients(base_struct, *_refit(base_struct, ctx, y)),
         'extended_fit': coef,
         'extended_effects': [e for e in named[:kept] if e not in UNREPRESENTABLE],

@@ -151,7 +151,7 @@ def _slow_base(tmp_path, k):
 
 
 def test_slow_device_all_testable(tmp_path):
-    """(c) Velocities 100x smaller than the CSD-25's: everything testable, the effect named."""
+    """(c) Velocities 100x smaller than the CSD-25's: all but gravity testable, the effect named."""
     k = 100.0
     effects, seed = _draw(3, ('thermal', 'asymmetry', 'stribeck', 'position_ripple'))
     what = f'hidden {effects}, seed {seed}, positions / {k:g}'
@@ -162,7 +162,11 @@ def test_slow_device_all_testable(tmp_path):
     write_recording(tmp_path / 'rec', topics)
     rep, cand = _report(_run(tmp_path / 'rec', _slow_base(tmp_path, k), tmp_path / 'out'),
                         tmp_path / 'out', what)
-    assert all(c['testable'] for c in cand.values()), f'{what}: {rep["candidates"]}'
+    # one cycle per turn is an angle, not a scale: over the 100 x shorter stroke gravity is a
+    # constant and a slope, the only candidate the data cannot tell
+    assert all(c['testable'] for e, c in cand.items() if e != 'gravity'), \
+        f'{what}: {rep["candidates"]}'
+    assert not cand['gravity']['testable'] and 'stroke' in cand['gravity']['reason']
     assert rep['data']['scales']['v_stick'] < 1e-4, rep['data']['scales']
     assert rep['named_causes'] == list(effects), f'{what}: {rep["candidates"]}'
 
