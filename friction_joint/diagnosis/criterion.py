@@ -248,10 +248,15 @@ def headline(report):
            f'of {ext["friction_level"]:.3g} Nm')
     if not ext['explains']:
         top = _largest_structure(report.get('residual_scan'))
+        scan = report.get('residual_scan') or []
+        tested = any(r.get('explained') is not None for r in scan)
         return ('The model does not explain the data' +
                 (f' even with {", ".join(named)}' if named else '') + f': {fit}. ' +
                 (f'Largest unexplained structure: {top}.' if top else
-                 'The residual scan finds no structure in time, position or velocity.'))
+                 'The residual scan finds no structure in time, position or velocity.' if tested
+                 else 'The residual scan cannot test the variables of this recording (' + '; '.join(
+                     f'{r["variable"]}: {r.get("untestable") or r.get("note") or "untestable"}'
+                     for r in scan[:3]) + ').'))
     if named:
         return f'Missing effects: {", ".join(named)} ({fit}).'
     tested = [c for c in report['candidates'] if c.get('testable') and 'gain_raw' in c]

@@ -151,7 +151,7 @@ def _slow_base(tmp_path, k):
 
 
 def test_slow_device_all_testable(tmp_path):
-    """(c) Velocities 100x smaller than the CSD-25's: all but gravity testable, the effect named."""
+    """(c) Velocities 100x smaller than the CSD-25's: all but gravity testable, effect named."""
     k = 100.0
     effects, seed = _draw(3, ('thermal', 'asymmetry', 'stribeck', 'position_ripple'))
     what = f'hidden {effects}, seed {seed}, positions / {k:g}'
