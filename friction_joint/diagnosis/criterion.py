@@ -249,14 +249,16 @@ def headline(report):
     if not ext['explains']:
         top = _largest_structure(report.get('residual_scan'))
         scan = report.get('residual_scan') or []
-        tested = any(r.get('explained') is not None for r in scan)
+        why = '; '.join(f'{r["variable"]}: {r.get("untestable") or r.get("note") or "untestable"}'
+                        for r in scan[:3])
+        if top:
+            where = f'Largest unexplained structure: {top}.'
+        elif any(r.get('explained') is not None for r in scan):
+            where = 'The residual scan finds no structure in time, position or velocity.'
+        else:
+            where = f'The residual scan cannot test the variables of this recording ({why}).'
         return ('The model does not explain the data' +
-                (f' even with {", ".join(named)}' if named else '') + f': {fit}. ' +
-                (f'Largest unexplained structure: {top}.' if top else
-                 'The residual scan finds no structure in time, position or velocity.' if tested
-                 else 'The residual scan cannot test the variables of this recording (' + '; '.join(
-                     f'{r["variable"]}: {r.get("untestable") or r.get("note") or "untestable"}'
-                     for r in scan[:3]) + ').'))
+                (f' even with {", ".join(named)}' if named else '') + f': {fit}. ' + where)
     if named:
         return f'Missing effects: {", ".join(named)} ({fit}).'
     tested = [c for c in report['candidates'] if c.get('testable') and 'gain_raw' in c]
