@@ -82,8 +82,10 @@ Effect sizes (:data:`EFFECT_RANGES`)
 ``load``
     ``fc_load = [0.01 .. 0.04]`` N m per N m of tau_L (up to 11 N m here).
 ``position_ripple``
-    ``friction.position_ripple``: 2 x gear_ratio cycles per output
-    revolution, amplitude 0.05-0.2 N m, random phase.
+    ``friction.position_ripple``: (1.5 .. 2.5) x gear_ratio cycles per output
+    revolution (continuous: 2 N is the tooth engagement of the ideal gear, a
+    real ripple may sit elsewhere; mid range 2 N), amplitude 0.05-0.2 N m,
+    random phase.
 ``nonlinear_viscous``
     ``delta_v = [0.4 .. 0.75]``; fv unchanged, so the viscous torque at
     1 rad/s is the base's.
@@ -126,7 +128,8 @@ EFFECTS = ('thermal', 'load', 'position_ripple', 'nonlinear_viscous', 'stribeck'
 EFFECT_RANGES = {
     'thermal': {'fc_change': (0.15, 0.40), 'fv_change': (0.15, 0.40)},
     'load': {'fc_load': (0.01, 0.04)},
-    'position_ripple': {'amplitude': (0.05, 0.2), 'phase': (0.0, 2.0 * math.pi)},
+    'position_ripple': {'amplitude': (0.05, 0.2), 'phase': (0.0, 2.0 * math.pi),
+                        'cycles_ratio': (1.5, 2.5)},
     'nonlinear_viscous': {'delta_v': (0.4, 0.75)},
     'stribeck': {'fs_ratio': (1.3, 1.8), 'vs': (0.02, 0.1)},
     'presliding': {'model': ('lugre', 'gms'), 'stiffness_scale': (0.7, 1.4)},
@@ -282,7 +285,8 @@ def _apply(base_gear, effect, s, temperatures):
         return base_gear.replace({'friction': {'fc_load': [s['fc_load']]}})
     if effect == 'position_ripple':
         return base_gear.replace({'friction': {'position_ripple': {
-            'cycles_per_rev': 2.0 * base_gear.gear_ratio, 'amplitude': [s['amplitude']],
+            'cycles_per_rev': s['cycles_ratio'] * base_gear.gear_ratio,
+            'amplitude': [s['amplitude']],
             'phase': [s['phase']]}}})
     if effect == 'nonlinear_viscous':
         # fv * |v|^delta_v equals the base's fv |v| at |v| = 1 rad/s: fv unchanged
