@@ -87,22 +87,22 @@ def ripple_untestable(data, gear_ratio):
     """
     Return why ``position_ripple`` cannot be tested on ``data`` (None: it can).
 
-    Untestable when no candidate period (:func:`ripple_cycles`) repeats
-    :data:`MIN_REPEATS` times within the stroke of a piece, or when the
-    phase of the shortest one is not covered (every eighth of the period
-    visited by :data:`MIN_PHASE_BINS` bins).
+    Untestable when the gear's ripple period 2 pi / (2 N) does not repeat
+    :data:`MIN_REPEATS` times within the stroke of a piece (the periodogram
+    finds a period in noise too: it is tried, never a reason to test), or
+    when its phase is not covered (every eighth of the period visited by
+    :data:`MIN_PHASE_BINS` bins).
     """
-    cycles = ripple_cycles(data, gear_ratio)
+    period = 2.0 * math.pi / (2.0 * gear_ratio)
     stroke = _stroke(data, np.asarray(getattr(data, 'q', ()), float))
-    if not cycles:
-        period = 2.0 * math.pi / (2.0 * gear_ratio)
+    if not MIN_REPEATS * period <= stroke:
         return (f'the longest piece travels {stroke:.4g} rad, less than {MIN_REPEATS} periods '
-                f'of any candidate ripple (the shortest, 2 pi / (2 N), is {period:.4g} rad; '
-                f'a ripple must repeat within a piece)')
-    period = 2.0 * math.pi / max(cycles)
+                f'of the ripple period 2 pi / (2 N) = {period:.4g} rad (a ripple must repeat '
+                'within a piece)')
     phase = np.mod(data.average(data.q), period) / period
     hist = np.bincount(np.minimum((phase * 8).astype(int), 7), minlength=8)
     if np.any(hist < MIN_PHASE_BINS):
         return (f'the positions visited do not cover the phase of the ripple period '
-                f'{period:.4g} rad (every eighth of it needs {MIN_PHASE_BINS} bins)')
+                f'2 pi / (2 N) = {period:.4g} rad (every eighth of it needs {MIN_PHASE_BINS} '
+                'bins)')
     return None

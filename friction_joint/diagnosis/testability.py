@@ -25,11 +25,11 @@ sliding threshold, position resolution), none in rad/s, Nm or Nm/rad:
   span while sliding is at least :data:`MIN_XI_SPAN` degC;
 * ``load``: a 2.5-97.5 % span of |tau_ext| of at least :data:`LOAD_SPAN`
   times the friction level;
-* ``position_ripple``: a candidate ripple period that repeats at least
+* ``position_ripple``: the ripple period 2 pi / (2 N) repeats at least
   :data:`~friction_joint.diagnosis.ripple.MIN_REPEATS` times within the
-  stroke of a piece (2 pi / (2 N), 2 pi / N or the periodogram's strongest,
-  :func:`~friction_joint.diagnosis.ripple.ripple_cycles`), every eighth of
-  the shortest one visited by five bins;
+  stroke of a piece, every eighth of it visited by five bins (the periods
+  tried, :func:`~friction_joint.diagnosis.ripple.ripple_cycles`, all repeat
+  that often);
 * ``nonlinear_viscous``, ``stribeck``: sliding speeds spanning a ratio of at
   least :data:`SPEED_RATIO` (5-95 %);
 * ``presliding``: at least :data:`MIN_REVERSALS` velocity reversals (sign

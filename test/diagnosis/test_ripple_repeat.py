@@ -28,6 +28,7 @@ from pathlib import Path
 import friction_joint
 from friction_joint.diagnosis.pipeline import diagnose
 from friction_joint.diagnosis.structures import ripple_cycles
+from friction_joint.diagnosis.testability import untestable
 from friction_joint.experiments.hidden import draw_effect, simulate_recording
 import numpy as np
 import pytest
@@ -71,3 +72,10 @@ def test_slow_position_torque_is_no_ripple(case, tmp_path):
     named = diag.report['named_causes']
     assert 'position_ripple' not in named, \
         f'{what}: named {named}; candidates {diag.report["candidates"]}'
+    # a gear whose tooth ripple repeats only 2-2.9 times within the stroke: untestable, and
+    # the reason gives the stroke and the period
+    repeats = float(rng.uniform(2.0, 2.9))
+    ratio = math.pi * repeats / data.stroke
+    why = untestable(data, ratio, ['position_ripple']).get('position_ripple', '')
+    assert f'{data.stroke:.4g}' in why and f'{math.pi / ratio:.4g}' in why, \
+        f'{what}: {repeats:.2f} periods 2 pi / (2 N) in the stroke; reason {why!r}'
