@@ -20,6 +20,10 @@ Diagnosis: what a friction model gets wrong on measured data, and the extension 
   least squares with grids over their nonlinear parameters, block cross-validation;
 * :mod:`~friction_joint.diagnosis.testability`: which candidates the data can tell
   (:func:`untestable`: a one-line reason per untestable effect);
+* :mod:`~friction_joint.diagnosis.refine`: bounded continuous refinement of the
+  nonlinear parameters after their grids (variable projection);
+* :mod:`~friction_joint.diagnosis.ripple`: the ripple periods tried (each repeating
+  three times within a piece);
 * :mod:`~friction_joint.diagnosis.gravity`: the ``gravity`` candidate's testability
   and the corrected lever;
 * :mod:`~friction_joint.diagnosis.criterion`: blocks, the signed-rank test, Holm,
