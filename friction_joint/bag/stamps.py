@@ -313,11 +313,15 @@ def uniform_grid(t):
     """
     t = np.asarray(t, dtype=float)
     dt = float(np.median(np.diff(t)))
-    m = int(np.floor((t[-1] - t[0]) / dt + 1e-6)) + 1
-    grid = t[0] + np.arange(m) * dt
-    if m == len(t) and np.max(np.abs(t - grid)) <= REGULAR * dt:
-        return dt, None
-    return dt, grid
+    span = t[-1] - t[0]
+    if len(t) > 1 and round(span / dt) == len(t) - 1:
+        # one stamp per grid point: the sample time is the mean step (stamps rounded to
+        # whole nanoseconds make the median step differ from it by up to 1 ns)
+        mean = span / (len(t) - 1)
+        if np.max(np.abs(t - (t[0] + np.arange(len(t)) * mean))) <= REGULAR * mean:
+            return mean, None
+    m = int(np.floor(span / dt + 1e-6)) + 1
+    return dt, t[0] + np.arange(m) * dt
 
 
 def piece_on_grid(t, arrays, steps, margin=0.0):

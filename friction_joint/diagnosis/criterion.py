@@ -68,7 +68,7 @@ MIN_BLOCKS = 10
 #: most cross-validation blocks
 MAX_BLOCKS = 20
 #: sliding bins per block when the data allow more than :data:`MIN_BLOCKS`
-BLOCK_BINS = 150
+BLOCK_BINS = 100
 #: |rank correlation| of two candidates' variables from which they are confounded
 CONFOUND_RHO = 0.9
 #: order of preference among confounded significant candidates (measured causes first)

@@ -101,7 +101,7 @@ from .data import load_data
 from .gears import extended_model
 from .gravity import gravity_untestable, linear_device
 from .scan import residual_scan
-from .testability import untestable
+from .testability import inertia_noise_gain, untestable
 from .velocity import fold_gears, simulate_windows, WINDOW
 from ..exceptions import ExcitationError, GearConfigError
 from ..output import json_clean
@@ -120,6 +120,8 @@ UNREPRESENTABLE = {'drift': 'not representable in the gear file (it has no key f
 ALPHA = 0.05
 #: minimum relative reduction of the held-out torque RMSE to name a cause
 MIN_GAIN = 0.03
+#: contiguous position bands of the ripple's check across the travel
+POSITION_BANDS = 4
 #: greedy rounds at most
 MAX_ROUNDS = 8
 
@@ -294,6 +296,13 @@ def diagnose(paths, base, effects=EFFECTS, joint_name=None, progress=None):
     ctx.g_nom = _g_nom(ctx, cur, beta, names)
     base_cv = _cv(cur, None, ctx, y, block, k)
     base_struct = cur
+    if 'inertia' in testable:
+        spurious = inertia_noise_gain(data, base_cv.rmse ** 2)
+        if spurious >= 0.5 * MIN_GAIN:
+            why['inertia'] = (f'the encoder quantisation alone would let a refitted J gain '
+                              f'{100 * spurious:.1f} % held out (errors in the acceleration '
+                              f'regressor): a finer encoder or a lower noise is needed')
+            testable.remove('inertia')
     timing['base_fit_s'] = time.perf_counter() - t0
     say(f'base: held-out torque RMSE {base_cv.rmse:.4f} Nm ({timing["base_fit_s"]:.2f} s)')
 
@@ -324,6 +333,8 @@ def diagnose(paths, base, effects=EFFECTS, joint_name=None, progress=None):
             table[e]['p_holm'] = float(pa)
             table[e]['significant'] = bool(pa < ALPHA and table[e]['gain_raw'] >= MIN_GAIN)
             table[e]['round'] = rnd
+        if table.get('position_ripple', {}).get('significant'):
+            _ripple_across_travel(table['position_ripple'], cur, ctx, y)
         sig = [e for e in tested if table[e]['significant']]
         rounds.append({'round': rnd, 'model_rmse': cur_cv.rmse, 'candidates': table,
                        'cv': cvs, 'cur_cv': cur_cv, 'structure': cur})
@@ -468,6 +479,31 @@ def _candidates(effects, why, named, added, last, physical, reason):
                 entry['reason'] = UNREPRESENTABLE[eff]
         out.append(entry)
     return out
+
+
+def _ripple_across_travel(entry, cur, ctx, y):
+    """
+    Keep a significant ripple only if it also predicts positions its fit has not seen.
+
+    A ripple repeats along the travel: fitted on all but one of
+    :data:`POSITION_BANDS` contiguous position bands, it predicts the held-out
+    band.  Harmonics fitted to a slow, non-periodic position dependence do not:
+    they gain on time blocks (which all cover the stroke) but not across the
+    travel.  The ripple must gain at least :data:`MIN_GAIN` there too.
+    """
+    q = ctx.data.average(ctx.data.q)
+    edges = np.quantile(q, np.linspace(0.0, 1.0, POSITION_BANDS + 1)[1:-1])
+    band = np.searchsorted(edges, q)
+    s_new, param = extend(cur, 'position_ripple')
+    base = _cv(cur, None, ctx, y, band, POSITION_BANDS)
+    cand = _cv(s_new, param, ctx, y, band, POSITION_BANDS)
+    gain = 1.0 - cand.rmse / base.rmse
+    entry['position_bands_gain'] = float(gain)
+    if gain < MIN_GAIN:
+        entry['significant'] = False
+        entry['note'] = (f'not periodic across the travel: fitted on {POSITION_BANDS - 1} of '
+                         f'{POSITION_BANDS} position bands it gains {100 * gain:.1f} % on the '
+                         'held-out band (a slow position dependence, see the residual scan)')
 
 
 def _confound_entry(entry, pairs):

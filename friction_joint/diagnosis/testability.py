@@ -35,18 +35,24 @@ sliding threshold, position resolution), none in rad/s, Nm or Nm/rad:
 * ``presliding``: at least :data:`MIN_REVERSALS` velocity reversals (sign
   changes of qd among samples with ``|qd| >= v_stick``);
 * ``inertia``: std(J qdd) at least :data:`INERTIA_SPAN` times the friction
-  level (a base inertia of 0 cannot be scaled);
+  level (a base inertia of 0 cannot be scaled), and (checked after the base
+  fit, :func:`inertia_noise_gain`) the encoder's quantisation in the
+  acceleration would not by itself let a refitted J gain half the minimum gain
+  (errors in variables: the noise is in the measured torque and the regressor);
 * ``asymmetry``: both directions each at least :data:`MIN_DIRECTION` of the
   sliding time;
 * ``drift``: an accumulated travel of at least :data:`DRIFT_STROKES` strokes
   (so the travel is not confounded with the position).
 """
+import math
+
 import numpy as np
 
 from .ripple import ripple_untestable
 
 __all__ = ['MIN_XI_SPAN', 'LOAD_SPAN', 'SPEED_RATIO', 'MIN_REVERSALS', 'INERTIA_SPAN',
-           'MIN_DIRECTION', 'DRIFT_STROKES', 'untestable']
+           'MIN_DIRECTION', 'DRIFT_STROKES', 'untestable', 'acceleration_noise',
+           'inertia_noise_gain']
 
 #: smallest temperature span (degC, 2.5-97.5 %) to test ``thermal``
 MIN_XI_SPAN = 0.5
@@ -141,3 +147,48 @@ def untestable(data, gear_ratio, effects):
             why['drift'] = (f'the joint travels {travel:.4g} rad in all, less than '
                             f'{DRIFT_STROKES:g} strokes of {stroke:.4g} rad')
     return why
+
+
+def acceleration_noise(data, seed=0):
+    """
+    Return the std (rad/s^2) of the encoder's quantisation in the bin-averaged acceleration.
+
+    A white quantisation error of one resolution step (uniform, variance
+    res^2 / 12) is passed through the data's own zero-phase derivative and
+    bin averaging; the piece with the largest noise counts.
+    """
+    from .data import BIN
+    from .._filters import zero_phase_derivatives
+    rng = np.random.default_rng(seed)
+    worst = 0.0
+    for p in np.unique(data.piece):
+        m = data.piece == p
+        dt = float(data.dt[m][0])
+        cutoff = min(float(getattr(data, 'cutoff', 0.0) or np.inf), 0.2 / dt, 100.0)
+        n = int(min(np.count_nonzero(m), 20000))
+        k = max(1, int(round(BIN / dt)))
+        if n < 20 * k or not 0 < cutoff < 0.5 / dt:
+            continue
+        e = rng.uniform(-0.5, 0.5, n) * data.resolution
+        _, qdd = zero_phase_derivatives(e, dt, cutoff=cutoff)
+        acc = qdd[:(n // k) * k].reshape(-1, k).mean(axis=1)
+        worst = max(worst, float(np.std(acc[2:-2])))
+    return worst
+
+
+def inertia_noise_gain(data, mse):
+    """
+    Return the held-out gain a refitted J would show from the encoder's quantisation alone.
+
+    The measured friction torque holds ``-J n`` (n the acceleration's
+    quantisation noise) and the refitted inertia's regressor holds ``n`` too:
+    a refit removes ``J^2 s_n^4 / (s_a^2)`` of the mean squared error (s_a^2 the
+    variance of the measured bin acceleration), whatever the true J (errors in
+    variables).  ``mse`` is the current model's held-out mean squared error.
+    """
+    sn = acceleration_noise(data)
+    sa2 = float(np.var(data.average(data.qdd)))
+    if sn <= 0 or sa2 <= 0 or mse <= 0:
+        return 0.0
+    removed = data.inertia ** 2 * sn ** 4 / sa2
+    return 1.0 - math.sqrt(max(1.0 - removed / mse, 0.0))

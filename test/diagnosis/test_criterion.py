@@ -62,7 +62,7 @@ def test_no_gain_is_not_significant(seed):
 
 
 def test_blocks_grow_with_the_data():
-    assert n_blocks(500) == 10 and n_blocks(2400) == 16 and n_blocks(10 ** 6) == 20
+    assert n_blocks(500) == 10 and n_blocks(1600) == 16 and n_blocks(10 ** 6) == 20
 
 
 def test_adequacy_and_headline_when_the_model_explains_nothing():
