@@ -339,7 +339,7 @@ def _columns(s, ctx):
         dv = s.dv + ctx.dv_shift
         terms(sgn * np.abs(v) ** np.maximum(dv, 0.05), 'fv', s.nfv, s.nfv_load)
     if s.ripple:
-        s1, c1 = np.sin(s.cyc * d.q), np.cos(s.cyc * d.q)
+        s1, c1 = np.sin(s.cyc * d.qf), np.cos(s.cyc * d.qf)
         sn, cn = s1, c1
         for n in range(1, s.ripple + 1):
             if n > 1:           # sin/cos of n c q by the angle-addition recurrence
@@ -350,7 +350,7 @@ def _columns(s, ctx):
         cols.append(np.ones_like(v))
         names.append(('offset', 0))
     if s.gravity:                      # a direction-independent m g l sin(q - q0)
-        cols.extend((np.sin(d.q), np.cos(d.q)))
+        cols.extend((np.sin(d.qf), np.cos(d.qf)))
         names.extend((('gravity_sin', 0), ('gravity_cos', 0)))
     if s.inertia:
         cols.append(d.qdd)
