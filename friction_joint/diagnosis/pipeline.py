@@ -333,6 +333,12 @@ def diagnose(paths, base, effects=EFFECTS, joint_name=None, progress=None):
             table[e]['p_holm'] = float(pa)
             table[e]['significant'] = bool(pa < ALPHA and table[e]['gain_raw'] >= MIN_GAIN)
             table[e]['round'] = rnd
+        for e in tested:            # one variable with a named effect: not told apart from it
+            other = [n for n in named if n in table[e].get('confounded_with', {})]
+            if table[e]['significant'] and other:
+                table[e]['significant'] = False
+                table[e]['note'] = (f'confounded with the named {other[0]} in this recording: '
+                                    'not told apart from it')
         if table.get('position_ripple', {}).get('significant'):
             _ripple_across_travel(table['position_ripple'], cur, ctx, y)
         sig = [e for e in tested if table[e]['significant']]
@@ -489,7 +495,8 @@ def _ripple_across_travel(entry, cur, ctx, y):
     :data:`POSITION_BANDS` contiguous position bands, it predicts the held-out
     band.  Harmonics fitted to a slow, non-periodic position dependence do not:
     they gain on time blocks (which all cover the stroke) but not across the
-    travel.  The ripple must gain at least :data:`MIN_GAIN` there too.
+    travel.  The ripple (its period chosen on the training bands) must gain at
+    least :data:`MIN_GAIN` there too.
     """
     q = ctx.data.average(ctx.data.q)
     edges = np.quantile(q, np.linspace(0.0, 1.0, POSITION_BANDS + 1)[1:-1])

@@ -78,7 +78,9 @@ def ripple_cycles(data, gear_ratio):
     if not len(periods):
         return cycles
     found = 2.0 * math.pi / float(periods[int(np.argmax(power[0]))])
-    if all(abs(found / c - 1.0) > 0.02 for c in cycles):
+    # a peak further than half the periodogram's resolution (pi / position range) from the
+    # periods already tried is another period (a ripple at 2 N + 2 is not 2 N's)
+    if all(abs(found - c) > math.pi / float(np.ptp(q)) for c in cycles):
         cycles.append(found)
     return cycles
 
