@@ -118,3 +118,21 @@ def test_a_model_that_explains_less_than_the_friction_says_so(tmp_path):
     assert rep['adequacy']['base']['rmse_over_level'] > 0.5
     assert rep['headline'].startswith('The model does not explain the data'), rep['headline']
     assert 'Largest unexplained structure' in rep['headline']
+
+
+def test_a_short_one_way_sweep_through_gravity(tmp_path):
+    """Before: 'nothing missing' on a one-way sweep whose base has no lever; scan flagged time."""
+    rng = np.random.default_rng(1823)
+    base = load_gear(BASE)
+    nolever = base.replace({'lever': {'mass': 0.0}})
+    rec = str(tmp_path / 'rec')
+    simulate_recording(base, rec, duration=float(rng.uniform(6, 10)), seed=int(rng.integers(1e6)),
+                       base_gear=base, kinds=['sweep_oneway'], n_segments=1, link_torque=False,
+                       cfg={'publish_rate': float(rng.uniform(200, 400))})
+    rep = diagnose([rec], nolever).report
+    assert rep['named_causes'] == ['gravity'], rep['headline']
+    got = rep['extended_fit']['gravity']['lever']
+    assert got['mgl'] == pytest.approx(base.mgl, rel=0.02)
+    untestable = {e['variable'] for e in rep['residual_scan'] if e.get('untestable')}
+    assert any('time' in v and 'position' in v for v in untestable), rep['residual_scan']
+    assert not any(e.get('flagged') for e in rep['residual_scan'])
