@@ -60,8 +60,8 @@ import numpy as np
 from scipy import stats
 
 __all__ = ['MIN_BLOCKS', 'MAX_BLOCKS', 'BLOCK_BINS', 'CONFOUND_RHO', 'PREFERENCE', 'INADEQUATE',
-           'LARGE_GAIN', 'n_blocks', 'reblock', 'holm', 'compare', 'effect_variables',
-           'confounds', 'prefer', 'adequacy', 'headline']
+           'LARGE_GAIN', 'n_blocks', 'reblock', 'holm', 'compare', 'explained_torque', 'relevant',
+           'effect_variables', 'confounds', 'prefer', 'adequacy', 'headline']
 
 #: fewest cross-validation blocks
 MIN_BLOCKS = 10
@@ -141,9 +141,28 @@ def compare(cur, cand):
         p = float(stats.wilcoxon(d, alternative='greater', zero_method='zsplit').pvalue)
     gain = 1.0 - cand.rmse / cur.rmse
     return {'gain': float(max(gain, 0.0)), 'gain_raw': float(gain), 'p_value': p,
+            'explained_torque': explained_torque(cur.rmse, cand.rmse),
             'blocks_improved': int(np.count_nonzero(d > 0)), 'blocks': int(len(d)),
             'heldout_torque_rmse': cand.rmse, 'mean_log_mse_ratio': float(np.mean(d)),
             'median_log_mse_ratio': float(np.median(d))}
+
+
+def explained_torque(rmse_m, rmse_c):
+    """Return the RMS torque (Nm) a candidate explains: sqrt(MSE_m - MSE_c), 0 if none."""
+    return float(np.sqrt(max(rmse_m ** 2 - rmse_c ** 2, 0.0)))
+
+
+def relevant(gain, explained, level, min_gain, min_explained):
+    """
+    Return whether a held-out improvement matters in practice.
+
+    It removes at least ``min_gain`` of the current model's held-out RMSE, or it
+    explains an RMS torque of at least ``min_explained`` of the friction level
+    ``level``: an effect of a physically relevant size is not dismissed because
+    other errors (sensor noise, a lagging temperature sensor) inflate the
+    current model's RMSE.
+    """
+    return bool(gain > 0 and (gain >= min_gain or explained >= min_explained * level))
 
 
 def effect_variables(data, travel):

@@ -49,8 +49,12 @@ Method
    tested with the one-sided Wilcoxon signed-rank test (robust to one bad
    block); the p-values of a round are Holm-Bonferroni adjusted; a candidate
    is significant when its adjusted p-value is below :data:`ALPHA` (0.05) AND
-   its gain -- the relative reduction of the pooled held-out torque RMSE,
-   ``1 - RMSE_c / RMSE_m`` -- is at least :data:`MIN_GAIN` (3 %).  Candidates
+   it matters in practice: its gain -- the relative reduction of the pooled
+   held-out torque RMSE, ``1 - RMSE_c / RMSE_m`` -- is at least
+   :data:`MIN_GAIN` (3 %), or the RMS torque it explains held out,
+   ``sqrt(MSE_m - MSE_c)``, is at least :data:`MIN_EXPLAINED` (1 %) of the
+   friction level (other errors, e.g. a lagging temperature sensor, must not
+   hide an effect of physical size).  Candidates
    whose variables are one in the recording (temperature rising with the
    travel: ``thermal`` and ``drift``; a one-way sweep: position and travel)
    are reported as confounded, with the rank correlation and the recording
@@ -106,8 +110,8 @@ from .velocity import fold_gears, simulate_windows, WINDOW
 from ..exceptions import ExcitationError, GearConfigError
 from ..output import json_clean
 
-__all__ = ['EFFECTS', 'UNREPRESENTABLE', 'ALPHA', 'MIN_GAIN', 'WINDOW', 'Diagnosis', 'diagnose',
-           'base_structure', 'extend']
+__all__ = ['EFFECTS', 'UNREPRESENTABLE', 'ALPHA', 'MIN_GAIN', 'MIN_EXPLAINED', 'WINDOW',
+           'Diagnosis', 'diagnose', 'base_structure', 'extend']
 
 #: candidate effects (README, Interfaces: diagnose outputs), in the order they are reported
 EFFECTS = ('thermal', 'load', 'position_ripple', 'nonlinear_viscous', 'stribeck',
@@ -120,6 +124,8 @@ UNREPRESENTABLE = {'drift': 'not representable in the gear file (it has no key f
 ALPHA = 0.05
 #: minimum relative reduction of the held-out torque RMSE to name a cause
 MIN_GAIN = 0.03
+#: ... or the least RMS torque it explains held out, as a fraction of the friction level
+MIN_EXPLAINED = 0.01
 #: contiguous position bands of the ripple's check across the travel
 POSITION_BANDS = 4
 #: greedy rounds at most
@@ -331,7 +337,9 @@ def diagnose(paths, base, effects=EFFECTS, joint_name=None, progress=None):
         adj = cr.holm([table[e]['p_value'] for e in tested]) if tested else []
         for e, pa in zip(tested, adj):
             table[e]['p_holm'] = float(pa)
-            table[e]['significant'] = bool(pa < ALPHA and table[e]['gain_raw'] >= MIN_GAIN)
+            table[e]['significant'] = bool(pa < ALPHA and cr.relevant(
+                table[e]['gain_raw'], table[e]['explained_torque'], data.friction_level,
+                MIN_GAIN, MIN_EXPLAINED))
             table[e]['round'] = rnd
         for e in tested:            # one variable with a named effect: not told apart from it
             other = [n for n in named if n in table[e].get('confounded_with', {})]
@@ -427,7 +435,8 @@ def diagnose(paths, base, effects=EFFECTS, joint_name=None, progress=None):
                     'candidate does not predict held-out blocks better; robust to one bad '
                     'block)',
             'multiplicity': 'Holm-Bonferroni over the candidates of each greedy round',
-            'alpha': ALPHA, 'min_gain': MIN_GAIN, 'blocks': k,
+            'alpha': ALPHA, 'min_gain': MIN_GAIN, 'min_explained': MIN_EXPLAINED,
+            'blocks': k,
             'gain': '1 - RMSE_candidate / RMSE_current, pooled held-out torque RMSE',
             'selection': 'greedy: add the significant candidate with the largest gain (of '
                          'confounded significant candidates the measured cause first), refit, '
@@ -496,7 +505,8 @@ def _ripple_across_travel(entry, cur, ctx, y):
     band.  Harmonics fitted to a slow, non-periodic position dependence do not:
     they gain on time blocks (which all cover the stroke) but not across the
     travel.  The ripple (its period chosen on the training bands) must gain at
-    least :data:`MIN_GAIN` there too.
+    least :data:`MIN_GAIN` there too, or explain :data:`MIN_EXPLAINED` of the
+    friction level.
     """
     q = ctx.data.average(ctx.data.q)
     edges = np.quantile(q, np.linspace(0.0, 1.0, POSITION_BANDS + 1)[1:-1])
@@ -506,7 +516,8 @@ def _ripple_across_travel(entry, cur, ctx, y):
     cand = _cv(s_new, param, ctx, y, band, POSITION_BANDS)
     gain = 1.0 - cand.rmse / base.rmse
     entry['position_bands_gain'] = float(gain)
-    if gain < MIN_GAIN:
+    if not cr.relevant(gain, cr.explained_torque(base.rmse, cand.rmse),
+                       ctx.data.friction_level, MIN_GAIN, MIN_EXPLAINED):
         entry['significant'] = False
         entry['note'] = (f'not periodic across the travel: fitted on {POSITION_BANDS - 1} of '
                          f'{POSITION_BANDS} position bands it gains {100 * gain:.1f} % on the '

@@ -267,7 +267,9 @@ def markdown(diag, figure_names, model_path):
              'and predicts the held-out one.  Per block the statistic is '
              f'{crit["statistic"]}; {crit["test"]}; {crit["multiplicity"]}.  '
              f'A candidate is significant when its adjusted p-value is below {crit["alpha"]} and '
-             f'its gain ({crit["gain"]}) is at least {100 * crit["min_gain"]:.0f} %.  '
+             f'its gain ({crit["gain"]}) is at least {100 * crit["min_gain"]:.0f} % or the '
+             f'RMS torque it explains held out is at least '
+             f'{100 * crit.get("min_explained", 0):.0f} % of the friction level.  '
              f'Selection: {crit["selection"]}.', '',
              '## Candidates', '',
              '| effect | testable | round | gain | p | p (Holm) | blocks improved | significant '
