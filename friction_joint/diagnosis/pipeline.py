@@ -53,8 +53,9 @@ Method
    held-out torque RMSE, ``1 - RMSE_c / RMSE_m`` -- is at least
    :data:`MIN_GAIN` (3 %), or the RMS torque it explains held out,
    ``sqrt(MSE_m - MSE_c)``, is at least :data:`MIN_EXPLAINED` (1 %) of the
-   friction level (other errors, e.g. a lagging temperature sensor, must not
-   hide an effect of physical size).  Candidates
+   friction level with a gain of at least a quarter of :data:`MIN_GAIN` (other
+   errors, e.g. a lagging temperature sensor, must not hide an effect of
+   physical size).  Candidates
    whose variables are one in the recording (temperature rising with the
    travel: ``thermal`` and ``drift``; a one-way sweep: position and travel)
    are reported as confounded, with the rank correlation and the recording

@@ -126,8 +126,9 @@ def test_an_effect_of_physical_size_is_not_hidden_by_other_errors(seed):
     from friction_joint.diagnosis.criterion import explained_torque, relevant
     rng = np.random.default_rng([20, seed])
     level = float(np.exp(rng.uniform(-5, 5)))            # any torque scale
-    other = rng.uniform(0.03, 0.2) * level                # errors no candidate explains
     effect = rng.uniform(0.011, 0.02) * level             # RMS of a real, small effect
+    g = rng.uniform(0.008, 0.029)                         # diluted by errors no candidate
+    other = effect * (1 - g) / np.sqrt(1 - (1 - g) ** 2)  # explains
     rmse_m = float(np.hypot(other, effect))
     rmse_c = other
     gain = 1.0 - rmse_c / rmse_m
@@ -139,3 +140,6 @@ def test_an_effect_of_physical_size_is_not_hidden_by_other_errors(seed):
     g2 = 0.024
     assert not relevant(g2, explained_torque(tiny, tiny * (1 - g2)), level, 0.03, 0.01)
     assert not relevant(-0.01, 0.0, level, 0.03, 0.01)
+    # a sliver (0.5 %) of a large error: not named for the size of that error
+    big = rng.uniform(0.1, 0.3) * level
+    assert not relevant(0.005, explained_torque(big, big * 0.995), level, 0.03, 0.01)
