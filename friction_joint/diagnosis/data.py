@@ -113,6 +113,7 @@ import math
 
 import numpy as np
 
+from .criterion import reblock
 from .._filters import zero_phase_derivatives
 from ..bag import read_recording
 from ..bag.stamps import gap_summary, piece_on_grid, split_pieces, uniform_grid
@@ -351,24 +352,18 @@ def load_data(paths, gear, joint_name=None, n_blocks=N_BLOCKS, progress=None):
     inertia = gear.inertia
     y = avg(c['effort'] - c['tau_ext'] - inertia * c['qdd'])
     t_bin = avg(c['t'])
-    order = np.arange(nb_total)
-    block = (order * n_blocks) // nb_total
-    # block of every sample: by global sample index, boundaries at the bin blocks
-    first_sample = np.zeros(nb_total, dtype=np.int64)
-    first_sample[bin_raw[sel][::-1]] = np.flatnonzero(sel)[::-1]
-    edges = [first_sample[np.argmax(block == k)] for k in range(1, n_blocks)]
-    block_of = np.searchsorted(np.asarray(edges), np.arange(n), side='right')
-    return DiagnosisData(
+    data = DiagnosisData(
         t=c['t'], q=c['q'], qf=c['qf'], qd=c['qd'], qdd=c['qdd'], effort=c['effort'],
         tau_ext=c['tau_ext'], xi=c['xi'], tl=np.abs(c['tau_ext']), piece=c['piece'],
-        dt=c['dt'], bin_of=bin_raw, block_of=block_of, y=y, count=count, t_bin=t_bin,
-        block=block, n_blocks=n_blocks, inertia=inertia,
+        dt=c['dt'], bin_of=bin_raw, block_of=None, y=y, count=count, t_bin=t_bin,
+        block=None, n_blocks=n_blocks, inertia=inertia,
         mgl_sim=0.0 if have_link else gear.mgl, link_torque=have_link, recordings=recs,
         has_temperature=have_temp, v_stick=v_stick, resolution=sc['resolution'],
         friction_level=max(float(np.median(np.abs(y))), 1e-12), stroke=sc['stroke'],
         bridged=c['bridged'], gaps=gap_summary(cuts), velocity_noise=sc['velocity_noise'],
         quantisation_noise=sc['quantisation_noise'], standstill_noise=sc['standstill_noise'],
         standstill_fraction=sc['standstill_fraction'], cutoff=sc['cutoff'])
+    return reblock(data, n_blocks)
 
 
 def _temperature(rec):
