@@ -27,7 +27,8 @@ import warnings
 import numpy as np
 
 from .polynomial import polynomial_violation
-from .schema import DEFAULT_SECTIONS, REQUIRED, SCHEMA, Section, validate_fields
+from .schema import (DEFAULT_SECTIONS, MIN_CUTOFF_FRACTION, REQUIRED, SCHEMA, Section,
+                     validate_fields)
 from ..exceptions import GearConfigError, GearConfigWarning
 
 __all__ = ['LuGreParams', 'GMSParams', 'RippleParams', 'FrictionParams', 'GearParams',
@@ -212,6 +213,7 @@ def gear_from_dict(params, source=None, given=None):
         if not isinstance(params, dict):
             raise GearConfigError(f'expected a mapping of gear keys, got {type(params).__name__}')
         data = validate_fields(SCHEMA, params, '')
+        _check_sections(data)
         friction = _friction_from(data['friction'])
         _check_physics(friction)
     except GearConfigError as exc:
@@ -221,6 +223,41 @@ def gear_from_dict(params, source=None, given=None):
                       _given_keys(params) if given is None else frozenset(given))
     _warn_passivity(gear, where)
     return gear
+
+
+def _section(data, name):
+    sec = data.get(name)
+    return validate_fields(SCHEMA[name].fields, {}, name) if sec is None else sec
+
+
+def _check_sections(data):
+    """
+    Check the values of the simulator sections against each other (defaults filled in).
+
+    The velocity filter's cut-off must be below the Nyquist frequency of the
+    simulation rate, and not below :data:`~.schema.MIN_CUTOFF_FRACTION` of it (a
+    2nd-order low-pass at a smaller fraction loses its unit gain in double
+    precision); the temperature is sampled at most at the simulation rate; the
+    lever's gravity torque m g l is finite.
+    """
+    sens, sim, lever = (_section(data, n) for n in ('sensors', 'simulation', 'lever'))
+    rate, cutoff = sim['rate'], sens['velocity_cutoff']
+    if not cutoff < rate / 2.0:
+        raise GearConfigError(f'sensors.velocity_cutoff: {cutoff:g} Hz must be below the '
+                              f'Nyquist frequency {rate / 2.0:g} Hz of simulation.rate '
+                              f'{rate:g} Hz')
+    if cutoff < MIN_CUTOFF_FRACTION * rate:
+        raise GearConfigError(f'sensors.velocity_cutoff: {cutoff:g} Hz is below '
+                              f'{MIN_CUTOFF_FRACTION:g} of simulation.rate {rate:g} Hz (the '
+                              'velocity filter loses its unit gain in double precision)')
+    if sim['temperature_rate'] > rate:
+        raise GearConfigError(f'simulation.temperature_rate: {sim["temperature_rate"]:g} Hz '
+                              f'is above simulation.rate {rate:g} Hz')
+    mgl = lever['mass'] * lever['gravity'] * lever['length']
+    if not np.isfinite(mgl):
+        raise GearConfigError('lever: the gravity torque mass * gravity * length overflows '
+                              f'({lever["mass"]:g} * {lever["gravity"]:g} * '
+                              f'{lever["length"]:g})')
 
 
 def _friction_from(fr):

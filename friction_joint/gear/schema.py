@@ -46,7 +46,10 @@ import reprlib
 from ..exceptions import GearConfigError
 
 __all__ = ['REQUIRED', 'FRICTION_MODELS', 'MAX_POLYNOMIAL_ORDER', 'MAX_GMS_ELEMENTS',
-           'MAX_RIPPLE_HARMONICS', 'INT64_RANGE', 'Float', 'Int', 'Str', 'FloatList', 'Section',
+           'MAX_RIPPLE_HARMONICS', 'INT64_RANGE', 'ABSOLUTE_ZERO', 'TEMPERATURE_BOUNDS',
+           'RATE_BOUNDS', 'ENCODER_BITS_BOUNDS', 'MIN_CUTOFF_FRACTION',
+           'TEMPERATURE_RESOLUTION_BOUNDS', 'VELOCITY_SCALE_BOUNDS', 'STRIBECK_EXPONENT_BOUNDS',
+           'Float', 'Int', 'Str', 'FloatList', 'Section',
            'FRICTION_SCHEMA', 'SCHEMA', 'DEFAULT_SECTIONS', 'validate_fields', 'key_specs',
            'required_keys']
 
@@ -57,6 +60,33 @@ MAX_GMS_ELEMENTS = 100
 MAX_RIPPLE_HARMONICS = 100
 #: the range of a ROS 2 integer parameter
 INT64_RANGE = (-2 ** 63, 2 ** 63 - 1)
+
+# Physical ranges (lo, hi, why) of the values that reach an exponent, a division or the
+# size of an allocation; derived from physics and double precision, not from one gear.
+#: absolute zero, degC
+ABSOLUTE_ZERO = -273.15
+#: a temperature of the gear, its housing or its surroundings, degC
+TEMPERATURE_BOUNDS = (ABSOLUTE_ZERO, 1000.0, "above absolute zero; a gear's lubricant and "
+                      'seals are destroyed far below 1000 degC')
+#: simulation and control rate, Hz
+RATE_BOUNDS = (1.0, 1.0e6, 'a step longer than 1 s resolves no motion of a joint; a step '
+               'shorter than 1 us is within 3 digits of the 1 ns resolution of ROS stamps, '
+               'and every simulated second allocates its samples')
+#: output encoder resolution, bits per revolution
+ENCODER_BITS_BOUNDS = (1, 52, 'a count of 2 pi / 2**52 rad is the resolution of a double '
+                       'at one revolution; finer counts cannot be represented')
+#: smallest velocity filter cut-off as a fraction of the rate
+MIN_CUTOFF_FRACTION = 1.0e-6
+#: temperature sensor resolution, degC
+TEMPERATURE_RESOLUTION_BOUNDS = (1.0e-6, 100.0, 'from 1 uK, beyond any thermometer, to '
+                                 '100 K, coarser than any temperature effect')
+#: friction curve velocity scale (dimensionless)
+VELOCITY_SCALE_BOUNDS = (1.0e-6, 1.0e6, 'it maps the output velocity to the one the curve '
+                         'is written in, e.g. by a gear ratio; gear ratios are 1 to 1e4')
+#: Stribeck exponent (dimensionless)
+STRIBECK_EXPONENT_BOUNDS = (0.01, 100.0, 'Stribeck exponents of gears are 0.5-2; outside '
+                            '[0.01, 100] the Stribeck curve is flat or a step in double '
+                            'precision')
 
 _REPR = reprlib.Repr()
 _REPR.maxstring = 60
@@ -77,15 +107,36 @@ class _Spec:
 
 
 class Float(_Spec):
-    """A finite number (an integer is accepted and becomes a float)."""
+    """
+    A finite number (an integer is accepted and becomes a float), optionally bounded.
 
-    def __init__(self, default=REQUIRED, positive=False, nonnegative=False, doc=''):
+    ``bounds`` is ``(lo, hi, why)``: the physical range ``lo <= value <= hi`` (either
+    may be None) and the reason, named in the error.
+    """
+
+    def __init__(self, default=REQUIRED, positive=False, nonnegative=False, doc='', *,
+                 bounds=None):
         self.default, self.positive, self.nonnegative, self.doc = (
             default, positive, nonnegative, doc)
+        self.bounds = bounds
 
     def check(self, value, path):
         """Return ``value`` as a float or raise GearConfigError naming ``path``."""
-        return _number(value, path, self.positive, self.nonnegative)
+        value = _number(value, path, self.positive, self.nonnegative)
+        _check_bounds(value, path, self.bounds)
+        return value
+
+
+def _check_bounds(value, path, bounds):
+    """Raise GearConfigError naming ``path`` if ``value`` is outside ``bounds`` (lo, hi, why)."""
+    if bounds is None:
+        return
+    lo, hi, why = bounds
+    if (lo is not None and value < lo) or (hi is not None and value > hi):
+        rng = ('>= ' + format(lo, 'g') if hi is None else '<= ' + format(hi, 'g')
+               if lo is None else f'in [{lo:g}, {hi:g}]')
+        got = value if isinstance(value, int) else format(value, 'g')
+        raise GearConfigError(f'{path}: must be {rng} ({why}), got {got}')
 
 
 def _number(value, path, positive=False, nonnegative=False):
@@ -108,8 +159,9 @@ def _number(value, path, positive=False, nonnegative=False):
 class Int(_Spec):
     """An integer in the ROS 2 (64-bit) range."""
 
-    def __init__(self, default=REQUIRED, minimum=None, doc=''):
+    def __init__(self, default=REQUIRED, minimum=None, doc='', *, bounds=None):
         self.default, self.minimum, self.doc = default, minimum, doc
+        self.bounds = bounds
 
     def check(self, value, path):
         """Return ``value`` or raise GearConfigError naming ``path``."""
@@ -120,6 +172,7 @@ class Int(_Spec):
                                   'parameters')
         if self.minimum is not None and value < self.minimum:
             raise GearConfigError(f'{path}: must be >= {self.minimum}, got {value}')
+        _check_bounds(value, path, self.bounds)
         return value
 
 
@@ -143,11 +196,12 @@ class FloatList(_Spec):
     """A list of finite numbers (integers become floats), its length bounded."""
 
     def __init__(self, default=REQUIRED, min_len=0, length=None, positive=False, doc='', *,
-                 max_len=None, limit=''):
+                 max_len=None, limit='', bounds=None):
         self.default, self.min_len, self.length, self.positive, self.doc = (
             default, min_len, length, positive, doc)
         self.max_len = length if max_len is None else max_len
         self.limit = limit
+        self.bounds = bounds
 
     def check(self, value, path):
         """Return ``value`` as a list of floats or raise GearConfigError naming ``path``."""
@@ -162,7 +216,10 @@ class FloatList(_Spec):
         if len(value) < self.min_len:
             raise GearConfigError(f'{path}: needs at least {self.min_len} coefficient(s), '
                                   f'got {len(value)}')
-        return [_number(v, f'{path}[{i}]', self.positive) for i, v in enumerate(value)]
+        out = [_number(v, f'{path}[{i}]', self.positive) for i, v in enumerate(value)]
+        for i, v in enumerate(out):
+            _check_bounds(v, f'{path}[{i}]', self.bounds)
+        return out
 
 
 class Section(_Spec):
@@ -250,15 +307,18 @@ FRICTION_SCHEMA = {
     'delta_v': FloatList([1.0], min_len=1, doc='delta_v temperature coefficients',
                          max_len=MAX_POLYNOMIAL_ORDER + 1,
                          limit=f'temperature polynomial order <= {MAX_POLYNOMIAL_ORDER}'),
-    'delta_s': Float(2.0, positive=True, doc='Stribeck exponent'),
+    'delta_s': Float(2.0, positive=True, doc='Stribeck exponent',
+                     bounds=STRIBECK_EXPONENT_BOUNDS),
     'fc_load': _load('F_c load coefficients, powers 1..m'),
     'fv_load': _load('F_v load coefficients'),
     'fs_load': _load('F_s load coefficients'),
     'vs_load': _load('v_s load coefficients'),
     'delta_v_load': _load('delta_v load coefficients'),
-    'velocity_scale': Float(1.0, positive=True, doc='curve evaluated at velocity_scale * qd'),
+    'velocity_scale': Float(1.0, positive=True, doc='curve evaluated at velocity_scale * qd',
+                            bounds=VELOCITY_SCALE_BOUNDS),
     'temperature_range': FloatList([0.0, 100.0], length=2,
-                                   doc='validity range of the polynomials, degC'),
+                                   doc='validity range of the polynomials, degC',
+                                   bounds=TEMPERATURE_BOUNDS),
     'lugre': Section({
         'sigma0': Float(positive=True, doc='bristle stiffness, Nm/rad'),
         'sigma1': Float(0.0, nonnegative=True, doc='micro-damping, Nm s/rad'),
@@ -294,24 +354,30 @@ SCHEMA = {
     'thermal': Section({
         'capacity': Float(450.0, positive=True, doc='heat capacity of gear and housing, J/K'),
         'resistance': Float(1.2, positive=True, doc='thermal resistance housing-ambient, K/W'),
-        'ambient': Float(25.0, doc='ambient temperature, degC'),
-        'initial': Float(None, doc='initial housing temperature, degC (default ambient)'),
+        'ambient': Float(25.0, doc='ambient temperature, degC', bounds=TEMPERATURE_BOUNDS),
+        'initial': Float(None, doc='initial housing temperature, degC (default ambient)',
+                         bounds=TEMPERATURE_BOUNDS),
     }, doc='lumped thermal model heated by the friction losses'),
     'sensors': Section({
-        'encoder_bits': Int(25, minimum=1, doc='output encoder resolution, bits/rev'),
-        'velocity_cutoff': Float(250.0, positive=True, doc='velocity filter cut-off, Hz'),
+        'encoder_bits': Int(25, minimum=1, doc='output encoder resolution, bits/rev',
+                            bounds=ENCODER_BITS_BOUNDS),
+        'velocity_cutoff': Float(250.0, positive=True, doc='velocity filter cut-off, Hz (below '
+                                 'the Nyquist frequency of simulation.rate)'),
         'current_bandwidth': Float(800.0, positive=True, doc='current loop bandwidth, Hz'),
         'torque_noise': Float(0.01, nonnegative=True, doc='applied-torque noise std, Nm'),
         'effort_noise': Float(0.005, nonnegative=True, doc='measured-effort noise std, Nm'),
-        'temperature_resolution': Float(0.0625, positive=True, doc='degC'),
+        'temperature_resolution': Float(0.0625, positive=True, doc='degC',
+                                        bounds=TEMPERATURE_RESOLUTION_BOUNDS),
         'temperature_time_constant': Float(4.0, positive=True, doc='sensor lag, s'),
         'temperature_noise': Float(0.0, nonnegative=True, doc='std, degC'),
         'link_torque_noise': Float(0.03, nonnegative=True,
                                    doc='output torque sensor noise std, Nm'),
     }, doc='sensor models of the simulated test bed'),
     'simulation': Section({
-        'rate': Float(3000.0, positive=True, doc='simulation and control rate, Hz'),
-        'temperature_rate': Float(4.0, positive=True, doc='temperature sample rate, Hz'),
+        'rate': Float(3000.0, positive=True, doc='simulation and control rate, Hz',
+                      bounds=RATE_BOUNDS),
+        'temperature_rate': Float(4.0, positive=True, doc='temperature sample rate, Hz (at most '
+                                  'simulation.rate)'),
         'seed': Int(0, minimum=0, doc='noise seed'),
     }, doc='simulator rates'),
 }

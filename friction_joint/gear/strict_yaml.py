@@ -39,7 +39,6 @@ What it reads differently from ``yaml.safe_load`` (PyYAML implements YAML 1.1):
 Errors are :class:`~friction_joint.exceptions.GearConfigError` with a
 one-line message naming the file and, where known, the line.
 """
-import os
 import re
 import sys
 
@@ -50,6 +49,7 @@ from yaml.resolver import BaseResolver
 
 from .schema import INT64_RANGE
 from ..exceptions import GearConfigError
+from ..inputs import read_input
 
 __all__ = ['MAX_FILE_BYTES', 'MAX_SEQUENCE', 'MAX_DEPTH', 'read_yaml_document', 'parse_yaml_text',
            'Yaml12Resolver']
@@ -288,19 +288,10 @@ def read_yaml_document(path):
 
     """
     path = str(path)
-    limit = f'larger than {MAX_FILE_BYTES / 1e6:g} MB ({MAX_FILE_BYTES} bytes)'
-    try:
-        with open(path, 'rb') as fh:
-            size = os.fstat(fh.fileno()).st_size
-            if size > MAX_FILE_BYTES:
-                raise GearConfigError(f'{path}: {size} bytes, {limit}; not a gear or '
-                                      'parameter file')
-            data = fh.read(MAX_FILE_BYTES + 1)
-    except OSError as exc:
-        raise GearConfigError(f'{path}: cannot read gear file: '
-                              f'{exc.strerror or exc.__class__.__name__}') from None
-    if len(data) > MAX_FILE_BYTES:
-        raise GearConfigError(f'{path}: {limit}; not a gear or parameter file')
+    # the input gate: a FIFO, a device or a directory is refused before any read (a FIFO
+    # blocked open() forever), and never more than the limit is read
+    data = read_input(path, kind='gear', what='a gear or ROS 2 parameter',
+                      limit=MAX_FILE_BYTES, error=GearConfigError)
     try:
         text = data.decode('utf-8')
     except UnicodeDecodeError as exc:
