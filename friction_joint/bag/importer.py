@@ -20,15 +20,20 @@ Each input file is one run.  Its columns are picked by a mapping
 index) and converted to SI and the joint convention of the README
 (*Interfaces*):
 
-* **Units** (:data:`UNITS`): time s/ms/us; position rad/deg/rev or, for a
-  linear device, m/mm/um; velocity rad/s, deg/s, rev/s, m/s, mm/s, um/s;
-  torques Nm/Nmm or forces N/mN/uN; temperature degC/K.  Without a unit the
-  one in brackets of the header name (``Position [mm]``) is taken, else SI.
+* **Units** (:data:`UNITS`, :mod:`~friction_joint.bag.units`): time
+  s/ms/us/ns/min/h; position rad/deg/rev or, for a linear device,
+  m/cm/mm/um; velocity rad/s, deg/s, rev/s, rpm, m/s, mm/s, um/s; torques
+  Nm/Nmm/mNm/kNm or forces N/kN/mN/uN; temperature degC/K/degF.  Without a
+  unit the one in brackets of the header name (``Position [mm]``) is taken
+  (brackets holding anything else are an error), else SI.  A value that is
+  not finite once converted is an error naming the column and row.
 * **Linear devices** map to the joint with a radius ``r`` (default 1 m):
   ``q [rad] = x [m] / r``, ``qd [rad/s] = v [m/s] / r`` and
   ``tau [Nm] = F [N] * r``.  The mapping used is returned (and written into the
   recording's ``metadata.yaml`` by the command).
-* **Time**: stamps must increase (else an error naming the file and row).  A
+* **Time**: stamps must increase by at least 1 ns (the recording's
+  resolution) and fit its int64 nanosecond stamps (else an error naming the
+  file and row).  A
   run is split into pieces where a step exceeds :data:`SPLIT` median sample
   intervals; each piece is resampled onto a uniform grid of the file's median
   interval by linear interpolation (stamps already on the grid are kept), so
@@ -48,109 +53,46 @@ index) and converted to SI and the joint convention of the README
   option (never flipped silently).  In friction mode inertia is negligible (the
   base gear file should have a tiny inertia, e.g. 1e-9 kg m², as gear files need
   one > 0) and ``/link_torque`` carries the logged load, or 0 when there is none.
-* ``temperature`` becomes ``/joint_temperature`` (optional), ``load`` the
-  measured τ_ext on ``/link_torque``.
+* ``temperature`` becomes ``/joint_temperature`` (optional, at least
+  −273.15 °C), ``load`` the measured τ_ext on ``/link_torque``.
+* **Memory**: the files are read in chunks (:mod:`~friction_joint.bag.tables`)
+  and a log whose arrays would exceed
+  :data:`~friction_joint.inputs.MEMORY_BUDGET` is refused before it is
+  decoded (:data:`ROW_BYTES` per row and column kept).
 """
 import json
-import math
 import os
-import re
 
 import numpy as np
 
+from .plausible import check_samples
 from .tables import read_table
+from .topics import NS
+from .units import (check_radius, convert, header_unit, mapping_text, parse_column, QUANTITIES,
+                    SI, UNITS)
 from ..exceptions import RecordingError
+from ..inputs import MEMORY_BUDGET, read_input
 
-__all__ = ['QUANTITIES', 'UNITS', 'GAP', 'SPLIT', 'ImportedLog', 'parse_column',
+__all__ = ['QUANTITIES', 'UNITS', 'GAP', 'SPLIT', 'ROW_BYTES', 'ImportedLog', 'parse_column',
            'load_mapping', 'file_gap', 'import_logs']
-
-#: the mapping keys, in the order they are reported
-QUANTITIES = ('time', 'position', 'velocity', 'torque', 'friction', 'load', 'temperature')
-
-_TORQUE = {'Nm': (1.0, False), 'Nmm': (1e-3, False), 'N': (1.0, True), 'mN': (1e-3, True),
-           'uN': (1e-6, True)}
-#: quantity -> unit -> (factor to SI, linear: scaled by the radius)
-UNITS = {
-    'time': {'s': (1.0, False), 'ms': (1e-3, False), 'us': (1e-6, False)},
-    'position': {'rad': (1.0, False), 'deg': (math.pi / 180.0, False),
-                 'rev': (2.0 * math.pi, False), 'm': (1.0, True), 'mm': (1e-3, True),
-                 'um': (1e-6, True)},
-    'velocity': {'rad/s': (1.0, False), 'deg/s': (math.pi / 180.0, False),
-                 'rev/s': (2.0 * math.pi, False), 'm/s': (1.0, True), 'mm/s': (1e-3, True),
-                 'um/s': (1e-6, True)},
-    'torque': _TORQUE, 'friction': _TORQUE, 'load': _TORQUE,
-    'temperature': {'degC': (1.0, False), 'K': (1.0, False)},
-}
-_SI = {'time': 's', 'position': 'rad', 'velocity': 'rad/s', 'torque': 'Nm', 'friction': 'Nm',
-       'load': 'Nm', 'temperature': 'degC'}
-_ALIASES = {'N m': 'Nm', 'N*m': 'Nm', 'N.m': 'Nm', 'N mm': 'Nmm',
-            '°C': 'degC', 'C': 'degC', 'sec': 's', 'rad/sec': 'rad/s'}
 
 #: smallest time gap (s) between the runs of two files
 GAP = 10.0
 #: a step of the stamps longer than this many median intervals splits a run into pieces
 SPLIT = 5.0
+#: bytes of memory an import needs per row of a log (its columns, the topics' arrays, the
+#: temporaries of resampling and writing), checked against the memory budget
+ROW_BYTES = 200
 #: stamps within this fraction of an interval of the uniform grid are kept as they are
 _ON_GRID = 1e-3
 #: a friction column opposing the velocity on more than this fraction of the sliding
 #: samples gets the --flip-friction warning
 _OPPOSED = 0.6
 _OPTIONS = ('radius', 'unwrap', 'flip_friction', 'skip_rows')
-
-
-def _unit_name(text):
-    text = str(text).strip().replace('µ', 'u').replace('μ', 'u')
-    return _ALIASES.get(text, text)
-
-
-def _unit(quantity, unit, where):
-    unit = _unit_name(unit)
-    if unit not in UNITS[quantity]:
-        raise RecordingError(f'{where}: unknown {quantity} unit {unit!r} (known: '
-                             f'{", ".join(UNITS[quantity])})')
-    return unit
-
-
-def parse_column(quantity, text, where):
-    """
-    Parse a column spec ``COL[:unit]`` of one quantity.
-
-    Parameters
-    ----------
-    quantity : str
-        One of :data:`QUANTITIES`.
-    text : str or int
-        A header name or a 0-based index, optionally followed by ``:unit`` (the part
-        after the last colon is the unit: a header name with a colon in it needs one).
-    where : str
-        The option or file the spec came from (start of error messages).
-
-    Returns
-    -------
-    tuple
-        ``(column, unit)``: column an int (index) or str (name); unit a key of
-        ``UNITS[quantity]`` or None (from the header, else SI).
-
-    Raises
-    ------
-    RecordingError
-        Empty column or unknown unit.
-
-    """
-    if quantity not in UNITS:
-        raise RecordingError(f'{where}: unknown quantity {quantity!r} (known: '
-                             f'{", ".join(QUANTITIES)})')
-    if isinstance(text, bool) or not isinstance(text, (str, int)):
-        raise RecordingError(f'{where}: {quantity}: expected COL[:unit], got {text!r}')
-    text = str(text)
-    col, unit = text, None
-    if ':' in text:                                 # the part after the last colon is a unit
-        col, tail = text.rsplit(':', 1)
-        unit = _unit(quantity, tail, f'{where}: {quantity}')
-    col = col.strip()
-    if not col:
-        raise RecordingError(f'{where}: {quantity}: no column given')
-    return (int(col) if re.fullmatch(r'\d+', col) else col), unit
+#: largest |time| (s) the recording's int64 nanosecond stamps hold, and its longest span
+_TIME_LIMIT = (2**63 - 1) / NS
+_SPAN_LIMIT = 2.0**31
+_ZERO_C = -273.15
 
 
 def load_mapping(path):
@@ -168,20 +110,20 @@ def load_mapping(path):
     Raises
     ------
     RecordingError
-        Unreadable, not a mapping, an unknown key or a bad value (naming the file).
+        Not a readable regular file, not a mapping, an unknown key or a bad value
+        (naming the file).
 
     """
     import yaml
     path = os.fspath(path)
+    data = read_input(path, kind='mapping', what='a mapping', error=RecordingError)
     try:
-        with open(path, 'rb') as fh:
-            data = fh.read(1 << 20)
         doc = yaml.safe_load(data.decode('utf-8'))
-    except OSError as exc:
-        raise RecordingError(f'{path}: cannot read mapping file: {exc.strerror or exc}') from None
     except (UnicodeDecodeError, yaml.YAMLError) as exc:
         why = str(exc).splitlines()[0]
         raise RecordingError(f'{path}: not a YAML mapping file ({why})') from None
+    except RecursionError:
+        raise RecordingError(f'{path}: not a mapping file: nested too deeply') from None
     if not isinstance(doc, dict):
         raise RecordingError(f'{path}: a mapping file is a YAML mapping of '
                              f'{", ".join(QUANTITIES)} to COL[:unit]')
@@ -199,78 +141,48 @@ def load_mapping(path):
                                    or options['skip_rows'] < 0):
         raise RecordingError(f'{path}: skip_rows must be a whole number >= 0')
     if 'radius' in options:
-        r = options['radius']
-        if isinstance(r, bool) or not isinstance(r, (int, float)) or not 0 < r < math.inf:
-            raise RecordingError(f'{path}: radius must be a positive number (m)')
-        options['radius'] = float(r)
+        options['radius'] = check_radius(options['radius'], f'{path}: radius')
     return columns, options
 
 
-def _header_unit(quantity, name):
-    m = re.search(r'[\[(]([^\])]+)[\])]\s*$', name or '')
-    if m and _unit_name(m.group(1)) in UNITS[quantity]:
-        return _unit_name(m.group(1))
-    return None
-
-
-def _pick(path, header, data, quantity, spec):
-    """Return the column of ``spec`` as an array, its display name and unit."""
+def _resolve(path, header, width, quantity, spec):
+    """Return the 0-based index, display name and unit (None: not given) of ``spec``."""
     col, unit = spec
     if isinstance(col, int):
-        if not 0 <= col < data.shape[1]:
+        if not 0 <= col < width:
             raise RecordingError(f'{path}: no column {col} for {quantity} (the file has '
-                                 f'{data.shape[1]} columns, 0-based)')
-        name = header[col] if header else f'column {col}'
-        idx = col
-    else:
-        if not header or col not in header:
-            have = ', '.join(repr(h) for h in header) if header else 'no header line'
-            raise RecordingError(f'{path}: no column {col!r} for {quantity} (columns: {have})')
-        idx, name = header.index(col), col
-    unit = unit or _header_unit(quantity, name) or _SI[quantity]
-    return data[:, idx], name, unit
+                                 f'{width} columns, 0-based)')
+        return col, (header[col] if header else f'column {col}'), unit
+    if not header or col not in header:
+        have = ', '.join(repr(h) for h in header) if header else 'no header line'
+        raise RecordingError(f'{path}: no column {col!r} for {quantity} (columns: {have})')
+    return header.index(col), col, unit
 
 
 # ------------------------------------------------------------------------- conversion ---
 
-def _convert(quantity, x, unit, radius):
-    factor, linear = UNITS[quantity][unit]
-    if quantity == 'temperature':
-        return x - 273.15 if unit == 'K' else x
-    x = x * factor
-    if linear and quantity in ('position', 'velocity'):
-        return x / radius
-    if linear:
-        return x * radius
-    return x
-
-
-def _mapping_text(quantity, name, unit, radius):
-    """Return how a column became its SI joint quantity, e.g. ``q [rad] := x [mm] * 1e-3 / r``."""
-    factor, linear = UNITS[quantity][unit]
-    target = {'time': 't [s]', 'position': 'q [rad]', 'velocity': 'qd [rad/s]',
-              'torque': 'tau [Nm]', 'friction': 'tau_r [Nm]', 'load': 'tau_ext [Nm]',
-              'temperature': 'xi [degC]'}[quantity]
-    src = f'{name!r} [{unit}]'
-    if quantity == 'temperature':
-        return f'{target} := {src}' + (' - 273.15' if unit == 'K' else '')
-    scale = '' if factor == 1.0 else f' * {factor:.9g}'
-    if linear and quantity in ('position', 'velocity'):
-        return f'{target} := {src}{scale} / radius {radius:g} m'
-    if linear:
-        return f'{target} := {src}{scale} * radius {radius:g} m'
-    return f'{target} := {src}{scale}'
-
-
 def _check_time(path, t, rows):
-    if not np.all(np.isfinite(t)):
-        i = int(np.flatnonzero(~np.isfinite(t))[0])
-        raise RecordingError(f'{path}: row {rows[i]}: time is not finite')
-    bad = np.flatnonzero(np.diff(t) <= 0)
+    big = np.flatnonzero(np.abs(t) > _TIME_LIMIT)
+    if len(big):
+        i = int(big[0])
+        raise RecordingError(f'{path}: row {rows[i]}: time {t[i]:.9g} s does not fit the '
+                             "recording's int64 nanosecond stamps "
+                             f'(|t| <= {_TIME_LIMIT:.3g} s); a wrong time unit?')
+    d = np.diff(t)
+    bad = np.flatnonzero(d <= 0)
     if len(bad):
         i = int(bad[0]) + 1
         raise RecordingError(f'{path}: row {rows[i]}: time {t[i]:.9g} s does not increase '
                              f'(previous row {t[i - 1]:.9g} s); time stamps must increase')
+    bad = np.flatnonzero(d < 1.0 / NS)
+    if len(bad):
+        i = int(bad[0]) + 1
+        raise RecordingError(f'{path}: row {rows[i]}: time step {d[i - 1]:.3g} s from the '
+                             "previous row, below 1 ns, the recording's resolution; a wrong "
+                             'time unit?')
+    if t[-1] - t[0] >= _SPAN_LIMIT:
+        raise RecordingError(f'{path}: the time spans {t[-1] - t[0]:.6g} s, more than a '
+                             f'recording holds ({_SPAN_LIMIT:.0f} s); a wrong time unit?')
 
 
 def _pieces(t):
@@ -278,6 +190,7 @@ def _pieces(t):
     d = np.diff(t)
     dt = float(np.median(d))
     cuts = np.flatnonzero(d > SPLIT * dt) + 1
+    del d
     bounds = np.concatenate(([0], cuts, [len(t)]))
     return [(int(a), int(b)) for a, b in zip(bounds[:-1], bounds[1:])], dt
 
@@ -285,9 +198,16 @@ def _pieces(t):
 def _resample(t, cols, dt):
     """Columns on the uniform grid of ``dt`` from t[0]; unchanged if already on it."""
     m = int(np.floor((t[-1] - t[0]) / dt * (1 + 1e-9) + 1e-9)) + 1
-    grid = t[0] + np.arange(m) * dt
-    if m == len(t) and np.max(np.abs(t - grid)) <= _ON_GRID * dt:
-        return t, cols, False
+    grid = np.arange(m, dtype=float)
+    grid *= dt
+    grid += t[0]
+    if m == len(t):
+        diff = t - grid
+        np.abs(diff, out=diff)
+        on_grid = diff.max() <= _ON_GRID * dt
+        del diff
+        if on_grid:
+            return t, cols, False
     return grid, {k: np.interp(grid, t, v) for k, v in cols.items()}, True
 
 
@@ -325,7 +245,7 @@ class ImportedLog:
         return {'friction_joint.import': json.dumps(self.mapping, sort_keys=True)}
 
 
-def _check_columns(columns, radius):
+def _check_columns(columns, radius, joint_name):
     for need in ('time', 'position'):
         if need not in columns:
             raise RecordingError(f'no {need} column given (--{need} COL[:unit])')
@@ -335,26 +255,67 @@ def _check_columns(columns, radius):
     if 'torque' in columns and 'friction' in columns:
         raise RecordingError('give either --torque (drive torque) or --friction (friction '
                              'logged directly), not both')
-    if not (isinstance(radius, (int, float)) and 0 < radius < math.inf):
-        raise RecordingError(f'--radius must be a positive length in m, got {radius!r}')
+    check_radius(radius)
+    if (not isinstance(joint_name, str) or not joint_name.strip()
+            or joint_name != joint_name.strip() or not joint_name.isprintable()):
+        raise RecordingError(f'--joint: a joint name must be a non-empty printable name '
+                             f'without surrounding spaces, got {joint_name!r}')
+
+
+def _read(path, columns, options):
+    """Read the columns of one file; return ``{quantity: (array, name, unit)}`` and rows."""
+    found = {}
+
+    def pick(header, width):
+        for q in QUANTITIES:
+            if q in columns:
+                found[q] = _resolve(path, header, width, q, columns[q])
+        return sorted({idx for idx, _, _ in found.values()})
+
+    nkept = len({c for c, _ in columns.values()}) + 4
+    header, cols, rows = read_table(path, options['skip_rows'], pick=pick,
+                                    row_bytes=ROW_BYTES + 8 * nkept, budget=MEMORY_BUDGET)
+    by_index = dict(zip(sorted({idx for idx, _, _ in found.values()}), cols))
+    times = getattr(header, 'times', {})
+    picked, used = {}, set()
+    for q, (idx, name, unit) in found.items():
+        x = by_index[idx]
+        if idx in used:
+            x = x.copy()                            # converted in place: one array each
+        used.add(idx)
+        if idx in times:
+            if q != 'time' or unit not in (None, 's'):
+                raise RecordingError(
+                    f'{path}: column {name!r} is {times[idx]}, a time in its own unit'
+                    + ('' if q == 'time' else f', not a {q}')
+                    + ('; give it without a unit' if q == 'time' else ''))
+            unit = 's'
+        if unit is None and header is not None:
+            unit = header_unit(q, name, path)
+        picked[q] = (x, name, unit or SI[q])
+    return picked, rows
 
 
 def _one_file(path, columns, options):
     """Read and convert one file; returns the list of pieces and what was done."""
-    header, data, rows = read_table(path, options['skip_rows'])
+    raw, rows = _read(path, columns, options)
     radius = options['radius']
     picked, mapping = {}, {}
     for q in QUANTITIES:
-        if q in columns:
-            x, name, unit = _pick(path, header, data, q, columns[q])
-            bad = np.flatnonzero(~np.isfinite(x))
-            if len(bad):
-                raise RecordingError(f'{path}: row {rows[bad[0]]}: {q} ({name}) is not finite')
-            picked[q] = _convert(q, x, unit, radius)
+        if q in raw:
+            x, name, unit = raw.pop(q)
+            picked[q] = convert(q, x, unit, radius, path=path, name=name, rows=rows)
             mapping[q] = {'column': name, 'unit': unit,
-                          'conversion': _mapping_text(q, name, unit, radius)}
+                          'conversion': mapping_text(q, name, unit, radius)}
     if len(picked['time']) < 3:
         raise RecordingError(f'{path}: {len(picked["time"])} rows, at least 3 are needed')
+    if 'temperature' in picked:
+        cold = np.flatnonzero(picked['temperature'] < _ZERO_C)
+        if len(cold):
+            i = int(cold[0])
+            raise RecordingError(f'{path}: row {rows[i]}: temperature '
+                                 f'({mapping["temperature"]["column"]}) '
+                                 f'{picked["temperature"][i]:.6g} degC is below absolute zero')
     t = picked.pop('time')
     _check_time(path, t, rows)
     if options['unwrap']:
@@ -369,29 +330,76 @@ def _one_file(path, columns, options):
             raise RecordingError(f'{path}: rows {rows[a]}-{rows[b - 1]}: a piece of {b - a} '
                                  f'sample(s) between gaps (> {SPLIT:g} x the median interval '
                                  f'{dt:.6g} s); at least 3 are needed')
-        tt, cols, moved = _resample(t[a:b], {k: v[a:b] for k, v in picked.items()}, dt)
+        whole = a == 0 and b == len(t)
+        tt, cols, moved = _resample(t if whole else t[a:b],
+                                    picked if whole else {k: v[a:b] for k, v in picked.items()},
+                                    dt)
         resampled += bool(moved)
         if 'velocity' not in cols:
-            cols['velocity'] = np.gradient(cols['position'], tt)
+            cols = dict(cols, velocity=np.gradient(cols['position'], tt))
         pieces.append((tt, cols))
+    del t, picked
     return pieces, dt, mapping, resampled
 
 
 def _effort(cols, flip):
     if 'torque' in cols:
         return cols['torque']
-    sign = -1.0 if flip else 1.0
-    return sign * cols['friction'] + cols.get('load', 0.0)
+    x = cols['friction']
+    if flip:
+        x = np.negative(x, out=x)                   # the piece's own array
+    if 'load' in cols:
+        x = x + cols['load']
+    return x
 
 
 def _opposed_fraction(qd, friction):
     """Fraction of the sliding samples where ``friction`` opposes ``qd`` (None: no sliding)."""
     aq = np.abs(qd)
     moving = aq > 0.1 * np.percentile(aq, 99) if len(aq) else aq > 0
+    del aq
     moving &= friction != 0
     if not np.any(moving):
         return None
     return float(np.mean(np.sign(friction[moving]) != np.sign(qd[moving])))
+
+
+def _check_stamps(path, t):
+    """Raise unless ``t`` (s, from 0) gives strictly increasing int64 ns stamps."""
+    if t[-1] >= _SPAN_LIMIT:
+        raise RecordingError(f'{path}: the files end at {t[-1]:.6g} s of the recording, more '
+                             f'than it holds ({_SPAN_LIMIT:.0f} s)')
+    ns = np.round(t * NS)
+    ok = bool(np.all(ns[1:] > ns[:-1]))
+    del ns
+    if not ok:
+        raise RecordingError(f'{path}: two samples fall on the same nanosecond of the '
+                             "recording's stamps; a sample interval of at least 1 ns is needed")
+
+
+def _concat(parts):
+    return parts[0] if len(parts) == 1 else np.concatenate(parts)
+
+
+def _file_checks(path, pieces, flip_friction, friction_mode):
+    """Per file: what a reader would refuse (absurd samples); the friction sign warning."""
+    t = _concat([tt for tt, _ in pieces])
+    fields = {k: _concat([c[f] for _, c in pieces])
+              for k, f in (('q', 'position'), ('qd', 'velocity'), ('effort', 'effort'))}
+    for k, f in (('xi', 'temperature'), ('tau', 'load')):
+        if f in pieces[0][1]:
+            fields[k] = _concat([c[f] for _, c in pieces])
+    check_samples(path, t - t[0], fields, position=('q', 'qd'))
+    if not friction_mode:
+        return None
+    frac = _opposed_fraction(fields['qd'], _concat([c['friction'] for _, c in pieces]))
+    if frac is None or frac <= _OPPOSED:
+        return None
+    flag = 'without' if flip_friction else 'with'
+    return (f'{path}: the friction as written opposes the velocity on {100 * frac:.0f} % '
+            'of the sliding samples: the convention is tau_r of eq. 2 (the sign of the '
+            f'velocity while sliding); the column looks sign-flipped, import {flag} '
+            '--flip-friction')
 
 
 def import_logs(paths, columns, *, radius=1.0, unwrap=False, flip_friction=False, skip_rows=0,
@@ -415,7 +423,7 @@ def import_logs(paths, columns, *, radius=1.0, unwrap=False, flip_friction=False
     skip_rows : int
         Lines skipped at the top of each text file before its header.
     joint_name : str
-        Joint name written into the JointState messages.
+        Joint name written into the JointState messages (non-empty).
 
     Returns
     -------
@@ -425,50 +433,51 @@ def import_logs(paths, columns, *, radius=1.0, unwrap=False, flip_friction=False
     ------
     RecordingError
         One line naming the problem and the file (and row): unreadable file, unknown
-        column or unit, a value that is not a number, time stamps that do not
-        increase, a piece too short, an inconsistent mapping.
+        column or unit, a value that is not a number or not finite once converted,
+        time stamps that do not increase by at least 1 ns, a piece too short, a log
+        too large for the memory budget, an inconsistent mapping.
 
     """
-    _check_columns(columns, radius)
+    _check_columns(columns, radius, joint_name)
     if not paths:
         raise RecordingError('no input files given')
     options = {'radius': float(radius), 'unwrap': bool(unwrap), 'skip_rows': int(skip_rows)}
     friction_mode = 'friction' in columns
     out = {k: [] for k in ('t', 'q', 'qd', 'effort', 'tau', 'xi')}
     files, notes, warnings, mapping = [], [], [], {}
-    start, dts, prev = 0.0, [], []
+    start, dts, end = 0.0, [], None
     for path in map(os.fspath, paths):
         pieces, dt, mapping, resampled = _one_file(path, columns, options)
         if files:
-            start = prev[-1] + file_gap(dts + [dt])
+            start = end + file_gap(dts + [dt])
         offset = start - pieces[0][0][0]
         dts.append(dt)
         for tt, cols in pieces:
-            out['t'].append(tt + offset)
+            cols['effort'] = _effort(cols, flip_friction)
+        warning = _file_checks(path, pieces, flip_friction, friction_mode)
+        if warning:
+            warnings.append(warning)
+        spans = [[float(p[0][0] + offset), float(p[0][-1] + offset)] for p in pieces]
+        for tt, cols in pieces:
+            tt += offset                            # the piece's own array
+            _check_stamps(path, tt)
+            out['t'].append(tt)
             out['q'].append(cols['position'])
             out['qd'].append(cols['velocity'])
-            out['effort'].append(_effort(cols, flip_friction))
-            out['tau'].append(cols.get('load', np.zeros(len(tt))))
+            out['effort'].append(cols['effort'])
+            if friction_mode or 'load' in columns:
+                out['tau'].append(cols['load'] if 'load' in cols else np.zeros(len(tt)))
             if 'temperature' in cols:
                 out['xi'].append(cols['temperature'])
-        prev = [float(out['t'][-1][-1])]
+        end = float(out['t'][-1][-1])
         files.append({'path': path, 'offset_s': offset, 'sample_interval_s': dt,
-                      'samples': int(sum(len(p[0]) for p in pieces)),
-                      'pieces': [[float(p[0][0] + offset), float(p[0][-1] + offset)]
-                                 for p in pieces],
+                      'samples': int(sum(len(p[0]) for p in pieces)), 'pieces': spans,
                       'resampled_pieces': resampled})
-        if friction_mode:
-            frac = _opposed_fraction(np.concatenate([c['velocity'] for _, c in pieces]),
-                                     np.concatenate([_effort(c, flip_friction) - c.get('load', 0.0)
-                                                     for _, c in pieces]))
-            if frac is not None and frac > _OPPOSED:
-                flag = 'without' if flip_friction else 'with'
-                warnings.append(
-                    f'{path}: the friction as written opposes the velocity on {100 * frac:.0f} % '
-                    'of the sliding samples: the convention is tau_r of eq. 2 (the sign of the '
-                    f'velocity while sliding); the column looks sign-flipped, import {flag} '
-                    '--flip-friction')
-    cat = {k: np.concatenate(v) for k, v in out.items() if v}
+        del pieces
+    cat = {}
+    for k in list(out):
+        if out[k]:
+            cat[k] = _concat(out.pop(k))
     topics = {'/joint_states': {'t': cat['t'], 'q': cat['q'], 'qd': cat['qd'],
                                 'effort': cat['effort'], 'name': joint_name}}
     if friction_mode or 'load' in columns:

@@ -39,12 +39,14 @@ DESCRIPTION = ('Turn CSV/TSV/NPZ logs (one run per file, kept as separate pieces
                'mapped to the joint with --radius, irregular stamps resampled, a log of the '
                'friction itself written as the effort (--friction).')
 
-_COLUMNS = (('time', 's, ms, us'), ('position', 'rad, deg, rev; m, mm, um'),
-            ('velocity', 'rad/s, deg/s, rev/s; m/s, mm/s, um/s (default: centred difference)'),
-            ('torque', 'drive torque: Nm, Nmm; N, mN, uN'),
-            ('friction', 'friction logged directly, instead of --torque: Nm, Nmm; N, mN, uN'),
-            ('load', 'measured external torque tau_ext: Nm, Nmm; N, mN, uN'),
-            ('temperature', 'gear temperature: degC, K'))
+_TORQUES = 'Nm, Nmm, mNm, kNm; N, kN, mN, uN'
+_COLUMNS = (('time', 's, ms, us, ns, min, h'), ('position', 'rad, deg, rev; m, cm, mm, um'),
+            ('velocity', 'rad/s, deg/s, rev/s, rpm; m/s, mm/s, um/s (default: centred '
+                         'difference)'),
+            ('torque', f'drive torque: {_TORQUES}'),
+            ('friction', f'friction logged directly, instead of --torque: {_TORQUES}'),
+            ('load', f'measured external torque tau_ext: {_TORQUES}'),
+            ('temperature', 'gear temperature: degC, K, degF'))
 
 
 def add_arguments(parser):
@@ -102,8 +104,12 @@ def run(args):
             outputs.add_directory(out)
         outputs.check()
         log = import_logs(args.logs, columns, joint_name=args.joint, **options)
-        write_recording(outputs.staging_path(out), log.topics, joint_name=args.joint,
-                        custom_data=log.metadata())
+        try:
+            write_recording(outputs.staging_path(out), log.topics, joint_name=args.joint,
+                            custom_data=log.metadata())
+        except OSError as exc:                      # a full disk, a failing device
+            raise RecordingError(f'cannot write {out}: {exc.strerror or exc}; nothing was '
+                                 'written') from None
         outputs.publish()
     for line in log.warnings:
         print(f'friction_joint import: warning: {line}', file=sys.stderr)
