@@ -50,16 +50,12 @@ import json
 import math
 import os
 import re
-import shutil
-import signal
-import socket
 import stat
 import tempfile
-import threading
-import time
 
 import numpy as np
 
+from ._staging import owner_record, remove_path, signals_held, stale_stage
 from .exceptions import FrictionJointError
 
 __all__ = ['json_clean', 'json_bytes', 'render_png', 'ExperimentResult', 'result_files',
@@ -186,9 +182,17 @@ def _existing(path, error):
             raise error(f'cannot list {path}: {_why(exc)}') from None
     if stat.S_ISREG(mode):
         return 'a file'
-    if stat.S_ISFIFO(mode):
-        return 'a FIFO'
+    for test, name in _SPECIAL:
+        if test(mode):
+            return name
     return 'a special file'
+
+
+#: special files: never replaced by an output, even with ``force`` (``/dev/null`` renamed
+#: away would break the machine; a FIFO or socket belongs to another program)
+_SPECIAL = ((stat.S_ISFIFO, 'a FIFO'), (stat.S_ISCHR, 'a character device'),
+            (stat.S_ISBLK, 'a block device'), (stat.S_ISSOCK, 'a socket'))
+_SPECIAL_NAMES = tuple(name for _, name in _SPECIAL) + ('a special file',)
 
 
 def _relation(a, b):
@@ -212,70 +216,6 @@ def _relation(a, b):
 def _why(exc):
     """Return the reason of an ``OSError`` for a message."""
     return exc.strerror or str(exc)
-
-
-def _remove(path):
-    """Remove a file, symlink or directory tree; errors are ignored."""
-    try:
-        if os.path.isdir(path) and not os.path.islink(path):
-            shutil.rmtree(path, ignore_errors=True)
-        else:
-            os.unlink(path)
-    except OSError:
-        pass
-
-
-@contextlib.contextmanager
-def _signals_held():
-    """Hold SIGINT, SIGTERM and SIGHUP back inside the block, deliver them after it."""
-    held, saved = [], {}
-    try:
-        if threading.current_thread() is threading.main_thread():   # else no signals here
-            for s in (signal.SIGINT, signal.SIGTERM, signal.SIGHUP):
-                if signal.getsignal(s) not in (None, signal.SIG_IGN):   # None: set in C
-                    saved[s] = signal.signal(s, lambda signum, frame: held.append(signum))
-        yield
-    finally:
-        for s, handler in saved.items():
-            signal.signal(s, handler)
-        for s in dict.fromkeys(held):
-            signal.raise_signal(s)
-
-
-def _owner(pid):
-    """Return the owner record of process ``pid``: host, pid, start time (from /proc)."""
-    try:
-        with open(f'/proc/{pid}/stat', 'rb') as fh:
-            started = fh.read().rsplit(b')', 1)[1].split()[19].decode()
-    except (OSError, IndexError, UnicodeDecodeError):
-        started = '-'
-    return f'{socket.gethostname()} {pid} {started}'
-
-
-def _stale(stage, name):
-    """Whether staging directory ``stage`` of output ``name`` belongs to no live process."""
-    age = 0.0
-    try:
-        st = os.lstat(stage)
-        if not stat.S_ISDIR(st.st_mode):
-            return False
-        age = time.time() - st.st_mtime
-        with open(os.path.join(stage, f'{name}.owner'), encoding='utf-8') as fh:
-            host, pid, started = fh.read().split()
-        pid = int(pid)
-    except FileNotFoundError:                # no record: ours (before records) if it holds
-        return age > 3600.0 and os.path.lexists(os.path.join(stage, f'{name}.old'))  # .old
-    except (OSError, ValueError):
-        return False
-    if host != socket.gethostname() or pid <= 0:
-        return False                         # another machine's: not ours to judge
-    try:
-        os.kill(pid, 0)
-    except ProcessLookupError:
-        return True
-    except OSError:                          # exists, another user's
-        return False
-    return started != '-' and _owner(pid).split()[2] not in ('-', started)    # pid reused
 
 
 class OutputSet:
@@ -344,6 +284,10 @@ class OutputSet:
         target = _Target(path, os.path.abspath(path), kind, label)
         if os.path.basename(target.abspath) in ('', '.', '..'):
             raise self.error(f'{label} {path} cannot be an output')
+        if kind == _FILE and (path.endswith(os.sep) or (os.altsep and path.endswith(os.altsep))
+                              or os.path.basename(path) in ('.', '..')):
+            raise self.error(f'{label} {path} ends with a directory separator; give the name '
+                             'of the file to write')
         self._sweep(target)
         self._targets.append(target)
         return target.abspath
@@ -381,7 +325,10 @@ class OutputSet:
                                  'replaced')
             if t.kind == _FILE and found in ('empty', 'directory'):
                 raise self.error(f'{t.named()} is a directory; give the file to write')
-            if t.kind == _DIRECTORY and found in ('a file', 'a FIFO', 'a special file'):
+            if found in _SPECIAL_NAMES:
+                raise self.error(f'{t.named()} is {found}, not a regular file or directory; '
+                                 'it is never replaced by an output, even with --force')
+            if t.kind == _DIRECTORY and found == 'a file':
                 raise self.error(f'{t.named()} exists and is not a directory ({found[2:]})')
             if found is not None and found != 'empty':
                 existing.append((t, 'a non-empty directory' if found == 'directory' else found))
@@ -410,7 +357,7 @@ class OutputSet:
             return
         for entry in entries:
             stage = os.path.join(parent, entry)
-            if not pattern.fullmatch(entry) or not _stale(stage, name):
+            if not pattern.fullmatch(entry) or not stale_stage(stage, name):
                 continue
             old = os.path.join(stage, f'{name}.old')
             if os.path.lexists(old) and _existing(target.abspath, self.error) in (None, 'empty'):
@@ -418,7 +365,7 @@ class OutputSet:
                     os.rename(old, target.abspath)
                 except OSError:
                     continue                 # data: leave it where it is
-            _remove(stage)
+            remove_path(stage)
 
     # ------------------------------------------------------------------ stage ---
 
@@ -437,13 +384,13 @@ class OutputSet:
                                  f'{_why(exc)}') from None
             self._made.extend(missing)
             name = os.path.basename(target.abspath)
-            with _signals_held():            # never a staging directory without its owner
+            with signals_held():            # never a staging directory without its owner
                 try:
                     target.stage = tempfile.mkdtemp('.tmp', f'.{name}.', parent)
                 except OSError as exc:
                     raise self.error(f'cannot write to {parent}: {_why(exc)}') from None
                 self._write(os.path.join(target.stage, f'{name}.owner'),
-                            _owner(os.getpid()).encode('utf-8'), target.path)
+                            owner_record(os.getpid()).encode('utf-8'), target.path)
         return target
 
     def staging_path(self, path):
@@ -511,7 +458,7 @@ class OutputSet:
         for t in self._targets:
             if t.stage is None or not os.path.lexists(t.staged):
                 raise self.error(f'nothing was written for {t.named()}')
-        with _signals_held():                # signals: after the set is whole, old or new
+        with signals_held():                # signals: after the set is whole, old or new
             try:
                 for t in self._targets:
                     current = t
@@ -551,10 +498,10 @@ class OutputSet:
 
     def discard(self):
         """Remove the staging directories (old outputs replaced by publishing with them)."""
-        with _signals_held():
+        with signals_held():
             for t in self._targets:
                 if t.stage is not None and not t.keep:
-                    _remove(t.stage)
+                    remove_path(t.stage)
                     t.stage = None
             for d in self._made if not self._published else ():     # deepest first
                 with contextlib.suppress(OSError):

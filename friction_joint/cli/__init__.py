@@ -40,6 +40,7 @@ import signal
 import sys
 import threading
 
+from ._console import check_numbers, exit_now
 from ..exceptions import FrictionJointError
 
 __all__ = ['main', 'build_parser', 'SUBCOMMANDS']
@@ -91,15 +92,22 @@ def main(argv=None):
     try:
         args = build_parser().parse_args(argv)
         prog = f'friction_joint {args.command}'
+        check_numbers(args)
         return int(args.func(args) or 0)
     except FrictionJointError as exc:
         print(f'{prog}: error: {exc}', file=sys.stderr)
+        return 2
+    except OSError as exc:                   # a full disk, a read-only target found late, ...
+        where = f'{exc.filename}: ' if exc.filename else ''
+        print(f'{prog}: error: {where}{exc.strerror or exc}', file=sys.stderr)
         return 2
     except KeyboardInterrupt as exc:
         signum = getattr(exc, 'signum', signal.SIGINT)
         what = ('interrupted' if signum == signal.SIGINT else
                 f'stopped by {signal.Signals(signum).name}')
         print(f'{prog}: {what}', file=sys.stderr)
+        if argv is None:
+            exit_now(128 + signum)
         return 128 + signum
     finally:
         for s, handler in replaced.items():

@@ -14,11 +14,14 @@
 
 """Body of the ``record`` / ``replay`` console scripts (``ros2 run friction_joint PROG``)."""
 import argparse
+import contextlib
+import math
+import os
 import sys
 
-from ..exceptions import RecordingError
+from ..exceptions import FrictionJointError, RecordingError
 
-__all__ = ['console_main', 'progress_printer']
+__all__ = ['console_main', 'progress_printer', 'check_numbers', 'exit_now']
 
 
 def progress_printer(quiet=False):
@@ -41,16 +44,59 @@ def console_main(module, argv=None):
     A :class:`RecordingError` ends with ``PROG: error: ...`` and status 2,
     Ctrl-C with 130.
     """
-    from ..ros._rclpy import ExternalShutdownException, remove_ros_args
-    argv = list(sys.argv if argv is None else argv)
-    parser = argparse.ArgumentParser(prog=module.NAME, description=module.DESCRIPTION)
-    module.add_arguments(parser)
-    args = parser.parse_args(remove_ros_args(argv)[1:])
-    args.ros_args = argv
+    entry = argv is None                     # the process's entry point (a console script)
+    try:                                     # Ctrl-C while rclpy imports: one line, 130
+        from ..ros._rclpy import ExternalShutdownException, remove_ros_args
+        argv = list(sys.argv if argv is None else argv)
+        parser = argparse.ArgumentParser(prog=module.NAME, description=module.DESCRIPTION)
+        module.add_arguments(parser)
+        args = parser.parse_args(remove_ros_args(argv)[1:])
+        args.ros_args = argv
+        check_numbers(args)
+    except KeyboardInterrupt:
+        print(f'{module.NAME}: interrupted', file=sys.stderr)
+        return exit_now(130) if entry else 130
+    except FrictionJointError as exc:
+        print(f'{module.NAME}: error: {exc}', file=sys.stderr)
+        return 2
     try:
         return module.run(args)
     except RecordingError as exc:
         print(f'{module.NAME}: error: {exc}', file=sys.stderr)
         return 2
-    except (KeyboardInterrupt, ExternalShutdownException):
+    except KeyboardInterrupt:
+        print(f'{module.NAME}: interrupted', file=sys.stderr)
+        return exit_now(130) if entry else 130
+    except ExternalShutdownException:
         return 130
+
+
+def exit_now(status):
+    """
+    End the process with ``status`` at once, after flushing stdout and stderr.
+
+    A KeyboardInterrupt that passed through code run by ``exec`` of a string (numpy and
+    numba do so while they import) marks the interpreter, which then ends itself by
+    SIGINT even though the interrupt was handled; the entry points of the command line
+    exit this way after Ctrl-C so that the status is the one they report (130).
+    """
+    for stream in (sys.stdout, sys.stderr):
+        with contextlib.suppress(Exception):
+            stream.flush()
+    os._exit(status)
+
+
+def check_numbers(args):
+    """
+    Check that every number option of ``args`` is finite (argparse's ``float`` takes nan, inf).
+
+    Raises
+    ------
+    FrictionJointError
+        One line naming the option.
+
+    """
+    for dest, value in vars(args).items():
+        if isinstance(value, float) and not math.isfinite(value):
+            raise FrictionJointError(f'--{dest.replace("_", "-")}: must be a finite number, '
+                                     f'got {value}')

@@ -19,8 +19,13 @@ See :mod:`friction_joint.identification`.
 """
 from ._console import progress_printer
 from ..exceptions import GearConfigError
+from ..gear.schema import MAX_POLYNOMIAL_ORDER
 
-__all__ = ['NAME', 'HELP', 'DESCRIPTION', 'add_arguments', 'run', 'parse_orders']
+__all__ = ['NAME', 'HELP', 'DESCRIPTION', 'ORDER_NAMES', 'add_arguments', 'run', 'parse_orders']
+
+#: polynomials whose order ``--orders`` sets (temperature, then load)
+ORDER_NAMES = ('fc', 'fv', 'fs', 'vs', 'delta_v', 'fc_load', 'fv_load', 'fs_load', 'vs_load',
+               'delta_v_load')
 
 NAME = 'identify'
 HELP = 'identify the friction model from recordings (seed Section V-A)'
@@ -68,11 +73,19 @@ def parse_orders(text):
     out = {}
     for item in text.split(','):
         key, _, val = item.partition('=')
+        key = key.strip()
         try:
-            out[key.strip()] = int(val)
+            order = int(val)
         except ValueError:
             raise GearConfigError(f'--orders: expected auto, structure or NAME=ORDER,... '
                                   f'(e.g. fc=2,fv=2,fc_load=1), got {text!r}') from None
+        if key not in ORDER_NAMES:
+            raise GearConfigError(f'--orders: unknown polynomial {key!r} in {text!r}; known: '
+                                  f'{", ".join(ORDER_NAMES)}')
+        if not 0 <= order <= MAX_POLYNOMIAL_ORDER:
+            raise GearConfigError(f'--orders: {key}={order}: an order is an integer from 0 to '
+                                  f'{MAX_POLYNOMIAL_ORDER}')
+        out[key] = order
     return out
 
 

@@ -19,8 +19,10 @@ import math
 import numpy as np
 
 from ..exceptions import ExperimentError, GearConfigError
+from ..inputs import MEMORY_BUDGET
 
-__all__ = ['MODELS', 'MIN_SAMPLES', 'Experiment', 'json_key', 'n_steps',
+__all__ = ['MODELS', 'MIN_SAMPLES', 'STEP_BYTES', 'MAX_STEPS', 'Experiment', 'json_key',
+           'n_steps', 'check_steps',
            'check_scale', 'check_model', 'rmse', 'corr', 'grid_on', 'STYLES', 'COLORS',
            'LABELS', 'SETTLING_LABEL', 'paper_suptitle', 'add_headroom', 'peak_window',
            'reversal_peak_window', 'sign_changes', 'reversal_window', 'zoom_inset',
@@ -31,6 +33,11 @@ MODELS = ('none', 'lugre', 'gms')
 
 #: minimum number of samples in an evaluation window
 MIN_SAMPLES = 100
+#: bytes one simulated step of a run holds (the plant's measured and true signals, each
+#: model's simulation and the references: about 32 float64 arrays)
+STEP_BYTES = 32 * 8
+#: most steps one run may simulate: its arrays fit the memory budget of the inputs
+MAX_STEPS = MEMORY_BUDGET // STEP_BYTES
 
 
 #: ``func(model, truth, duration_scale) -> ExperimentResult``, ``help`` one line;
@@ -49,8 +56,29 @@ def json_key(x):
     return f'{float(x):g}'
 
 
+def check_steps(duration, dt, what):
+    """
+    Return the number of steps of ``duration`` s at step ``dt``, checked before any allocation.
+
+    Raises
+    ------
+    ExperimentError
+        More than :data:`MAX_STEPS` steps (or an overflow): the arrays of the
+        run would not fit the memory budget.
+
+    """
+    x = duration / dt
+    if not math.isfinite(x) or x > MAX_STEPS:
+        raise ExperimentError(
+            f'{what} of {duration:.4g} s at {1.0 / dt:g} Hz is {x:.3g} steps, more than the '
+            f'{MAX_STEPS} that fit the memory budget ({MEMORY_BUDGET >> 20} MiB at '
+            f'{STEP_BYTES} bytes per step); reduce --duration-scale')
+    return int(round(x))
+
+
 def n_steps(duration, dt, what):
-    n = int(round(duration / dt))
+    """Return the steps of an evaluated ``duration`` (>= MIN_SAMPLES, <= MAX_STEPS)."""
+    n = check_steps(duration, dt, what)
     if n < MIN_SAMPLES:
         raise ExperimentError(
             f'{what} of {duration:.4g} s has only {n} samples at {1.0 / dt:g} Hz '

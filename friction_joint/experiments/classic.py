@@ -51,6 +51,7 @@ import warnings
 
 import numpy as np
 
+from ._common import check_steps
 from ..exceptions import FrictionJointError, GearConfigWarning
 from ..gear import gear_from_dict
 from ..models.joint import Joint
@@ -109,7 +110,7 @@ def _midpoints(n, dt):
 
 
 def _nsteps(duration, dt):
-    n = int(round(duration / dt))
+    n = check_steps(duration, dt, 'a run')
     if n < 2:
         raise FrictionJointError(f'duration {duration} s is shorter than two steps of {dt} s')
     return n

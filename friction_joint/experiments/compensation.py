@@ -18,9 +18,9 @@ import math
 
 import numpy as np
 
-from ._common import (add_headroom, check_model, check_scale, closed_loop, grid_on, json_key,
-                      LABELS, MODELS, n_steps, paper_suptitle, reversal_peak_window, rmse,
-                      SETTLING_LABEL, STYLES, zoom_inset)
+from ._common import (add_headroom, check_model, check_scale, check_steps, closed_loop, grid_on,
+                      json_key, LABELS, MODELS, n_steps, paper_suptitle, reversal_peak_window,
+                      rmse, SETTLING_LABEL, STYLES, zoom_inset)
 from .warmup import warm_up
 from ..control.controller import Controller, SineTrajectory
 from ..control.gains import gain_design, loop_metrics
@@ -125,6 +125,7 @@ def compensation(model, truth, duration_scale=1.0, *, gains=None):
     period = 2.0 * math.pi / c['omega']
     settle = c['settle'] * scale
     window = c['periods'] * period * scale
+    check_steps(settle + window, dt, 'compensation run')
     n_settle = int(round(settle / dt))
     n_eval = n_steps(window, dt, 'compensation evaluation window')
     n = n_settle + n_eval

@@ -16,9 +16,9 @@
 
 import numpy as np
 
-from ._common import (add_headroom, check_model, check_scale, closed_loop, grid_on, json_key,
-                      LABELS, MODELS, n_steps, paper_suptitle, reversal_peak_window, rmse,
-                      SETTLING_LABEL, sign_changes, STYLES, SumOfSines, zoom_inset)
+from ._common import (add_headroom, check_model, check_scale, check_steps, closed_loop, grid_on,
+                      json_key, LABELS, MODELS, n_steps, paper_suptitle, reversal_peak_window,
+                      rmse, SETTLING_LABEL, sign_changes, STYLES, SumOfSines, zoom_inset)
 from .compensation import COMPENSATION
 from ..control.controller import Controller
 from ..control.gains import gain_design, loop_metrics
@@ -103,7 +103,7 @@ def estimation(model, truth, duration_scale=1.0, *, gains=None):
     ref = SumOfSines(c['reference'])
     plant = Plant(truth, xi0=c['xi0'], q0=ref(0.0)[0])
     n = n_steps(c['duration'] * scale, plant.dt, 'estimation run')
-    n_settle = int(round(c['settle'] * scale / plant.dt))
+    n_settle = check_steps(c['settle'] * scale, plant.dt, 'estimation settling')
     n_steps((n - n_settle) * plant.dt, plant.dt, 'estimation evaluation window')
     ctrl = Controller(model, kp, kd, friction=c['controller'], dt=plant.dt)
     observers = {kind: DisturbanceObserver(model, c['beta'], plant.dt, friction=kind,

@@ -95,6 +95,7 @@ import math
 
 import numpy as np
 
+from ._common import check_steps
 from ..exceptions import FrictionJointError
 from ..testbed.plant import Plant
 
@@ -186,6 +187,8 @@ class BlockPlan:
             self.q_end = float(q[-1])
 
     def _times(self, duration):
+        # the whole plan so far and this segment: checked before np.arange allocates it
+        check_steps(self.n * self.dt + duration, self.dt, 'an excitation plan')
         m = max(1, int(round(duration / self.dt)))
         return self.dt * np.arange(1, m + 1), m * self.dt
 
@@ -242,7 +245,7 @@ class BlockPlan:
 
 def _window(v, gear_ratio, scale, cfg):
     ripple = 2.0 * math.pi / (2.0 * gear_ratio)            # output travel per ripple period
-    w = max(cfg['window'], cfg['ripple_periods'] * ripple / abs(v))
+    w = float(max(cfg['window'], cfg['ripple_periods'] * ripple / abs(v)))
     return float(np.clip(w * scale, cfg['min_window'], cfg['max_window']))
 
 
@@ -300,7 +303,10 @@ def plan_block(index, gear_ratio, dt, duration_scale=1.0, cfg=EXCITATION, presli
         plan.hold(cfg['hold'])
         plan.ramp(0.0, v, accel)
         plan.constant(v, max(0.0, slide / v - max(0.05, math.pi * v / (2.0 * accel))))
-        periods = max(1, int(round(cfg['presliding_periods'] * duration_scale)))
+        periods = cfg['presliding_periods'] * duration_scale
+        check_steps(plan.t_end + periods * len(cfg['presliding_amplitudes'])
+                    / cfg['presliding_frequency'], dt, 'an excitation plan')
+        periods = max(1, int(round(periods)))
         for amp in cfg['presliding_amplitudes']:
             plan.sine(amp, cfg['presliding_frequency'], periods)
         plan.hold(cfg['hold'])

@@ -28,7 +28,8 @@ import math
 
 import numpy as np
 
-from ._common import check_model, check_scale, grid_on, json_key, n_steps, STYLES
+from ._common import (check_model, check_scale, check_steps, grid_on, json_key, n_steps,
+                      STYLES)
 from .compensation import COMPENSATION, tracking_run
 from ..control.gains import GAIN_PRESETS, GainDesign, loop_metrics
 from ..output import ExperimentResult
@@ -87,6 +88,7 @@ def gain_sweep(model, truth, duration_scale=1.0):
     c, cc = GAIN_SWEEP, COMPENSATION
     dt = 1.0 / truth.section('simulation')['rate']
     period = 2.0 * math.pi / cc['omega']
+    check_steps(cc['settle'] * scale + cc['periods'] * period * scale, dt, 'gain sweep run')
     n_settle = int(round(cc['settle'] * scale / dt))
     n = n_settle + n_steps(cc['periods'] * period * scale, dt, 'gain sweep evaluation window')
     temps = (min(cc['temperatures']), max(cc['temperatures']))

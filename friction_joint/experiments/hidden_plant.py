@@ -45,6 +45,7 @@ import math
 
 import numpy as np
 
+from ._common import check_steps
 from .excitation import BlockPlan
 from ..exceptions import FrictionJointError
 
@@ -92,6 +93,7 @@ def add_sweep(plan, rng, rest, cfg):
     if not rest > 2.0 * ramp + 0.5:
         return
     dt = plan.dt
+    check_steps(plan.n * dt + rest, dt, 'an excitation plan')
     m = int(round(rest / dt))
     t = dt * np.arange(1, m + 1)
     T = m * dt

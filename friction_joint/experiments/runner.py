@@ -171,7 +171,12 @@ def run_experiment(name, model_path, truth_path, out_dir, duration_scale=1.0, pr
         if exp.output == 'recording':
             from ..bag import write_recording
             topics, summary = exp.func(model, truth, scale, progress=progress)
-            write_recording(outputs.staging_path(out_dir), topics, joint_name=truth.joint_name)
+            try:
+                write_recording(outputs.staging_path(out_dir), topics,
+                                joint_name=truth.joint_name)
+            except OSError as exc:          # a full disk, a read-only target found late
+                raise ExperimentError(f'cannot write {out_dir}: '
+                                      f'{exc.strerror or exc}') from None
             written = outputs.publish()
             summary['wall_time_s'] = time.perf_counter() - start
             if progress is not None:

@@ -49,11 +49,12 @@ Keys beyond the contract's base keys (all optional):
     element stiffnesses k_i (Nm/rad), torque fractions alpha_i (sum 1,
     default equal = the paper's mu = 1/N) and attraction C (Nm/s), eq. 11-13.
 """
-from .files import load_gear, save_gear
+from .files import format_gear, load_gear, parse_gear, save_gear
 from .params import (FrictionParams, gear_from_dict, gear_from_flat, GearParams, GMSParams,
                      LuGreParams, passivity_bound, RippleParams)
 from .schema import FRICTION_MODELS, SCHEMA, Section
 
 __all__ = ['GearParams', 'FrictionParams', 'LuGreParams', 'GMSParams', 'RippleParams',
-           'load_gear', 'gear_from_dict', 'gear_from_flat', 'save_gear', 'SCHEMA',
+           'load_gear', 'parse_gear', 'format_gear', 'gear_from_dict', 'gear_from_flat',
+           'save_gear', 'SCHEMA',
            'FRICTION_MODELS', 'passivity_bound', 'Section']

@@ -35,10 +35,11 @@ import yaml
 
 from .params import expand_dotted, gear_from_dict, gear_from_flat
 from .schema import key_specs, required_keys, SCHEMA, Section
-from .strict_yaml import read_yaml_document, Yaml12Resolver
+from .strict_yaml import parse_yaml_text, read_yaml_document, Yaml12Resolver
 from ..exceptions import GearConfigError
 
-__all__ = ['load_gear', 'save_gear', 'read_ros_params_file', 'format_ros_params']
+__all__ = ['load_gear', 'parse_gear', 'format_gear', 'save_gear', 'read_ros_params_file',
+           'format_ros_params']
 
 _SPECS = key_specs()
 _REQUIRED = required_keys()
@@ -66,7 +67,34 @@ def load_gear(path):
 
     """
     path = str(path)
-    doc = read_yaml_document(path)
+    return _gear_from_document(read_yaml_document(path), path)
+
+
+def parse_gear(text, where):
+    """
+    Validate the text of a gear parameter file as :func:`load_gear` validates a file.
+
+    Parameters
+    ----------
+    text : str
+        The file's content (e.g. from :func:`format_gear`).
+    where : str
+        Its name in error messages.
+
+    Returns
+    -------
+    GearParams
+
+    Raises
+    ------
+    GearConfigError
+        Anything :func:`load_gear` rejects.
+
+    """
+    return _gear_from_document(parse_yaml_text(text, where), where)
+
+
+def _gear_from_document(doc, path):
     if not isinstance(doc, dict) or '/**' not in doc:
         raise GearConfigError(f'{path}: not a gear parameter file: expected a top-level '
                               '"/**:" key with "ros__parameters:" below it')
@@ -94,6 +122,14 @@ for _first, _resolvers in Yaml12Resolver.yaml_implicit_resolvers.items():
         _Dumper.add_implicit_resolver(_tag, _regexp, [_first])
 
 
+def format_gear(gear, header=None):
+    """Return the text of ``gear`` as a ROS 2 parameter file, ``header`` lines as comments."""
+    text = yaml.dump(gear.to_dict(), Dumper=_Dumper, sort_keys=False, default_flow_style=None)
+    if header:
+        text = ''.join(f'# {line}\n' if line else '#\n' for line in header.splitlines()) + text
+    return text
+
+
 def save_gear(gear, path, header=None):
     """
     Write ``gear`` as a ROS 2 parameter file (atomically), with an optional comment header.
@@ -108,9 +144,7 @@ def save_gear(gear, path, header=None):
         Lines written as ``#`` comments at the top.
 
     """
-    text = yaml.dump(gear.to_dict(), Dumper=_Dumper, sort_keys=False, default_flow_style=None)
-    if header:
-        text = ''.join(f'# {line}\n' if line else '#\n' for line in header.splitlines()) + text
+    text = format_gear(gear, header)
     path = str(path)
     d = os.path.dirname(os.path.abspath(path))
     tmp = os.path.join(d, f'.gear-{secrets.token_hex(6)}.yaml')

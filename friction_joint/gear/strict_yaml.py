@@ -49,13 +49,13 @@ from yaml.resolver import BaseResolver
 
 from .schema import INT64_RANGE
 from ..exceptions import GearConfigError
-from ..inputs import read_input
+from ..inputs import LIMITS, read_input
 
 __all__ = ['MAX_FILE_BYTES', 'MAX_SEQUENCE', 'MAX_DEPTH', 'read_yaml_document', 'parse_yaml_text',
            'Yaml12Resolver']
 
-#: largest gear / parameter file read (bytes); the shipped gear files are about 2 kB
-MAX_FILE_BYTES = 1_000_000
+#: largest gear / parameter file read (bytes, 1 MiB); the shipped gear files are about 2 kB
+MAX_FILE_BYTES = LIMITS['gear']
 #: longest sequence built (the schema's list limits are far lower)
 MAX_SEQUENCE = 10_000
 #: deepest nesting of mappings and lists (a gear file needs 5, node sections add a few)

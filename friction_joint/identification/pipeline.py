@@ -59,21 +59,20 @@ import dataclasses
 import datetime
 import importlib.util
 import os
-import tempfile
 import time
 import warnings
 
 import numpy as np
-import yaml
 
 from .plateaus import DETECTION, find_plateaus, Plateaus
 from .static_fit import StaticIdentifier
 from .._filters import zero_phase_derivatives
 from ..bag import read_recording
 from ..bag.stamps import gap_summary, piece_on_grid, split_pieces
-from ..exceptions import (ExcitationError, FrictionJointError, GearConfigWarning,
-                          RecordingError)
-from ..gear import load_gear, save_gear
+from ..exceptions import (ExcitationError, FrictionJointError, GearConfigError,
+                          GearConfigWarning, RecordingError)
+from ..gear import format_gear, load_gear, parse_gear
+from ..gear.strict_yaml import read_yaml_document
 from ..output import ExperimentResult, json_clean, OutputSet, result_files
 
 __all__ = ['IdentificationRun', 'identify_recordings', 'run_identify',
@@ -145,10 +144,9 @@ class IdentificationRun:
 def _declared_friction_keys(path):
     """Keys under ``friction`` as written in a gear file (defaults not filled in)."""
     try:
-        with open(path, encoding='utf-8') as fh:
-            doc = yaml.safe_load(fh)
+        doc = read_yaml_document(path)        # through the input gate, as load_gear read it
         params = doc['/**']['ros__parameters']
-    except (OSError, ValueError, yaml.YAMLError, KeyError, TypeError):
+    except (GearConfigError, KeyError, TypeError):
         return None
     if not isinstance(params, dict):
         return None
@@ -452,12 +450,9 @@ def _relocated(obj, relocate):
 
 def _gear_bytes(gear, header):
     """Return the gear file's text (UTF-8), checked to load as every node loads it."""
-    with tempfile.TemporaryDirectory() as d:
-        path = os.path.join(d, 'gear.yaml')
-        save_gear(gear, path, header=header)
-        load_gear(path)
-        with open(path, 'rb') as fh:
-            return fh.read()
+    text = format_gear(gear, header)          # in memory: no temporary file to fill a disk
+    parse_gear(text, 'the identified gear file')
+    return text.encode('utf-8')
 
 
 def run_identify(paths, model_path, out, *, orders=None, report_dir=None, presliding='auto',

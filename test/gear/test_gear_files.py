@@ -140,7 +140,7 @@ def test_file_size_is_checked_before_parsing(tmp_path):
     path = write(tmp_path, HEAD + BODY + big)
     assert path.stat().st_size > 1_000_000
     t0 = time.perf_counter()
-    rejected(path, 'larger than', 'MB')
+    rejected(path, 'larger than', 'MiB')
     assert time.perf_counter() - t0 < 1.0
 
 
