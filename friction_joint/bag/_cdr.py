@@ -42,20 +42,28 @@ class MessageLayout:
 
     ``fields`` maps a field name to ``(offset, count)`` of a float64 run; ``mask`` is True
     on every byte that is *not* data (encapsulation, string and sequence lengths, names),
-    which identical-layout messages share.
+    which identical-layout messages share.  The frame id's characters (``frame``:
+    ``(start, stop)``) are not compared either: messages whose frame ids differ but have
+    one length share a layout (a frame id per message must not make one group each).
     """
 
     __slots__ = ('size', 'fields', 'names', 'mask')
 
-    def __init__(self, size, fields_, names=()):
+    def __init__(self, size, fields_, names=(), frame=None):
         self.size = size
         self.fields = fields_
         self.names = tuple(names)
         mask = np.ones(size, dtype=bool)
         mask[4:12] = False                        # stamp sec, nanosec
+        if frame is not None:
+            mask[frame[0]:frame[1]] = False       # frame id characters
         for off, count in fields_.values():
             mask[off:off + 8 * count] = False
         self.mask = mask
+
+    def key(self):
+        """Return what decoding depends on: size, names and field offsets."""
+        return self.size, self.names, tuple(sorted(self.fields.items()))
 
 
 class Cdr:
@@ -103,8 +111,10 @@ class Cdr:
         return off
 
     def header(self):
+        """Skip the header; return the byte range of the frame id's characters."""
         self.o = 12                                # stamp at 4..12
         self.string()                              # frame_id
+        return 16, self.o - 1
 
     def done(self):
         if len(self.raw) - self.o >= 8 or self.o > len(self.raw):
@@ -113,30 +123,30 @@ class Cdr:
 
 def walk_joint_state(raw):
     c = Cdr(raw)
-    c.header()
+    frame = c.header()
     names = [c.string() for _ in range(c.u32())]
     flds = {}
     for name in ('position', 'velocity', 'effort'):
         n = c.u32()
         flds[name] = (c.f64(n), n)
     c.done()
-    return MessageLayout(len(raw), flds, names)
+    return MessageLayout(len(raw), flds, names, frame)
 
 
 def walk_temperature(raw):
     c = Cdr(raw)
-    c.header()
+    frame = c.header()
     flds = {'temperature': (c.f64(1), 1), 'variance': (c.f64(1), 1)}
     c.done()
-    return MessageLayout(len(raw), flds)
+    return MessageLayout(len(raw), flds, (), frame)
 
 
 def walk_wrench(raw):
     c = Cdr(raw)
-    c.header()
+    frame = c.header()
     flds = {'force': (c.f64(3), 3), 'torque': (c.f64(3), 3)}
     c.done()
-    return MessageLayout(len(raw), flds)
+    return MessageLayout(len(raw), flds, (), frame)
 
 
 def walk_clock(raw):
@@ -158,10 +168,49 @@ def f64_columns(block, off, count):
     return np.ascontiguousarray(block[:, off:off + 8 * count]).view('<f8')
 
 
-def stamps_ns(block):
+def stamps_ns(block, label=None, index=None):
+    """
+    Return the header stamps (ns) of a block of messages.
+
+    With ``label`` (the recording and topic), a nanosecond field of 1e9 or more (a
+    malformed stamp: it would be read as a later second) is an error naming message
+    ``index[k]``.
+    """
     sec = np.ascontiguousarray(block[:, 4:8]).view('<i4')[:, 0].astype(np.int64)
     nsec = np.ascontiguousarray(block[:, 8:12]).view('<u4')[:, 0].astype(np.int64)
+    if label is not None:
+        bad = np.flatnonzero(nsec >= NS)
+        if len(bad):
+            k = int(bad[0])
+            where = int(index[k]) if index is not None else k
+            raise RecordingError(
+                f'{label}: message {where}: header stamp nanosec {int(nsec[k])} is not below '
+                f'1e9 (sec {int(sec[k])}; {len(bad)} such messages): a malformed stamp')
     return sec * NS + nsec
+
+
+def _walk(walk, raw, msgtype, topic, index):
+    try:
+        return walk(raw)
+    except (ValueError, struct.error) as exc:
+        raise RecordingError(f'{topic}: message {index} is not a valid {msgtype}: {exc}'
+                             ) from None
+
+
+def _block(part, cand, size):
+    data = np.frombuffer(b''.join([part[i] for i in cand]), dtype=np.uint8)
+    return data.reshape(len(cand), size)
+
+
+def _by_key(part, pending, walk, msgtype, topic, start):
+    """Group the ``pending`` messages by walking each once (layouts that vary: linear)."""
+    groups = {}
+    for i in pending.tolist():
+        layout = _walk(walk, part[i], msgtype, topic, start + i)
+        groups.setdefault(layout.key(), (layout, []))[1].append(i)
+    for layout, members in groups.values():
+        cand = np.asarray(members, dtype=np.int64)
+        yield start + cand, layout, _block(part, cand, layout.size)
 
 
 def layout_groups(raws, msgtype, topic):
@@ -169,7 +218,11 @@ def layout_groups(raws, msgtype, topic):
     Yield ``(indices, layout, block)`` covering every message of ``raws`` once.
 
     ``block`` is a ``(len(indices), layout.size)`` uint8 array of the messages that share
-    ``layout``.
+    ``layout``.  The first :data:`MAX_LAYOUTS` layouts of a block are found by comparing
+    every message's non-data bytes with one message of the layout (numpy, fast for the
+    usual one or few layouts); beyond that each remaining message is walked once and
+    grouped by what decoding depends on (:meth:`MessageLayout.key`), so the time stays
+    linear in the number of messages however many layouts there are.
     """
     walk = WALKERS[msgtype]
     for start in range(0, len(raws), BLOCK):
@@ -178,19 +231,14 @@ def layout_groups(raws, msgtype, topic):
         pending = np.arange(len(part))
         groups = 0
         while pending.size:
+            if groups >= MAX_LAYOUTS:             # layouts vary: walk each message once
+                yield from _by_key(part, pending, walk, msgtype, topic, start)
+                break
             i0 = int(pending[0])
-            try:
-                layout = walk(part[i0])
-            except (ValueError, struct.error) as exc:
-                raise RecordingError(f'{topic}: message {start + i0} is not a valid '
-                                     f'{msgtype}: {exc}') from None
+            layout = _walk(walk, part[i0], msgtype, topic, start + i0)
             groups += 1
-            if groups > MAX_LAYOUTS:              # layouts vary: one message at a time
-                cand = pending[:1]
-            else:
-                cand = pending[lengths[pending] == layout.size]
-            block = np.frombuffer(b''.join([part[i] for i in cand]),
-                                  dtype=np.uint8).reshape(len(cand), layout.size)
+            cand = pending[lengths[pending] == layout.size]
+            block = _block(part, cand, layout.size)
             ref = np.frombuffer(part[i0], dtype=np.uint8)
             same = (block[:, layout.mask] == ref[layout.mask]).all(axis=1)
             yield start + cand[same], layout, block[same]

@@ -31,6 +31,8 @@ import numpy as np
 
 from ._cdr import f64_columns, layout_groups, stamps_ns, walk_joint_state
 from .checksums import mcap_files, verify_checksums
+from .consistency import check_negative_stamps, check_recording as check_consistency
+from .gate import check_recording_files
 from .plausible import check_values
 from .staging import partial_recording_error
 from .stamps import stamp_order
@@ -63,7 +65,7 @@ def _decode_joint_state(raws, topic, joint, required):
             j = 0                                  # anonymous single-joint message
         else:
             continue
-        stamp[idx] = stamps_ns(block)
+        stamp[idx] = stamps_ns(block, topic, idx)
         keep[idx] = True
         for name, (off, count) in layout.fields.items():
             if count == 0:
@@ -86,7 +88,7 @@ def _decode_fixed(raws, topic, msgtype, picks):
     stamp = np.zeros(n, dtype=np.int64)
     cols = {k: np.full(n, np.nan) for k in picks}
     for idx, layout, block in layout_groups(raws, msgtype, topic):
-        stamp[idx] = stamps_ns(block)
+        stamp[idx] = stamps_ns(block, topic, idx)
         for out, (name, i) in picks.items():
             off, _ = layout.fields[name]
             cols[out][idx] = f64_columns(block, off + 8 * i, 1)[:, 0]
@@ -130,7 +132,7 @@ def _verify(path):
 
 def _corrupt(path, exc):
     """Return the RecordingError for an exception rosbags raised while reading messages."""
-    text = f'{type(exc).__name__}: {exc}'
+    text = ' '.join(f'{type(exc).__name__}: {exc}'.split())
     if 'checksum' in str(exc).lower():
         return RecordingError(f'{path}: truncated or corrupt recording: a chunk fails its '
                               f'checksum, the file changed after it was written ({text})')
@@ -143,8 +145,7 @@ def _open_reader(path, verify=False):
     except ImportError as exc:                    # pragma: no cover - packaging problem
         raise RecordingError(f'reading recordings needs the rosbags package ({exc})') from None
     p = Path(path)
-    if not p.exists():
-        raise RecordingError(f'recording {path} does not exist')
+    check_recording_files(path)                   # FIFOs, devices, unreadable files: refused
     partial = partial_recording_error(path)       # a killed recorder's file: how to recover
     if partial is not None:
         raise partial
@@ -161,8 +162,9 @@ def _open_reader(path, verify=False):
         reader = Reader(p)
         reader.open()
     except Exception as exc:                       # rosbags raises various types
+        text = ' '.join(f'{type(exc).__name__}: {exc}'.split())
         raise RecordingError(f'{path}: cannot open recording, truncated or corrupt '
-                             f'({type(exc).__name__}: {exc})') from None
+                             f'({text})') from None
     return reader
 
 
@@ -342,6 +344,7 @@ def read_recording(path, joint_name=None, *, check=True):
         idx = np.flatnonzero(keep) if keep is not None else np.arange(len(raws))
         spec = None
         if check:
+            check_negative_stamps(f'{path}: {topic}', stamp[idx] / NS, idx)
             spec = (f'{path}: {topic}', lambda a, b: raws[idx[a]] == raws[idx[b]], idx)
         t, t_recv, cols, late, dups = _ordered(stamp[idx], recv[idx],
                                                {k: v[idx] for k, v in cols.items()}, spec)
@@ -402,4 +405,5 @@ def read_recording(path, joint_name=None, *, check=True):
                     topics=topics, unordered=unordered, duplicates=duplicates)
     if check:
         check_values(rec)
+        check_consistency(rec)
     return rec

@@ -34,6 +34,7 @@ import zlib
 from .checksums import seal_rosbag2
 from .staging import read_marker, staging_directory, staging_state
 from ..exceptions import RecordingError
+from ..inputs import check_input
 
 __all__ = ['recover_recording', 'RecoveredRecording']
 
@@ -216,7 +217,8 @@ def _source_file(path):
     """Return the one ``.mcap`` file of ``path`` (file, bag or staging directory)."""
     if not os.path.lexists(path):
         raise RecordingError(f'{path} does not exist')
-    if os.path.isfile(path):
+    if not os.path.isdir(path):                   # a FIFO or device: refused, never opened
+        check_input(path, kind='recording', what='a recording', error=RecordingError)
         return path
     files = []
     for pattern in ('*.mcap', os.path.join('*', '*.mcap')):
@@ -230,6 +232,7 @@ def _source_file(path):
     if len(files) > 1:
         raise RecordingError(f'{path}: several .mcap files ({", ".join(files)}); recover '
                              'them one by one')
+    check_input(files[0], kind='recording', what='a recording', error=RecordingError)
     return files[0]
 
 

@@ -40,6 +40,7 @@ import os
 import time
 
 from ..exceptions import RecordingError
+from ..inputs import check_input, read_input
 
 __all__ = ['RecorderStaging', 'flush_chunks', 'killed_recordings', 'partial_recording_error',
            'recovery_command', 'staging_directory', 'staging_state', 'read_marker', 'MARKER',
@@ -143,10 +144,9 @@ def read_marker(directory):
     if not os.path.isfile(path):
         return None
     try:
-        with open(path, encoding='utf8') as fh:
-            info = json.load(fh)
+        info = json.loads(read_input(path, kind='text', error=RecordingError))
         return info if isinstance(info, dict) else {}
-    except (OSError, ValueError):
+    except (OSError, ValueError, RecordingError):
         return {}
 
 
@@ -242,6 +242,8 @@ def killed_recordings(out):
 
 def _truncated_mcap(path):
     """Return a description if ``path`` is an MCAP file cut short (or empty), else None."""
+    if os.path.lexists(path):                     # a FIFO or device: refused, never opened
+        check_input(path, kind='recording', what='a recording storage', error=RecordingError)
     try:
         size = os.path.getsize(path)
         with open(path, 'rb') as fh:

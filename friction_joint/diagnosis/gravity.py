@@ -49,6 +49,9 @@ import os
 
 import numpy as np
 
+from ..bag.gate import read_metadata
+from ..exceptions import RecordingError
+
 __all__ = ['MIN_CURVATURE', 'gravity_untestable', 'linear_device', 'corrected_lever']
 
 #: least share of the energy of a gravity column outside the span of the base, 1 and q
@@ -61,15 +64,13 @@ def linear_device(paths):
         meta = os.path.join(os.fspath(path), 'metadata.yaml')
         if not os.path.isfile(meta):
             continue
-        import yaml
-        try:
-            with open(meta, encoding='utf-8') as f:
-                info = yaml.safe_load(f) or {}
-        except (OSError, yaml.YAMLError):
-            continue
-        custom = (info.get('rosbag2_bagfile_information') or {}).get('custom_data') or {}
-        text = custom.get('friction_joint.import')
-        if not text:
+        try:                                      # through the input gate: no FIFO, no device
+            info = read_metadata(meta)
+        except RecordingError:
+            continue                              # the reader has named it already
+        custom = info.get('custom_data') or {}
+        text = custom.get('friction_joint.import') if isinstance(custom, dict) else None
+        if not isinstance(text, str) or not text:
             continue
         try:
             if json.loads(text).get('radius_m') is not None:
