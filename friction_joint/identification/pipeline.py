@@ -59,6 +59,7 @@ import dataclasses
 import datetime
 import importlib.util
 import os
+import re
 import time
 import warnings
 
@@ -163,7 +164,8 @@ def _read(path, joint_name):
         return read_recording(path, joint_name=joint_name)
     except RecordingError as exc:
         msg = str(exc)
-        if '/joint_temperature' in msg:
+        if re.search(r'no /joint_temperature|/joint_temperature (topic|has no)', msg):
+            # the topic is absent: say why it is needed (a bad value is named as it is)
             raise RecordingError(
                 f'{msg}: the identification needs the gear housing temperature during the '
                 'plateaus (sensor_msgs/Temperature on /joint_temperature); record it with the '

@@ -72,6 +72,7 @@ from .static_problem import (block_folds, CoefficientLayout, covariance, fit_str
 from .static_structure import (check_excitation, distinct_levels, group_table, PARAMS,
                                StaticStructure, UNITS)
 from ..exceptions import ExcitationError, GearConfigError
+from ..gear.schema import TEMPERATURE_BOUNDS
 from ..models.static import StaticFriction
 
 __all__ = ['StaticIdentifier', 'cross_validate_orders', 'select_orders']
@@ -358,12 +359,21 @@ class StaticIdentifier:
         lo = math.floor(t_range[0] * 10.0) / 10.0
         hi = math.ceil(t_range[1] * 10.0) / 10.0
         fr['temperature_range'] = [lo, hi]
+        t_lo, t_hi, why = TEMPERATURE_BOUNDS
+        if not t_lo <= lo < hi <= t_hi:               # the recordings' fault, not the model's
+            raise ExcitationError(
+                f'the recorded temperatures span {lo}..{hi} degC, outside [{t_lo}, {t_hi}] '
+                f'degC ({why}): a wrong unit or a corrupt value in the recordings')
         try:
             return self.structure_gear.replace({'friction': fr})
         except GearConfigError as exc:
+            msg = str(exc)                             # the coefficients are the data's
+            src = self.structure_gear.source
+            if src and msg.startswith(f'{src}: '):
+                msg = msg[len(src) + 2:]
             raise ExcitationError(
                 f'the identified coefficients are not physical over the recorded temperature '
-                f'range {lo}..{hi} degC ({exc}); the data do not pin the polynomial down: '
+                f'range {lo}..{hi} degC ({msg}); the data do not pin the polynomial down: '
                 'lower its order or record at more temperatures') from None
 
     def _group_fits(self, plateaus, load_ref):

@@ -229,9 +229,23 @@ def test_absurd_temperature_does_not_blame_the_gear_file(tmp_path, capsys, comma
     rec = _recording(tmp_path / 'hot', xi=1e300)
     out = tmp_path / ('g.yaml' if command == 'identify' else 'diag')
     rc = main([command, rec, '--model', BASE, '--out', str(out), '--quiet'])
-    line = _one_line(capsys, rc, 'hot')
-    assert 'csd25_base' not in line, line
+    line = _one_line(capsys, rc, 'hot', '/joint_temperature')
+    assert 'csd25_base' not in line and 'record it' not in line, line
     assert not out.exists()
+
+
+def test_recorded_temperature_out_of_range_blames_the_recordings(tmp_path, capsys):
+    """
+    Blame the recordings for temperatures the identified gear cannot have.
+
+    Temperatures just below the reader's limit made the identified gear invalid: that
+    error named the structure file (``csd25_base.yaml``) and asked to lower its order.
+    """
+    rec = _recording(tmp_path / 'hot', xi=999.99)
+    rc = main(['identify', rec, '--model', BASE, '--out', str(tmp_path / 'g.yaml'), '--quiet'])
+    line = _one_line(capsys, rc, 'recorded temperatures', 'recordings')
+    assert 'csd25_base' not in line and 'order' not in line, line
+    assert not (tmp_path / 'g.yaml').exists()
 
 
 # ------------------------------------------------------------------ Ctrl-C ---
