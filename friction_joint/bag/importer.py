@@ -55,10 +55,11 @@ index) and converted to SI and the joint convention of the README
   one > 0) and ``/link_torque`` carries the logged load, or 0 when there is none.
 * ``temperature`` becomes ``/joint_temperature`` (optional, at least
   −273.15 °C), ``load`` the measured τ_ext on ``/link_torque``.
-* **Memory**: the files are read in chunks (:mod:`~friction_joint.bag.tables`)
-  and a log whose arrays would exceed
-  :data:`~friction_joint.inputs.MEMORY_BUDGET` is refused before it is
-  decoded (:data:`ROW_BYTES` per row and column kept).
+* **Memory**: the files are read in chunks (:mod:`~friction_joint.bag.tables`),
+  only the columns mapped are kept, and logs whose arrays (:data:`ROW_BYTES`
+  plus 8 per column kept, per row, all files together) would exceed
+  :data:`~friction_joint.inputs.MEMORY_BUDGET` are refused before they are
+  decoded.
 """
 import json
 import os
@@ -80,9 +81,10 @@ __all__ = ['QUANTITIES', 'UNITS', 'GAP', 'SPLIT', 'ROW_BYTES', 'ImportedLog', 'p
 GAP = 10.0
 #: a step of the stamps longer than this many median intervals splits a run into pieces
 SPLIT = 5.0
-#: bytes of memory an import needs per row of a log (its columns, the topics' arrays, the
-#: temporaries of resampling and writing), checked against the memory budget
-ROW_BYTES = 200
+#: bytes of memory an import needs per row of a log besides 8 per column kept (the topics'
+#: arrays and the temporaries of resampling, differentiating and checking; measured about
+#: 110 with four columns), checked against the memory budget
+ROW_BYTES = 120
 #: stamps within this fraction of an interval of the uniform grid are kept as they are
 _ON_GRID = 1e-3
 #: a friction column opposing the velocity on more than this fraction of the sliding
@@ -262,8 +264,8 @@ def _check_columns(columns, radius, joint_name):
                              f'without surrounding spaces, got {joint_name!r}')
 
 
-def _read(path, columns, options):
-    """Read the columns of one file; return ``{quantity: (array, name, unit)}`` and rows."""
+def _read(path, columns, options, budget):
+    """Read the columns of one file; return ``{quantity: (array, name, unit)}``, rows, bytes."""
     found = {}
 
     def pick(header, width):
@@ -272,9 +274,9 @@ def _read(path, columns, options):
                 found[q] = _resolve(path, header, width, q, columns[q])
         return sorted({idx for idx, _, _ in found.values()})
 
-    nkept = len({c for c, _ in columns.values()}) + 4
-    header, cols, rows = read_table(path, options['skip_rows'], pick=pick,
-                                    row_bytes=ROW_BYTES + 8 * nkept, budget=MEMORY_BUDGET)
+    row_bytes = ROW_BYTES + 8 * len(columns)
+    header, cols, rows = read_table(path, options['skip_rows'], pick=pick, row_bytes=row_bytes,
+                                    budget=budget)
     by_index = dict(zip(sorted({idx for idx, _, _ in found.values()}), cols))
     times = getattr(header, 'times', {})
     picked, used = {}, set()
@@ -293,12 +295,13 @@ def _read(path, columns, options):
         if unit is None and header is not None:
             unit = header_unit(q, name, path)
         picked[q] = (x, name, unit or SI[q])
-    return picked, rows
+    return picked, rows, len(rows) * row_bytes
 
 
 def _one_file(path, columns, options):
     """Read and convert one file; returns the list of pieces and what was done."""
-    raw, rows = _read(path, columns, options)
+    raw, rows, used = _read(path, columns, options, MEMORY_BUDGET - options['used'])
+    options['used'] += used
     radius = options['radius']
     picked, mapping = {}, {}
     for q in QUANTITIES:
@@ -441,7 +444,8 @@ def import_logs(paths, columns, *, radius=1.0, unwrap=False, flip_friction=False
     _check_columns(columns, radius, joint_name)
     if not paths:
         raise RecordingError('no input files given')
-    options = {'radius': float(radius), 'unwrap': bool(unwrap), 'skip_rows': int(skip_rows)}
+    options = {'radius': float(radius), 'unwrap': bool(unwrap), 'skip_rows': int(skip_rows),
+               'used': 0}
     friction_mode = 'friction' in columns
     out = {k: [] for k in ('t', 'q', 'qd', 'effort', 'tau', 'xi')}
     files, notes, warnings, mapping = [], [], [], {}

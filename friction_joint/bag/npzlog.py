@@ -177,8 +177,8 @@ def _read_members(zf, path, pick, row_bytes, budget):
                              'holds only arrays')
     declared = sum(i.file_size for i in infos)
     if declared > budget:
-        raise RecordingError(f'{path}: its arrays declare {_mib(declared)} uncompressed, more '
-                             f'than the memory budget of {_mib(budget)}')
+        raise RecordingError(f'{path}: its arrays declare {declared} bytes ({_mib(declared)}) '
+                             f'uncompressed, more than the memory budget ({_mib(budget)} left)')
     heads = [(_member_header(zf, i, path), i) for i in infos]
     if len(heads) == 1 and len(heads[0][0][0]) == 2:
         (shape, dtype), info = heads[0]
@@ -198,7 +198,8 @@ def _read_members(zf, path, pick, row_bytes, budget):
         need += n * width * 8                       # the whole 2-D array is decoded
     if need > budget:
         raise RecordingError(f'{path}: {n} rows need about {_mib(need)} of memory to import, '
-                             f'more than the budget of {_mib(budget)}')
+                             f'more than the memory budget ({_mib(budget)} left); import a '
+                             'shorter stretch')
     if header is None:
         (shape, dtype), info = heads[0]
         x = _load(zf, info, path)

@@ -81,13 +81,18 @@ def _is_number(token):
     return _NUMBER.fullmatch(token.strip()) is not None
 
 
-def _delimiter(lines):
-    """Return the delimiter of the data lines: tab, semicolon, comma or None (whitespace)."""
+def _delimiter(lines, first):
+    """
+    Return the delimiter of the data lines: tab, semicolon, comma or None (whitespace).
+
+    Without one all lines agree on, the first of them in the ``first`` (header) line
+    (so that a ragged row is named as such).
+    """
     for delim in ('\t', ';', ','):
         counts = {ln.count(delim) for ln in lines}
         if len(counts) == 1 and counts.pop() > 0:
             return delim
-    return None
+    return next((d for d in ('\t', ';', ',') if d in first), None)
 
 
 def _split(line, delim):
@@ -247,7 +252,7 @@ def _read_text(path, skip_rows, pick, row_bytes, budget):
         lines = [(k, ln) for k, ln in enumerate(head.split('\n')[:-1]) if ln.strip()]
         if not lines:
             raise RecordingError(f'{path}: no data rows (after {skip_rows} skipped rows)')
-        delim = _delimiter([ln for _, ln in lines[1:21]] or [lines[0][1]])
+        delim = _delimiter([ln for _, ln in lines[1:21]] or [lines[0][1]], lines[0][1])
         first = _split(lines[0][1], delim)
         header = None
         if not all(_is_number(x) for x in first):
@@ -262,7 +267,7 @@ def _read_text(path, skip_rows, pick, row_bytes, budget):
         if need > budget:
             raise RecordingError(
                 f'{path}: {capacity} rows need about {_mib(need)} of memory to import, more '
-                f'than the budget of {_mib(budget)}; split the log into several files')
+                f'than the memory budget ({_mib(budget)} left); import a shorter stretch')
         reader = _Text(path, delim, width, usecols, max(capacity, 0))
         fh.seek(0)
         chunks = _chunks(fh, path)
