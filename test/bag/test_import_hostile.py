@@ -57,7 +57,7 @@ def _rows(n=50, dt=0.01):
 # ------------------------------------------------------------------------------ NPZ ---
 
 def _bomb(path, declared):
-    """A small .npz whose zip directory declares a member of ``declared`` bytes."""
+    """Write a small .npz whose zip directory declares a member of ``declared`` bytes."""
     buf = io.BytesIO()
     np.lib.format.write_array_header_1_0(buf, {'descr': '<f8', 'fortran_order': False,
                                                'shape': ((declared - 128) // 8,)})

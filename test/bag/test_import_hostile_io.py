@@ -12,7 +12,7 @@
 # See the License for the specific language governing permissions and
 # limitations under the License.
 
-"""``friction_joint import``: special files, streaming in chunks, the memory budget, a full disk."""
+"""``friction_joint import``: special files, reading in chunks, the memory budget, a full disk."""
 import errno
 import os
 from pathlib import Path
