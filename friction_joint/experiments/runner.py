@@ -56,6 +56,7 @@ file) of the identification excitation of :mod:`friction_joint.experiments.excit
 for ``friction_joint identify``, under the same rules (``--force`` replaces an
 existing recording as a whole).
 """
+import math
 import os
 import time
 
@@ -68,7 +69,7 @@ from ..exceptions import ExperimentError, FrictionJointError
 from ..gear import load_gear
 from ..output import OutputSet, result_files
 
-__all__ = ['EXPERIMENTS', 'CLOSED_LOOP', 'identification', 'run_experiment']
+__all__ = ['check_gains', 'EXPERIMENTS', 'CLOSED_LOOP', 'identification', 'run_experiment']
 
 
 # --------------------------------------------------------- identification ---
@@ -116,6 +117,30 @@ EXPERIMENTS = {
                                                  'for "friction_joint identify" (Section V-A)',
                                  'recording', False),
 }
+
+
+def check_gains(design, model, truth):
+    """
+    Check that a gain design gives a PD loop the simulated plant can run.
+
+    The loop is integrated at the truth's ``simulation.rate``: with step ``h`` and joint
+    inertia ``J`` it is stable only for ``(kp h**2 + 2 kd h) / J < 4``; gains beyond
+    (or not finite) are refused before the run.
+
+    Raises
+    ------
+    ExperimentError
+        One line with the gains and the limit.
+
+    """
+    kp, kd = design.gains(model.inertia)
+    h = 1.0 / truth.section('simulation')['rate']
+    margin = (kp * h * h + 2.0 * kd * h) / truth.inertia
+    if not (math.isfinite(kp) and math.isfinite(kd) and math.isfinite(margin)) or margin >= 4.0:
+        raise ExperimentError(
+            f'--gains {design.name}: kp {kp:.4g} Nm/rad, kd {kd:.4g} Nm s/rad make the loop '
+            f'unstable at simulation.rate {1.0 / h:g} Hz on the joint inertia '
+            f'{truth.inertia:g} kg m^2 ((kp h^2 + 2 kd h) / J = {margin:.3g}, must be < 4)')
 
 
 def run_experiment(name, model_path, truth_path, out_dir, duration_scale=1.0, progress=None, *,
@@ -167,6 +192,8 @@ def run_experiment(name, model_path, truth_path, out_dir, duration_scale=1.0, pr
         outputs.check()
         model = load_gear(model_path) if model_path is not None else None
         truth = load_gear(truth_path)
+        if 'gains' in options:
+            check_gains(options['gains'], model, truth)
         start = time.perf_counter()
         if exp.output == 'recording':
             from ..bag import write_recording

@@ -223,6 +223,16 @@ def test_float_options_must_be_finite(tmp_path, capsys, argv):
     assert not (tmp_path / 'out').exists()
 
 
+@pytest.mark.parametrize('gains', ['J=1e308', 'kp=1e300,kd=1e300'])
+def test_gains_beyond_the_plant_refused_before_the_run(tmp_path, capsys, gains):
+    """``--gains J=1e308`` gave a ValueError traceback from the controller."""
+    out = tmp_path / 'out'
+    rc = main(['experiment', 'compensation', '--model', MODEL, '--truth', TRUTH, '--out',
+               str(out), '--duration-scale', '0.05', '--gains', gains])
+    _one_line(capsys, rc, '--gains', 'unstable')
+    assert not out.exists()
+
+
 @pytest.mark.parametrize('command', ['identify', 'diagnose'])
 def test_absurd_temperature_does_not_blame_the_gear_file(tmp_path, capsys, command):
     """A recording at 1e300 degC named config/csd25_base.yaml; the recording is at fault."""
