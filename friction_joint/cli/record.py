@@ -19,8 +19,6 @@ Records topics into a rosbag2 directory; see :func:`friction_joint.ros.record.re
 """
 import sys
 
-from ..bag import CONTRACT_TYPES
-
 __all__ = ['NAME', 'HELP', 'DESCRIPTION', 'add_arguments', 'run', 'main']
 
 NAME = 'record'
@@ -31,6 +29,7 @@ DESCRIPTION = ('Record topics into a rosbag2 directory (version 9, MCAP, CDR) un
 
 def add_arguments(parser):
     """Add the ``record`` arguments to ``parser``."""
+    from ..bag import CONTRACT_TYPES         # here: a Ctrl-C while loading it is handled
     parser.add_argument('out', metavar='OUT', help='rosbag2 directory to create (must not exist)')
     parser.add_argument('--topics', nargs='+', metavar='TOPIC',
                         help='topics to record, TOPIC or TOPIC:pkg/msg/Type for non-contract '

@@ -31,9 +31,9 @@ DESCRIPTION = ('Publish the messages of a recording (rosbag2 directory or .mcap)
 def add_arguments(parser):
     """Add the ``replay`` arguments to ``parser``."""
     parser.add_argument('bag', metavar='BAG', help='rosbag2 directory or .mcap file')
-    parser.add_argument('--rate', type=float, default=1.0, metavar='R',
-                        help='time scale (2 = twice as fast); 0 = as fast as possible, in order '
-                             '(default 1)')
+    parser.add_argument('--rate', default='1', metavar='R',
+                        help="time scale > 0 (2 = twice as fast), or 'max': as fast as possible, "
+                             'in order (default 1)')
     parser.add_argument('--topics', nargs='+', metavar='TOPIC',
                         help='topics to replay (default: all in the bag)')
     parser.add_argument('--no-clock', dest='clock', action='store_false',
@@ -52,8 +52,8 @@ def add_arguments(parser):
 def run(args):
     """Replay; prints the message counts."""
     from ..ros.record import format_counts
-    from ..ros.replay import replay
-    counts = replay(args.bag, rate=args.rate, topics=args.topics, clock=args.clock,
+    from ..ros.replay import parse_rate, replay
+    counts = replay(args.bag, rate=parse_rate(args.rate), topics=args.topics, clock=args.clock,
                     loop=args.loop, wait=args.wait, settle=args.settle,
                     args=getattr(args, 'ros_args', None))
     print(f'replayed {format_counts(counts)} from {args.bag}', flush=True)

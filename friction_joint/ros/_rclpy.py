@@ -49,7 +49,8 @@ from rclpy.impl.implementation_singleton import rclpy_implementation
 from rclpy.utilities import remove_ros_args
 
 __all__ = ['ExternalShutdownException', 'RCLError', 'remove_ros_args', 'take_message',
-           'take_all', 'parameter_override_names', 'Waiter', 'guard_clock']
+           'take_all', 'parameter_override_names',
+           'parameter_overrides', 'Waiter', 'guard_clock']
 
 #: raised by rcl calls that fail, e.g. publishing to a full keep-all queue
 RCLError = rclpy_implementation.RCLError
@@ -77,6 +78,11 @@ def take_all(subscription, msg_class, raw=False):
 def parameter_override_names(node):
     """Return the names of the parameters given to ``node`` on the command line (a set)."""
     return set(getattr(node, '_parameter_overrides', {}))
+
+
+def parameter_overrides(node):
+    """Return ``{name: rclpy.parameter.Parameter}`` given to ``node`` on the command line."""
+    return dict(getattr(node, '_parameter_overrides', {}))
 
 
 def guard_clock(node, check):

@@ -46,6 +46,7 @@ import sys
 import tempfile
 import time
 
+from .nodes.ranges import DURATION_BOUNDS
 from .qos import dds_environ
 from ..exceptions import FrictionJointError
 from ..gear import load_gear
@@ -209,8 +210,9 @@ def bringup(model, truth, duration, *, record=None, mode='lockstep', friction='l
         raise FrictionJointError(f"mode must be 'lockstep' or 'realtime', got {mode!r}")
     if composed and mode != 'lockstep':
         raise FrictionJointError('the composed loop runs in lockstep only')
-    if not duration > 0:
-        raise FrictionJointError(f'duration must be > 0, got {duration}')
+    if not 0 < duration <= DURATION_BOUNDS[1]:
+        raise FrictionJointError(f'duration must be in (0, {DURATION_BOUNDS[1]:g}] s '
+                                 f'({DURATION_BOUNDS[2]}), got {duration}')
     if record and os.path.exists(record):
         raise FrictionJointError(f'{record} exists already; choose a new recording path')
     if log_dir:

@@ -44,7 +44,8 @@ from rcl_interfaces.msg import (FloatingPointRange, IntegerRange, ParameterDescr
 from rclpy.exceptions import InvalidParameterValueException
 from rclpy.parameter import Parameter
 
-from ._rclpy import parameter_override_names
+from ._rclpy import parameter_override_names, parameter_overrides
+from .startup import check_qos_overrides, check_ros_args
 from ..exceptions import GearConfigError
 from ..gear import gear_from_flat, SCHEMA, Section
 from ..gear.files import format_ros_params, read_ros_params_file
@@ -94,6 +95,7 @@ def declare_gear(node, own=()):
     GearConfigError
 
     """
+    check_qos_overrides(node)                # before any publisher or subscription exists
     keys = gear_keys()
     flat = {}
     for name in keys:
@@ -150,8 +152,11 @@ def declare_node_params(node, defaults, validators=None, descriptors=None):
         desc = descriptors.get(name) or describe(f"{name} (see the node's docstring)")
         try:
             value = _plain(node.declare_parameter(name, default, desc).value)
-        except InvalidParameterValueException as exc:
-            raise GearConfigError(f'parameter {name}: {exc}') from None
+        except InvalidParameterValueException as exc:       # out of the descriptor's range
+            given = parameter_overrides(node).get(name)
+            err = given is not None and _check(name, _plain(given.value), default, validators)
+            raise GearConfigError(f'parameter {name}: {err or " ".join(str(exc).split())}') \
+                from None
         if isinstance(default, float) and isinstance(value, int) and not isinstance(value, bool):
             value = float(value)
         err = _check(name, value, default, validators)
@@ -289,12 +294,13 @@ def prepare_ros_args(args=None):
     Raises
     ------
     GearConfigError
-        A params file is missing, unreadable, not UTF-8 YAML, too large, has
+        A params file is missing, unreadable, a FIFO or a device, not UTF-8 YAML, too large, has
         a duplicate key, or a gear key it gives is invalid; the message names
         the file.  Nothing is left behind.
 
     """
     argv = list(sys.argv if args is None else args)
+    check_ros_args(argv)                     # the files rcl opens, -p syntax; before rcl
     found = list(_ros_arguments(argv))
     files = [i for flag, i in found if flag == '--params-file']
     params = [i for flag, i in found if flag in _PARAM_FLAGS and i < len(argv)]

@@ -408,6 +408,13 @@ def _qos_objects(dicts):
     return parse_qos(list(dicts))
 
 
+def _blocking(path):
+    """Return ``'X is not a directory'`` for the existing ancestor of ``path`` that is a file."""
+    while path and not os.path.lexists(path):
+        path = os.path.dirname(path)
+    return f'{path} is not a directory' if path and not os.path.isdir(path) else None
+
+
 def install_signals(stop, force=None):
     """
     SIGINT/SIGTERM set ``stop`` (a second one also ``force``); returns a restore function.
@@ -483,7 +490,13 @@ def record(out, *, topics=None, duration=None, args=None, log=None, stop=None,
     typestore = get_typestore(Stores.ROS2_JAZZY)
 
     parent = os.path.dirname(os.path.abspath(out))
-    os.makedirs(parent, exist_ok=True)
+    try:
+        os.makedirs(parent, exist_ok=True)
+    except OSError as exc:                 # a file on the way, no permission, a full disk
+        raise RecordingError(f'cannot create the directory of {out}: '
+                             f'{_blocking(parent) or exc.strerror or exc}') from None
+    if not os.access(parent, os.W_OK | os.X_OK):
+        raise RecordingError(f'cannot write {out}: {parent} is not writable')
     base = os.path.basename(os.path.normpath(out))
     for stale, state in killed_recordings(out):
         log(f'note: {stale} holds an earlier recording to {out} that did not finish (its '

@@ -17,7 +17,9 @@
 
 Messages are published in bag order as the serialized bytes stored in the bag
 (no deserialization), spaced by their bag (receive) times divided by
-``--rate``; ``--rate 0`` publishes as fast as possible, still in order.
+``--rate`` (at least :data:`MIN_RATE`); ``--rate max`` publishes as fast as
+possible, still in order (``rate=0`` in :func:`replay`).  ``--rate 0`` is
+refused: a time scale of 0 would never reach the second message.
 
 ``/clock`` (``rosgraph_msgs/msg/Clock``) is published so that nodes with
 ``use_sim_time`` run unchanged on recorded data: before each message whose
@@ -38,6 +40,7 @@ DDS has repaired it, instead of being pushed out by newer ones.  A subscriber
 that stops taking messages altogether ends the replay with an error once its
 queue is full.
 """
+import math
 import struct
 import sys
 import threading
@@ -49,7 +52,35 @@ from .record import install_signals, message_class
 from ..bag import iter_messages, recording_topics
 from ..exceptions import RecordingError
 
-__all__ = ['replay']
+__all__ = ['replay', 'parse_rate', 'MIN_RATE', 'MAX_WAIT']
+
+#: the slowest replay: a thousand times slower than recorded
+MIN_RATE = 1.0e-3
+#: s: the longest --wait / --settle (an hour)
+MAX_WAIT = 3600.0
+
+
+def parse_rate(text):
+    """
+    Return the time scale of ``--rate TEXT``: a number >= :data:`MIN_RATE`, or 0 for ``max``.
+
+    Raises
+    ------
+    RecordingError
+        Not a number, not finite, or below :data:`MIN_RATE` (0 included).
+
+    """
+    if str(text).strip().lower() == 'max':
+        return 0.0
+    try:
+        rate = float(text)
+    except ValueError:
+        rate = math.nan
+    if not MIN_RATE <= rate < math.inf:
+        hint = ' (--rate max publishes as fast as possible)' if rate == 0 else ''
+        raise RecordingError(f"--rate must be a time scale >= {MIN_RATE:g} or 'max', got "
+                             f'{text!r}{hint}')
+    return rate
 
 
 _STAMP = struct.Struct('<iI')
@@ -112,10 +143,12 @@ def replay(bag, *, rate=1.0, topics=None, clock=True, loop=False, wait=2.0, sett
     from rclpy.signals import SignalHandlerOptions
 
     log = log or (lambda line: print(line, file=sys.stderr, flush=True))
-    if not rate >= 0:
-        raise RecordingError(f'--rate must be >= 0, got {rate}')
-    if not settle >= 0:
-        raise RecordingError(f'--settle must be >= 0, got {settle}')
+    if not (rate == 0 or MIN_RATE <= rate < math.inf):
+        raise RecordingError(f'--rate must be at least {MIN_RATE:g} (or max: as fast as '
+                             f'possible), got {rate}')
+    for option, value in (('--wait', wait), ('--settle', settle)):
+        if not 0 <= value <= MAX_WAIT:
+            raise RecordingError(f'{option} must be in [0, {MAX_WAIT:g}] s, got {value}')
     available = recording_topics(bag)
     if topics:
         missing = [t for t in topics if t not in available]
@@ -170,11 +203,11 @@ def replay(bag, *, rate=1.0, topics=None, clock=True, loop=False, wait=2.0, sett
                 if rate > 0:
                     if t0_bag is None:
                         t0_bag, t0_wall = bag_ns, time.monotonic()
-                    delay = t0_wall + (bag_ns - t0_bag) * 1e-9 / rate - time.monotonic()
-                    if delay > 0:
-                        stop.wait(delay)
-                        if stop.is_set():
-                            break
+                    due = t0_wall + (bag_ns - t0_bag) * 1e-9 / rate
+                    while not stop.is_set() and time.monotonic() < due:
+                        stop.wait(min(due - time.monotonic(), 1.0))     # any gap, in steps
+                    if stop.is_set():
+                        break
                 if clock and topic in header and len(raw) >= 12:
                     sec, nsec = _STAMP.unpack_from(raw, 4)
                     ns = sec * 1_000_000_000 + nsec

@@ -37,6 +37,7 @@ import time
 from .._rclpy import guard_clock, RCLError, take_all, Waiter
 from ..parameters import declare_node_params, describe, prepare_ros_args, REJECT_LOG_PERIOD
 from ..qos import dds_environ
+from ..startup import check_overrides_used, one_line, rcl_init
 
 __all__ = ['stamp_to_ns', 'ns_to_stamp', 'joint_index', 'finite', 'take_queued',
            'StampPairing', 'StampOrder', 'Rejects', 'PairedInput', 'run_node',
@@ -503,6 +504,7 @@ def run_node(factory, name, args=None, drain=True):
 
     import rclpy
     from rclpy.executors import ExternalShutdownException, SingleThreadedExecutor
+    from rclpy.node import Node
     from rclpy.signals import SignalHandlerOptions
 
     from ...exceptions import FrictionJointError
@@ -515,25 +517,34 @@ def run_node(factory, name, args=None, drain=True):
             raise KeyboardInterrupt
 
     try:
-        # the gear file through the package's reader; rcl parses a normalized copy
+        # the files rcl opens checked, the gear file through the package's reader; rcl
+        # parses a normalized copy
         args, cleanup = prepare_ros_args(args)
-    except FrictionJointError as exc:
-        print(f'{name}: error: {exc}', file=sys.stderr)
+    except Exception as exc:                    # noqa: BLE001 - one line, never a traceback
+        print(f'{name}: error: {one_line(exc)}', file=sys.stderr)
         return 2
     try:
         dds_environ()                     # the package's DDS profile, unless one is set
-        rclpy.init(args=args, signal_handler_options=SignalHandlerOptions.NO)
-    except RCLError as exc:          # e.g. a malformed -p value rcl cannot parse
-        print(f'{name}: error: ROS arguments: {str(exc).splitlines()[0]}', file=sys.stderr)
+        rcl_init(lambda: rclpy.init(args=args, signal_handler_options=SignalHandlerOptions.NO))
+    except Exception as exc:              # noqa: BLE001 - e.g. a -p value rcl cannot parse
+        print(f'{name}: error: {one_line(exc)}', file=sys.stderr)
         return 2
     finally:
         cleanup()                    # rcl has parsed the copies at init
     old = {s: signal.signal(s, on_signal) for s in (signal.SIGINT, signal.SIGTERM)}
     node = executor = None
     status = 0
+    started = False
     try:
-        node = factory()
-        nodes = list(getattr(node, 'nodes', [node]))
+        try:
+            node = factory()
+            nodes = list(getattr(node, 'nodes', [node]))
+            for member in nodes:          # a qos_overrides.* naming no entity of the node
+                check_overrides_used(member)
+        except Exception as exc:          # noqa: BLE001 - any start-up failure: one line
+            print(f'{name}: error: {one_line(exc)}', file=sys.stderr)
+            raise SystemExit(2) from None
+        started = True
         executor = SingleThreadedExecutor()
         for member in nodes:
             executor.add_node(member)
@@ -558,10 +569,18 @@ def run_node(factory, name, args=None, drain=True):
         pass
     except SystemExit as exc:
         status = exc.code or 0
+    except Exception as exc:              # noqa: BLE001 - e.g. a gear the plant cannot run
+        print(f'{name}: error: {type(exc).__name__}: {" ".join(str(exc).split())}',
+              file=sys.stderr)
+        status = 2
     finally:
         for sig, handler in old.items():
             signal.signal(sig, handler)
         nodes = list(getattr(node, 'nodes', [node])) if node is not None else []
+        if not started:                   # refused at start-up: the one line only
+            for member in nodes:
+                Node.destroy_node(member)
+            nodes = []
         if rclpy.ok():
             from rclpy.duration import Duration
             for pub in (p for member in nodes for p in member.publishers):

@@ -46,6 +46,7 @@ clock is refused, counted and logged (throttled) and gets no command; with
 ``sync:=false`` the newest queued state that passes the gate is answered.
 The count is logged at shutdown.
 """
+import math
 import sys
 
 from rclpy.node import Node
@@ -53,8 +54,11 @@ from sensor_msgs.msg import JointState, Temperature
 
 from .common import (declare_follower_params, Lossless, PairedInput, run_node, StampPairing,
                      take_queued)
+from .ranges import (between, check_controller_params, RISE_TIME_BOUNDS, sample_rate,
+                     SAMPLE_RATE_BOUNDS)
 from ..parameters import declare_gear, describe, parameter_guard
 from ..qos import overridable, stream_qos
+from ..startup import check_overrides_used
 from ...control.controller import Controller, pd_gains, SineTrajectory
 from ...models.friction import FRICTION_KINDS
 from ...testbed.plant import InputLimits
@@ -74,10 +78,11 @@ VALIDATORS = {
     'amplitude': lambda v: None if abs(v) <= 3.2 else 'must be within +-3.2 rad',
     'omega': lambda v: None if 0 <= v <= 100 else 'must be in [0, 100] rad/s',
     'offset': lambda v: None if abs(v) <= 3.2 else 'must be within +-3.2 rad',
-    'rise_time': lambda v: None if v > 0 else 'must be > 0',
+    'rise_time': lambda v: between(v, RISE_TIME_BOUNDS, 's'),
     'overshoot': lambda v: None if 0 < v < 1 else 'must be in (0, 1)',
-    'design_inertia': lambda v: None if v >= 0 else "must be >= 0 (0: the gear's inertia)",
-    'rate': lambda v: None if v >= 0 else 'must be >= 0 (0: simulation.rate)',
+    'design_inertia': lambda v: (None if v >= 0 and math.isfinite(v)
+                                 else "must be finite and >= 0 (0: the gear's inertia)"),
+    'rate': lambda v: between(v, SAMPLE_RATE_BOUNDS, 'Hz', zero='simulation.rate'),
 }
 
 
@@ -90,7 +95,8 @@ DESCRIPTORS = {
                           read_only=False, low=-3.2, high=3.2),
     'omega': describe('reference frequency, rad/s', read_only=False, low=0.0, high=100.0),
     'offset': describe('reference offset, rad', read_only=False, low=-3.2, high=3.2),
-    'rise_time': describe('rise time the PD gains are designed for, s'),
+    'rise_time': describe('rise time the PD gains are designed for, s (at least '
+                          '10 samples)', low=RISE_TIME_BOUNDS[0], high=RISE_TIME_BOUNDS[1]),
     'overshoot': describe('overshoot the PD gains are designed for (fraction)', low=0.0,
                           high=1.0),
     'design_inertia': describe("inertia the PD gains are designed for, kg m^2 (0: the gear's "
@@ -109,8 +115,9 @@ class ControllerNode(PairedInput, Node):
         self.p = declare_follower_params(self, DEFAULTS, VALIDATORS, DESCRIPTORS)
         self.gear = declare_gear(self, own=list(self.p))
         self.joint = self.gear.joint_name
+        check_controller_params(self.p, self.gear)      # gains and rate, before any allocation
         self.limits = InputLimits(self.gear)
-        rate = self.p['rate'] or self.gear.section('simulation')['rate']
+        rate = sample_rate(self.p, self.gear)
         self.kp, self.kd = pd_gains(self.p['design_inertia'] or self.gear.inertia,
                                     self.p['rise_time'], self.p['overshoot'])
         self.dt = 1.0 / rate
@@ -135,6 +142,7 @@ class ControllerNode(PairedInput, Node):
                                                  self.on_temperature, qos,
                                                  qos_overriding_options=opts)
         parameter_guard(self, {k: DEFAULTS[k] for k in RUNTIME}, VALIDATORS, self.apply)
+        check_overrides_used(self)                      # a qos_overrides.* naming no entity
         self.get_logger().info(f'eq. 17 controller for {self.joint}: kp {self.kp:.1f} Nm/rad, '
                                f'kd {self.kd:.2f} Nm s/rad, friction feed-forward '
                                f'{self.p["friction_ff"]}; plausible inputs '

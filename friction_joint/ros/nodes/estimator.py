@@ -45,8 +45,11 @@ from rclpy.node import Node
 from sensor_msgs.msg import JointState, Temperature
 
 from .common import declare_follower_params, Lossless, PairedInput, run_node, StampPairing
+from .ranges import (BETA_BOUNDS, between, check_estimator_params, sample_rate,
+                     SAMPLE_RATE_BOUNDS)
 from ..parameters import declare_gear, describe, parameter_guard
 from ..qos import overridable, stream_qos
+from ..startup import check_overrides_used
 from ...control.observer import DisturbanceObserver
 from ...models.friction import FRICTION_KINDS
 from ...testbed.plant import InputLimits
@@ -58,15 +61,16 @@ DEFAULTS = {'friction': 'lugre', 'beta': 60.0, 'gravity': False, 'rate': 0.0,
 VALIDATORS = {
     'friction': lambda v: (None if v in FRICTION_KINDS
                            else f'must be one of {", ".join(FRICTION_KINDS)}'),
-    'beta': lambda v: None if v > 0 else 'must be > 0',
-    'rate': lambda v: None if v >= 0 else 'must be >= 0 (0: simulation.rate)',
+    'beta': lambda v: between(v, BETA_BOUNDS, 'rad/s'),
+    'rate': lambda v: between(v, SAMPLE_RATE_BOUNDS, 'Hz', zero='simulation.rate'),
 }
 
 
 DESCRIPTORS = {
     'friction': describe('friction model of the observer: none, static, lugre or gms',
                          read_only=False),
-    'beta': describe('cut-off frequency of the observer filter Q(s), rad/s'),
+    'beta': describe('cut-off frequency of the observer filter Q(s), rad/s (below the '
+                     'Nyquist frequency pi rate)', low=BETA_BOUNDS[0], high=BETA_BOUNDS[1]),
     'gravity': describe("subtract the model lever's gravity (false: estimate it as part of "
                         "the external torque, as in the paper's Section V-D)"),
     'rate': describe("sample rate, Hz (0: the gear's simulation.rate)"),
@@ -84,8 +88,9 @@ class EstimatorNode(PairedInput, Node):
         self.p = declare_follower_params(self, DEFAULTS, VALIDATORS, DESCRIPTORS)
         self.gear = declare_gear(self, own=list(self.p))
         self.joint = self.gear.joint_name
+        check_estimator_params(self.p, self.gear)       # cut-off below Nyquist, first
         self.limits = InputLimits(self.gear)
-        self.dt = 1.0 / (self.p['rate'] or self.gear.section('simulation')['rate'])
+        self.dt = 1.0 / sample_rate(self.p, self.gear)
         self.observer = self._observer()
         self.observer(0.0, 0.0, 0.0, 25.0)          # compile the kernels before data flows
         self.observer = self._observer()
@@ -104,6 +109,7 @@ class EstimatorNode(PairedInput, Node):
                                                  self.on_temperature, qos,
                                                  qos_overriding_options=opts)
         parameter_guard(self, {'friction': DEFAULTS['friction']}, VALIDATORS, self.apply)
+        check_overrides_used(self)                      # a qos_overrides.* naming no entity
         self.get_logger().info(f'external torque observer for {self.joint}: '
                                f'beta {self.p["beta"]:g} '
                                f'rad/s, friction model {self.p["friction"]}; plausible inputs '

@@ -120,12 +120,14 @@ from std_msgs.msg import String
 
 from .common import (EXECUTOR_EVERY, joint_index, Lossless, ns_to_stamp, Rejects, run_node,
                      stamp_to_ns, take_queued)
+from .sim_params import check_sim_params, DEFAULTS, DESCRIPTORS, VALIDATORS
 from .._rclpy import Waiter
-from ..parameters import declare_gear, declare_node_params, describe, parameter_guard
+from ..parameters import declare_gear, declare_node_params, parameter_guard
 from ..qos import CLOCK_QOS, overridable, READY_QOS, READY_TOPIC, stream_qos
+from ..startup import check_overrides_used
 from ...exceptions import SimulationError
 from ...testbed.plant import InputLimits, Plant
-from ...testbed.watchdog import CommandWatchdog, REACTIONS
+from ...testbed.watchdog import CommandWatchdog
 
 __all__ = ['JointSimNode', 'main']
 
@@ -140,59 +142,6 @@ FINAL_WAIT = 20.0
 LOOP_TOPICS = ('joint_states', 'joint_temperature', 'link_torque', 'joint_command',
                'external_torque')
 
-DEFAULTS = {'mode': 'realtime', 'publish_rate': 1000.0, 'duration': 0.0, 'xi0': float('nan'),
-            'q0': 0.0, 'seed': -1, 'friction_model': '', 'resend_period': 0.2,
-            'wait_subscribers': 1, 'start_delay': 0.5, 'follow': '', 'window': 300,
-            'wait_recorder': '', 'command_timeout': 0.05, 'timeout_reaction': 'zero'}
-VALIDATORS = {
-    'mode': lambda v: (None if v in ('realtime', 'lockstep')
-                       else "must be 'realtime' or 'lockstep'"),
-    'publish_rate': lambda v: None if v > 0 else 'must be > 0',
-    'duration': lambda v: None if v >= 0 else 'must be >= 0',
-    'friction_model': lambda v: (None if v in ('', 'static', 'lugre', 'gms')
-                                 else 'must be static, lugre or gms'),
-    'resend_period': lambda v: None if v > 0 else 'must be > 0',
-    'wait_subscribers': lambda v: None if v >= 0 else 'must be >= 0',
-    'start_delay': lambda v: None if v >= 0 else 'must be >= 0',
-    'follow': lambda v: (None if all(t.strip() for t in v.split(',')) or not v.strip()
-                         else 'must be comma-separated topic names'),
-    'window': lambda v: None if v >= 1 else 'must be >= 1',
-    'wait_recorder': lambda v: (None if all(t.strip() for t in v.split(',')) or not v.strip()
-                                else "must be comma-separated topic names or 'loop'"),
-    'command_timeout': lambda v: None if v >= 0 else 'must be >= 0 (0: no watchdog)',
-    'timeout_reaction': lambda v: (None if v in REACTIONS
-                                   else f'must be {" or ".join(REACTIONS)}'),
-}
-
-
-DESCRIPTORS = {
-    'mode': describe('realtime (own tick loop at publish_rate) or lockstep (advance when the '
-                     'command of the last state arrives; publishes /clock)'),
-    'publish_rate': describe('realtime: state publish rate, Hz'),
-    'duration': describe('simulated seconds after which the node ends (0: run forever)'),
-    'xi0': describe('initial gear temperature, degC (NaN: thermal.initial of the gear)'),
-    'q0': describe('initial joint position, rad'),
-    'seed': describe('sensor noise seed (-1: simulation.seed of the gear)'),
-    'friction_model': describe('friction model of the plant: static, lugre or gms (empty: '
-                               'friction.model of the gear)'),
-    'resend_period': describe('lockstep: resend the last state after this many seconds '
-                              'without a command, s'),
-    'wait_subscribers': describe('start when this many subscribers of joint_states have '
-                                 'matched', low=0, high=1000, integer=True),
-    'start_delay': describe('seconds to wait after the subscribers have matched, s'),
-    'follow': describe('lockstep: comma-separated topics on which followers echo the state '
-                       'stamps they processed (e.g. external_torque); the simulation waits '
-                       'for them'),
-    'window': describe('lockstep: steps a follower may lag behind before the simulation waits',
-                       low=1, high=10_000_000, integer=True),
-    'wait_recorder': describe("comma-separated topics (or 'loop': the closed loop's) a recorder "
-                              'must announce on recorder_ready before the first state'),
-    'command_timeout': describe('simulated seconds without a valid joint_command after which '
-                                'the drive takes timeout_reaction (0: no watchdog), s'),
-    'timeout_reaction': describe('the drive on a command timeout: zero (torque off, the joint '
-                                 'coasts) or brake (a damping torque that stops the joint)'),
-}
-
 
 class JointSimNode(Rejects, Node):
     """Wires the :class:`~friction_joint.testbed.plant.Plant` to topics and a timer."""
@@ -206,10 +155,11 @@ class JointSimNode(Rejects, Node):
 
     def __init__(self):
         super().__init__('joint_sim')
-        own = {k: v for k, v in DEFAULTS.items() if k != 'xi0'}
-        self.p = declare_node_params(self, own, VALIDATORS, DESCRIPTORS)
-        xi0 = self.declare_parameter('xi0', float('nan'), DESCRIPTORS['xi0']).value
+        self.p = declare_node_params(self, DEFAULTS, VALIDATORS, DESCRIPTORS)
+        xi0 = self.p['xi0']
         self.gear = declare_gear(self, own=list(DEFAULTS))
+        self.limits = InputLimits(self.gear)
+        check_sim_params(self.p, xi0, self.gear, self.limits)     # before any allocation
 
         def plant():
             return Plant(self.gear, model=self.p['friction_model'] or None,
@@ -218,7 +168,6 @@ class JointSimNode(Rejects, Node):
         plant().step(0.0)                           # compile the kernels before data flows
         self.plant = plant()
         self.joint = self.gear.joint_name
-        self.limits = InputLimits(self.gear)
         self.lockstep = self.p['mode'] == 'lockstep'
         self.temperature_variance = (self.gear.section('sensors')['temperature_resolution'] ** 2
                                      / 12.0)
@@ -283,6 +232,7 @@ class JointSimNode(Rejects, Node):
             self.next_tick = None
             self.slipped = 0
             self.t0_ns = None                       # ROS time of step 0 (realtime stamps)
+        check_overrides_used(self)                  # a qos_overrides.* naming no entity
         self.get_logger().info(
             f'{self.p["mode"]} simulation of {self.joint} ({self.plant.joint.model} friction, '
             f'{self.plant.rate:g} Hz, xi0 {self.plant.thermal.xi:.2f} degC); plausible '

@@ -1,0 +1,238 @@
+# Copyright 2026 friction_joint maintainers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""
+A node's start-up: its ROS arguments checked before rcl sees them, every failure one line.
+
+rcl reads files named on the command line (``--params-file``,
+``--log-config-file``) in ``rclpy.init``, before any code of the package runs:
+a FIFO there blocks it forever, so :func:`check_ros_args` puts every such path
+through the input gate (:mod:`friction_joint.inputs`) first, and refuses
+``-p`` assignments rcl would misread or report on several lines (an empty
+name, an empty list, which rcl drops without a word).  :func:`rcl_init` runs
+``rclpy.init`` with rcl's own error lines held back, so a failure is the one
+line :func:`one_line` makes of the exception.
+
+The standard parameters rclpy declares itself are checked as the node's own
+are: ``qos_overrides.<topic>.<publisher|subscription>.<policy>`` given for a
+node must name a policy the node lets be overridden (:data:`QOS_POLICIES`)
+with a valid value (:func:`check_qos_overrides`, before the publishers are
+created) and an entity the node has (:func:`check_overrides_used`, after).
+"""
+import os
+import re
+import sys
+import tempfile
+
+from rclpy.exceptions import (InvalidParameterTypeException, InvalidParameterValueException,
+                              ParameterException)
+from rclpy.parameter import Parameter
+
+from ._rclpy import parameter_overrides, RCLError
+from ..exceptions import FrictionJointError, GearConfigError
+from ..inputs import check_input
+
+__all__ = ['check_ros_args', 'rcl_init', 'one_line', 'check_qos_overrides',
+           'check_overrides_used', 'QOS_POLICIES', 'MAX_QOS_DEPTH', 'QOS_PREFIX']
+
+#: prefix of the standard QoS override parameters (rclpy QosOverridingOptions)
+QOS_PREFIX = 'qos_overrides.'
+#: the policies a node lets be overridden (rclpy's default policies) and their values
+QOS_POLICIES = {'history': ('keep_last', 'keep_all', 'system_default'),
+                'depth': None,
+                'reliability': ('reliable', 'best_effort', 'system_default')}
+#: the largest keep-last depth: 100 s of a 1 kHz stream queued per entity
+MAX_QOS_DEPTH = 100_000
+_WHY_NOT = {'durability': 'the streams are volatile (transient_local would keep samples of a '
+                          'keep-all topic for late joiners without bound)'}
+
+#: ROS arguments followed by a value
+_VALUE_FLAGS = ('-r', '--remap', '-e', '--enclave', '--log-level', '--log-file-name', '-p',
+                '--param', '--params-file', '--log-config-file')
+#: a parameter name as rcl accepts it: tokens of letters, digits and _ separated by dots
+_NAME = re.compile(r'^[A-Za-z_][A-Za-z0-9_]*(\.[A-Za-z_/][A-Za-z0-9_/]*)*$')
+
+
+def _flags(argv):
+    """Yield (flag, value or None) for the flags inside ``--ros-args ... [--]``."""
+    i, inside = 0, False
+    while i < len(argv):
+        arg = argv[i]
+        if arg == '--ros-args':
+            inside = True
+        elif inside and arg == '--':
+            inside = False
+        elif inside and arg in _VALUE_FLAGS:
+            yield arg, (argv[i + 1] if i + 1 < len(argv) else None)
+            i += 1
+        i += 1
+
+
+def _check_assignment(text):
+    """Return why ``-p text`` is refused, or None."""
+    name, sep, value = text.partition(':=')
+    if not sep:
+        return f'-p {text}: expected NAME:=VALUE'
+    param = name.rpartition(':')[2]            # -p node:name:=value names one node
+    if not param:
+        return f'-p {text}: the parameter name is empty'
+    if not _NAME.match(param) and not param.startswith(QOS_PREFIX):
+        return f'-p {text}: {param!r} is not a parameter name'
+    if value.strip().replace(' ', '') == '[]':
+        return (f'-p {text}: an empty list cannot be given with -p (rcl ignores it and keeps '
+                "the file's value)")
+    return None
+
+
+def check_ros_args(argv):
+    """
+    Check the ROS arguments of ``argv`` before ``rclpy.init`` reads them.
+
+    Every ``--params-file`` must be a readable regular gear-sized file (a FIFO
+    would block rcl forever), every ``--log-config-file`` a readable regular
+    text file, and every ``-p`` a ``NAME:=VALUE`` with a name and not an
+    empty list.
+
+    Raises
+    ------
+    GearConfigError
+        One line naming the argument or file and the problem.
+
+    """
+    for flag, value in _flags(list(argv)):
+        if value is None:
+            raise GearConfigError(f'{flag} needs a value after it')
+        if flag == '--params-file':
+            check_input(value, kind='gear', what='a ROS 2 parameter', error=GearConfigError)
+        elif flag == '--log-config-file':
+            check_input(value, kind='text', what='a log configuration', error=GearConfigError)
+        elif flag in ('-p', '--param'):
+            why = _check_assignment(value)
+            if why:
+                raise GearConfigError(why)
+
+
+def rcl_init(init):
+    """
+    Call ``init()`` (``rclpy.init``) with what rcl writes to stderr held back.
+
+    On success the held-back output is written to stderr; on failure it is
+    dropped (the caller reports the exception in one line).
+    """
+    sys.stderr.flush()
+    saved = os.dup(2)
+    ok = False
+    with tempfile.TemporaryFile() as held:
+        try:
+            os.dup2(held.fileno(), 2)
+            try:
+                result = init()
+                ok = True
+            finally:
+                os.dup2(saved, 2)
+                os.close(saved)
+        finally:
+            if ok:
+                held.seek(0)
+                text = held.read().decode('utf-8', 'replace')
+                if text:
+                    sys.stderr.write(text)
+                    sys.stderr.flush()
+    return result
+
+
+_TYPE_ERROR = re.compile(r"parameter '([^']*)' to '(.*)' of type '(\w+)', expecting type '(\w+)'",
+                         re.S)
+
+
+def one_line(exc):
+    """Return the one-line message of an exception ending a node's start-up."""
+    text = ' '.join(str(exc).split()) or type(exc).__name__
+    if isinstance(exc, FrictionJointError):
+        return text
+    if isinstance(exc, InvalidParameterTypeException):
+        m = _TYPE_ERROR.search(str(exc))
+        if m:
+            value = m.group(2) if len(m.group(2)) <= 60 else m.group(2)[:57] + '...'
+            return (f'parameter {m.group(1)}: expected a {m.group(4).lower()}, got '
+                    f'{value!r} ({m.group(3).lower()})')
+    if isinstance(exc, (InvalidParameterValueException, ParameterException)):
+        return f'parameter: {text}'
+    if isinstance(exc, RCLError):
+        return f'ROS: {text.split(", at /")[0]}'
+    return f'cannot start: {type(exc).__name__}: {text}'
+
+
+def _qos_problem(name, value):
+    rest = name[len(QOS_PREFIX):]
+    parts = rest.rsplit('.', 2)
+    if len(parts) != 3 or not parts[0] or not re.match(r'^(publisher|subscription)(_\w+)?$',
+                                                       parts[1]):
+        return ('expected qos_overrides.<topic>.<publisher|subscription>.<policy>, e.g. '
+                'qos_overrides./joint_states.publisher.depth')
+    policy = parts[2]
+    if policy not in QOS_POLICIES:
+        why = _WHY_NOT.get(policy, 'not a policy this node lets be overridden')
+        return (f'{policy} cannot be overridden: {why} (overridable: '
+                f'{", ".join(QOS_POLICIES)})')
+    allowed = QOS_POLICIES[policy]
+    if allowed is None:
+        if isinstance(value, bool) or not isinstance(value, int):
+            return f'expected an integer, got {value!r}'
+        if not 1 <= value <= MAX_QOS_DEPTH:
+            return f'must be in [1, {MAX_QOS_DEPTH}], got {value}'
+        return None
+    if not isinstance(value, str) or value.lower() not in allowed:
+        return f'must be one of {", ".join(allowed)}, got {value!r}'
+    return None
+
+
+def check_qos_overrides(node):
+    """
+    Check the ``qos_overrides.*`` parameters given for ``node`` (before its entities exist).
+
+    Raises
+    ------
+    GearConfigError
+        ``parameter NAME: problem`` for the first bad one (name form, policy, value).
+
+    """
+    for name, param in sorted(parameter_overrides(node).items()):
+        if not name.startswith(QOS_PREFIX):
+            continue
+        value = None if param.type_ == Parameter.Type.NOT_SET else param.value
+        why = _qos_problem(name, value)
+        if why:
+            raise GearConfigError(f'parameter {name}: {why}')
+
+
+def check_overrides_used(node):
+    """
+    Check that every ``qos_overrides.*`` given for ``node`` names an entity it has.
+
+    rclpy declares the QoS parameters as the publishers and subscriptions are
+    created and ignores the others: a mistyped topic would be dropped silently.
+
+    Raises
+    ------
+    GearConfigError
+
+    """
+    unused = sorted(n for n in parameter_overrides(node)
+                    if n.startswith(QOS_PREFIX) and not node.has_parameter(n))
+    if unused:
+        declared = node.list_parameters([QOS_PREFIX.rstrip('.')], 0).names
+        entities = sorted({n[len(QOS_PREFIX):].rsplit('.', 1)[0] for n in declared})
+        raise GearConfigError(f'parameter {unused[0]}: {node.get_name()} has no such publisher '
+                              f'or subscription (overridable: {", ".join(entities) or "none"})')
