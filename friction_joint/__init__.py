@@ -35,13 +35,34 @@ parameter files), :mod:`~friction_joint.exceptions`, :mod:`~friction_joint.outpu
 (atomic result files), :mod:`~friction_joint.report_html` (a Markdown report as
 one self-contained HTML file) and :mod:`~friction_joint.demo` (the main job).
 """
+import importlib
+
 from ._version import __version__
 from .exceptions import (ExcitationError, ExperimentError, FrictionJointError, GearConfigError,
                          GearConfigWarning, PreslidingDataError, RecordingError, SimulationError)
-from .gear import FrictionParams, gear_from_dict, GearParams, load_gear, save_gear
-from .models import GMS, Joint, LuGre, StaticFriction
 
 __all__ = ['__version__', 'FrictionJointError', 'GearConfigError', 'GearConfigWarning',
            'RecordingError', 'ExcitationError', 'PreslidingDataError', 'ExperimentError',
            'SimulationError', 'FrictionParams', 'GearParams', 'gear_from_dict', 'load_gear',
            'save_gear', 'StaticFriction', 'LuGre', 'GMS', 'Joint']
+
+# the gear and model names load on first use (PEP 562): ``import friction_joint.cli`` stays
+# light, so the command line handles Ctrl-C from its first instants (numpy and numba load
+# inside main())
+_LAZY = {'FrictionParams': 'gear', 'GearParams': 'gear', 'gear_from_dict': 'gear',
+         'load_gear': 'gear', 'save_gear': 'gear', 'StaticFriction': 'models',
+         'LuGre': 'models', 'GMS': 'models', 'Joint': 'models'}
+
+
+def __getattr__(name):
+    """Return a gear or model name of :data:`__all__`, importing its subpackage once."""
+    if name in _LAZY:
+        value = getattr(importlib.import_module(f'.{_LAZY[name]}', __name__), name)
+        globals()[name] = value
+        return value
+    raise AttributeError(f'module {__name__!r} has no attribute {name!r}')
+
+
+def __dir__():
+    """List the module's names, the lazy ones included."""
+    return sorted(set(globals()) | set(__all__))
