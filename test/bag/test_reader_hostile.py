@@ -336,3 +336,68 @@ def test_temperature_spanning_its_range_is_read_whole(tmp_path):
     write_recording(tmp_path / 'rec', _smooth())
     xi = read_recording(tmp_path / 'rec').temperature_at()
     assert xi.min() == pytest.approx(23.0) and xi.max() > 35.0
+
+
+# --------------------------------------------------------------------------- layouts
+
+def _raw_states(frames):
+    """Serialized JointState messages, one per frame id, position = index (ms stamps)."""
+    from friction_joint.bag._cdr import walk_joint_state
+    from rosbags.typesys import Stores, get_typestore
+    ts = get_typestore(Stores.ROS2_JAZZY)
+    T = ts.types
+    templates = {}
+    raws = []
+    for i, frame in enumerate(frames):
+        n = len(frame)
+        if n not in templates:
+            msg = T['sensor_msgs/msg/JointState'](
+                header=T['std_msgs/msg/Header'](stamp=T['builtin_interfaces/msg/Time'](
+                    sec=0, nanosec=0), frame_id='x' * n),
+                name=['joint'], position=np.array([0.0]), velocity=np.array([0.0]),
+                effort=np.array([0.0]))
+            raw = ts.serialize_cdr(msg, 'sensor_msgs/msg/JointState')
+            templates[n] = (bytes(raw), walk_joint_state(raw).fields['position'][0])
+        raw, pos = templates[n]
+        b = bytearray(raw)
+        b[4:12] = struct.pack('<iI', i // 1000, (i % 1000) * 1_000_000)
+        b[16:16 + n] = frame.encode()
+        b[pos:pos + 8] = struct.pack('<d', float(i))
+        raws.append(bytes(b))
+    return raws
+
+
+def test_distinct_frame_ids_do_not_multiply_layout_groups():
+    """100 k messages, each with its own frame id of one length: one layout group."""
+    from friction_joint.bag._cdr import f64_columns, layout_groups
+    n = 100_000
+    raws = _raw_states([f'frame_{i:06d}' for i in range(n)])
+    groups = list(layout_groups(raws, 'sensor_msgs/msg/JointState', 'rec: /joint_states'))
+    assert len(groups) == 1
+    idx, layout, block = groups[0]
+    np.testing.assert_array_equal(idx, np.arange(n))
+    off, _ = layout.fields['position']
+    np.testing.assert_array_equal(f64_columns(block, off, 1)[:, 0], np.arange(n))
+
+
+def test_varying_frame_id_lengths_walk_each_message_once(monkeypatch):
+    """Frame ids of 300 lengths: one group per length, each message walked at most once."""
+    from friction_joint.bag import _cdr
+    walks = []
+    walk = _cdr.WALKERS['sensor_msgs/msg/JointState']
+    monkeypatch.setitem(_cdr.WALKERS, 'sensor_msgs/msg/JointState',
+                        lambda raw: walks.append(1) or walk(raw))
+    n = 30_000
+    frames = ['f' * (i % 300) + str(i) for i in range(n)]
+    raws = _raw_states(frames)
+    lengths = {len(f) for f in frames}
+    seen = np.zeros(n, dtype=int)
+    groups = 0
+    for idx, layout, block in _cdr.layout_groups(raws, 'sensor_msgs/msg/JointState', 'x'):
+        seen[idx] += 1
+        groups += 1
+        off, _ = layout.fields['position']
+        np.testing.assert_array_equal(_cdr.f64_columns(block, off, 1)[:, 0], idx)
+    assert (seen == 1).all()
+    assert groups <= len(lengths) < n / 10
+    assert len(walks) <= n + _cdr.MAX_LAYOUTS
