@@ -16,12 +16,17 @@
 Reading recordings (rosbag2 directory or single ``.mcap`` file) into numpy arrays.
 
 See :mod:`friction_joint.bag.topics` for the topics and fields.  What is checked on
-reading: that the file is not cut short (a recorder killed before it finished:
+reading: every file of the recording before anything opens it
+(:mod:`~friction_joint.bag.gate`: no FIFO, device or unreadable file, a
+``metadata.yaml`` that parses; one-line errors), that the file is not cut short (a recorder killed before it finished:
 the error names the ``friction_joint recover`` command,
 :func:`~friction_joint.bag.staging.partial_recording_error`), the file's
 checksums (:mod:`~friction_joint.bag.checksums`), the message types, NaN/inf,
-the header stamps of every topic (:mod:`~friction_joint.bag.stamps`) and absurd values
-(:mod:`~friction_joint.bag.plausible`).
+the header stamps of every topic (:mod:`~friction_joint.bag.stamps`; a nanosecond
+field of 1e9 or more, or a negative stamp, is an error), absurd values
+(:mod:`~friction_joint.bag.plausible`) and, across topics and signals
+(:mod:`~friction_joint.bag.consistency`), one clock for every topic, a velocity that is
+the derivative of the position and temperatures within physical bounds.
 """
 import os
 from pathlib import Path
@@ -297,8 +302,9 @@ def read_recording(path, joint_name=None, *, check=True):
         ``/joint_states`` message.  Messages that do not name the joint are skipped and
         counted (``skipped``); messages without names (one anonymous joint) are taken.
     check : bool
-        Check the header stamps of every topic (:mod:`~friction_joint.bag.stamps`) and
-        the values for absurd samples (:mod:`~friction_joint.bag.plausible`).  ``False``
+        Check the header stamps of every topic (:mod:`~friction_joint.bag.stamps`), the
+        values for absurd samples (:mod:`~friction_joint.bag.plausible`) and the topics
+        against each other (:mod:`~friction_joint.bag.consistency`).  ``False``
         reads a broken recording for inspection: messages are only sorted by stamp.
 
     Returns
@@ -318,8 +324,11 @@ def read_recording(path, joint_name=None, *, check=True):
         type, no message names the joint (the message lists the joints the recording
         has), data are NaN/inf,
         header stamps go backwards (a reversed stretch, overlapping runs, a message too
-        late), two different messages have the same stamp, or a value is absurd.  The
-        message names the file, the topic and where.
+        late), two different messages have the same stamp, a stamp is negative or
+        malformed, a value is absurd, a topic is on another clock than ``/joint_states``,
+        the velocity disagrees with the position, or a temperature is outside physical
+        bounds (:mod:`~friction_joint.bag.consistency`).  The message names the file, the
+        topic and where.
 
     """
     path = os.fspath(path)

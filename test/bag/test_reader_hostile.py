@@ -19,6 +19,7 @@ Every case ends in one line naming the file (and the topic), at once; the odd bu
 valid recordings beside them are read.  FIFO and device cases run the command in a
 subprocess with a timeout (a regression would block in ``open()``).
 """
+import json
 import os
 from pathlib import Path
 import re
@@ -67,14 +68,6 @@ def _bad(path, *words, **kw):
     return msg
 
 
-def _run(args, cwd, timeout=120):
-    """Run the CLI; return (status, stderr lines); a hang fails the test (timeout)."""
-    env = dict(os.environ, PYTHONPATH=os.pathsep.join(sys.path))
-    proc = subprocess.run(FJ + [str(a) for a in args], cwd=cwd, capture_output=True,
-                          text=True, timeout=timeout, env=env, stdin=subprocess.DEVNULL)
-    return proc.returncode, proc.stderr.strip().splitlines()
-
-
 # --------------------------------------------------------------------------- special files
 
 def _dir_with(tmp_path, which, make):
@@ -105,28 +98,47 @@ CASES = {
 }
 
 
-@pytest.mark.parametrize('case', sorted(CASES))
-def test_special_files_in_a_recording_are_refused_at_once(tmp_path, case):
-    """Refuse a FIFO or device anywhere in a recording (identify): one line, exit 2, no hang."""
-    made = CASES[case](tmp_path)
-    if isinstance(made, tuple):
-        rec, culprit = tmp_path / 'rec', made[1]
-    else:
-        rec, culprit = made, made
-    status, err = _run(['identify', os.path.relpath(rec, tmp_path), '--model', MODEL,
-                        '--out', 'X'], cwd=tmp_path)
-    assert status == 2, err
-    assert len(err) == 1, err
-    assert os.path.relpath(culprit, tmp_path) in err[0]
-    assert re.search('FIFO|device', err[0])
-    assert not (tmp_path / 'X').exists()
+_CHILD = """
+import contextlib, io, json, sys
+from friction_joint.cli import main
+for args in json.loads(sys.argv[1]):
+    err = io.StringIO()
+    with contextlib.redirect_stderr(err):
+        status = main(args)
+    print(json.dumps([status, err.getvalue()]), flush=True)
+"""
 
 
-def test_recover_refuses_a_fifo(tmp_path):
-    os.mkfifo(tmp_path / 'cut.mcap')
-    status, err = _run(['recover', 'cut.mcap', 'OUT'], cwd=tmp_path)
-    assert status == 2 and len(err) == 1 and 'cut.mcap' in err[0] and 'FIFO' in err[0]
-    assert not (tmp_path / 'OUT').exists()
+def test_special_files_in_a_recording_are_refused_at_once(tmp_path):
+    """Refuse a FIFO or device anywhere in a recording: one line, exit 2, no hang, no output."""
+    runs, culprits = [], []
+    for k, case in enumerate(sorted(CASES)):
+        d = tmp_path / f'case{k}'
+        d.mkdir()
+        made = CASES[case](d)
+        if isinstance(made, tuple):
+            rec, culprit = d / 'rec', made[1]
+        else:
+            rec, culprit = made, made
+        runs.append(['identify', str(rec), '--model', str(MODEL), '--out', str(d / 'X')])
+        culprits.append((case, culprit, d / 'X'))
+    os.mkfifo(tmp_path / 'cut.mcap')                 # recover reads a recording too
+    runs.append(['recover', str(tmp_path / 'cut.mcap'), str(tmp_path / 'OUT')])
+    culprits.append(('recover a fifo', tmp_path / 'cut.mcap', tmp_path / 'OUT'))
+    env = dict(os.environ, PYTHONPATH=os.pathsep.join(sys.path))
+    proc = subprocess.run([sys.executable, '-c', _CHILD, json.dumps(runs)], cwd=tmp_path,
+                          capture_output=True, text=True, timeout=180, env=env,
+                          stdin=subprocess.DEVNULL)
+    assert proc.returncode == 0, proc.stderr
+    results = [json.loads(line) for line in proc.stdout.splitlines()]
+    assert len(results) == len(runs)
+    for (case, culprit, out), (status, err) in zip(culprits, results):
+        lines = err.strip().splitlines()
+        assert status == 2, (case, err)
+        assert len(lines) == 1, (case, err)
+        assert str(culprit) in lines[0], (case, err)
+        assert re.search('FIFO|device', lines[0]), (case, err)
+        assert not out.exists()
 
 
 @pytest.mark.skipif(os.geteuid() == 0, reason='root reads files of any mode')
@@ -290,6 +302,8 @@ def test_consistent_position_and_velocity_in_hard_forms_are_read(tmp_path):
     for k, (tc, qc, qdc) in enumerate(cases.values()):
         m, _, _ = velocity_mismatch(tc, qc, qdc)
         assert not m > MISMATCH / 5, (list(cases)[k], m)
+        if k not in (0, 4):                       # the coarse encoder, the wrapping angle
+            continue
         topics = _smooth(n=6000)
         topics['/joint_states'] = {'t': tc, 'q': qc, 'qd': qdc,
                                    'effort': topics['/joint_states']['effort']}
