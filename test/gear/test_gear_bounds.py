@@ -26,6 +26,7 @@ import subprocess
 import sys
 
 from friction_joint import GearConfigError, load_gear
+from friction_joint.cli import main
 import pytest
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
@@ -109,6 +110,14 @@ def _one_line(proc, *words):
         assert w in lines[0], lines[0]
 
 
+def _one_line_in_process(capsys, rc, *words):
+    err = capsys.readouterr().err
+    lines = err.strip().splitlines()
+    assert rc == 2 and len(lines) == 1, err
+    for w in words:
+        assert w in lines[0], lines[0]
+
+
 def _truth(tmp_path, key, value):
     with open(TRUTH, encoding='utf-8') as fh:
         lines = fh.read().splitlines()
@@ -124,17 +133,17 @@ def _truth(tmp_path, key, value):
     ('rate', '1.0e15', 'simulation.rate'),
     ('velocity_cutoff', '2000', 'sensors.velocity_cutoff'),
 ])
-def test_experiment_chirp_refuses_truth_out_of_range(tmp_path, key, value, named):
+def test_experiment_chirp_refuses_truth_out_of_range(tmp_path, capsys, key, value, named):
     """``experiment chirp`` hung (2**1e18) or gave a traceback; now one line, nothing written."""
     truth = _truth(tmp_path, key, value)
     out = tmp_path / 'out'
-    proc = _run(['experiment', 'chirp', '--model', os.path.join(ROOT, 'config', 'csd25.yaml'),
-                 '--truth', str(truth), '--out', str(out), '--duration-scale', '0.01'])
-    _one_line(proc, 'truth.yaml', named)
+    rc = main(['experiment', 'chirp', '--model', os.path.join(ROOT, 'config', 'csd25.yaml'),
+               '--truth', str(truth), '--out', str(out), '--duration-scale', '0.01'])
+    _one_line_in_process(capsys, rc, 'truth.yaml', named)
     assert not out.exists()
 
 
-def test_identify_refuses_huge_velocity_scale(tmp_path):
+def test_identify_refuses_huge_velocity_scale(tmp_path, capsys):
     """``velocity_scale: 1.0e308`` gave a ValueError traceback in identify."""
     with open(BASE, encoding='utf-8') as fh:
         text = fh.read()
@@ -142,8 +151,8 @@ def test_identify_refuses_huge_velocity_scale(tmp_path):
     model = tmp_path / 'm.yaml'
     model.write_text(text, encoding='utf-8')
     out = tmp_path / 'g.yaml'
-    proc = _run(['identify', RECORDING, '--model', str(model), '--out', str(out), '--quiet'])
-    _one_line(proc, 'm.yaml', 'friction.velocity_scale')
+    rc = main(['identify', RECORDING, '--model', str(model), '--out', str(out), '--quiet'])
+    _one_line_in_process(capsys, rc, 'm.yaml', 'friction.velocity_scale')
     assert not out.exists()
 
 
