@@ -56,10 +56,10 @@ index) and converted to SI and the joint convention of the README
 * ``temperature`` becomes ``/joint_temperature`` (optional, at least
   −273.15 °C), ``load`` the measured τ_ext on ``/link_torque``.
 * **Memory**: the files are read in chunks (:mod:`~friction_joint.bag.tables`),
-  only the columns mapped are kept, and logs whose arrays (:data:`ROW_BYTES`
-  plus 8 per column kept, per row, all files together) would exceed
-  :data:`~friction_joint.inputs.MEMORY_BUDGET` are refused before they are
-  decoded.
+  only the columns mapped are kept, and logs whose import and writing need
+  more than :data:`~friction_joint.inputs.MEMORY_BUDGET` (per row
+  :data:`ROW_BYTES` plus 8 per column kept plus :data:`WRITE_BYTES` per topic
+  written, all files together) are refused before they are decoded.
 """
 import json
 import os
@@ -74,8 +74,8 @@ from .units import (check_radius, convert, header_unit, mapping_text, parse_colu
 from ..exceptions import RecordingError
 from ..inputs import MEMORY_BUDGET, read_input
 
-__all__ = ['QUANTITIES', 'UNITS', 'GAP', 'SPLIT', 'ROW_BYTES', 'ImportedLog', 'parse_column',
-           'load_mapping', 'file_gap', 'import_logs']
+__all__ = ['QUANTITIES', 'UNITS', 'GAP', 'SPLIT', 'ROW_BYTES', 'WRITE_BYTES', 'ImportedLog',
+           'parse_column', 'load_mapping', 'file_gap', 'import_logs']
 
 #: smallest time gap (s) between the runs of two files
 GAP = 10.0
@@ -85,6 +85,10 @@ SPLIT = 5.0
 #: arrays and the temporaries of resampling, differentiating and checking; measured about
 #: 110 with four columns), checked against the memory budget
 ROW_BYTES = 120
+#: bytes of memory writing a recording takes per message (measured: about 520 with
+#: :func:`~friction_joint.bag.write_recording` building every topic's messages at once and
+#: sealing them; to be lowered when it streams)
+WRITE_BYTES = 600
 #: stamps within this fraction of an interval of the uniform grid are kept as they are
 _ON_GRID = 1e-3
 #: a friction column opposing the velocity on more than this fraction of the sliding
@@ -274,7 +278,8 @@ def _read(path, columns, options, budget):
                 found[q] = _resolve(path, header, width, q, columns[q])
         return sorted({idx for idx, _, _ in found.values()})
 
-    row_bytes = ROW_BYTES + 8 * len(columns)
+    topics = 1 + ('friction' in columns or 'load' in columns) + ('temperature' in columns)
+    row_bytes = ROW_BYTES + 8 * len(columns) + WRITE_BYTES * topics
     header, cols, rows = read_table(path, options['skip_rows'], pick=pick, row_bytes=row_bytes,
                                     budget=budget)
     by_index = dict(zip(sorted({idx for idx, _, _ in found.values()}), cols))

@@ -141,7 +141,8 @@ def test_budget_refuses_before_decoding(tmp_path, capsys, monkeypatch):
     _one_line(*_import(capsys, npz, '--out', tmp_path / 'rec', *COLS)[::2], str(npz),
               'memory budget')
     monkeypatch.undo()
-    monkeypatch.setattr(importer, 'MEMORY_BUDGET', 1_000_000)   # one file fits, not two
+    one = 5000 * (importer.ROW_BYTES + 3 * 8 + importer.WRITE_BYTES)
+    monkeypatch.setattr(importer, 'MEMORY_BUDGET', int(1.5 * one))   # one file fits, not two
     assert _import(capsys, log, '--out', tmp_path / 'one', *COLS, '--quiet')[0] == 0
     _one_line(*_import(capsys, log, log, '--out', tmp_path / 'two', *COLS)[::2],
               'memory budget')
