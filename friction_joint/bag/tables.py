@@ -27,6 +27,7 @@ A number is plain ASCII decimal or scientific notation (``-1.5``, ``2e-3``,
 other spellings (``1_000``, ``0x10``, non-ASCII digits) are errors naming the
 row and the value, never misread.  ``.npz`` logs: :mod:`~friction_joint.bag.npzlog`.
 """
+from array import array
 import io
 import os
 import re
@@ -195,7 +196,7 @@ class _Text:
         self.cols = [np.empty(capacity) for _ in usecols]
         self.capacity = capacity
         self.n = 0
-        self.starts, self.lines = [], []
+        self.starts, self.lines = array('q'), array('q')   # 8 bytes a stretch
 
     def _stretch(self, line):
         """Rows from now on start at (0-based) file line ``line``."""
