@@ -18,8 +18,9 @@ Reading recordings (rosbag2 directory or single ``.mcap`` file) into numpy array
 See :mod:`friction_joint.bag.topics` for the topics and fields.  What is checked on
 reading: every file of the recording before anything opens it
 (:mod:`~friction_joint.bag.gate`: no FIFO, device or unreadable file, a
-``metadata.yaml`` that parses; one-line errors), that the file is not cut short (a recorder killed before it finished:
-the error names the ``friction_joint recover`` command,
+``metadata.yaml`` that parses; one-line errors), that the file is not cut short
+(a recorder killed before it finished: the error names the ``friction_joint recover``
+command,
 :func:`~friction_joint.bag.staging.partial_recording_error`), the file's
 checksums (:mod:`~friction_joint.bag.checksums`), the message types, NaN/inf,
 the header stamps of every topic (:mod:`~friction_joint.bag.stamps`; a nanosecond

@@ -355,7 +355,7 @@ def test_temperature_spanning_its_range_is_read_whole(tmp_path):
 # --------------------------------------------------------------------------- layouts
 
 def _raw_states(frames):
-    """Serialized JointState messages, one per frame id, position = index (ms stamps)."""
+    """Serialize JointState messages, one per frame id, position = index (ms stamps)."""
     from friction_joint.bag._cdr import walk_joint_state
     from rosbags.typesys import Stores, get_typestore
     ts = get_typestore(Stores.ROS2_JAZZY)
