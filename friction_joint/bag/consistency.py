@@ -200,7 +200,11 @@ def velocity_mismatch(t, q, qd):
         Index of the first sample of the window of largest ``|Δq - I|`` (-1 if none).
 
     """
-    t, q, qd = (np.asarray(x, dtype=float) for x in (t, q, qd))
+    with np.errstate(all='ignore'):               # overflowing values: not judged (NaN)
+        return _mismatch(*(np.asarray(x, dtype=float) for x in (t, q, qd)))
+
+
+def _mismatch(t, q, qd):
     n = len(t)
     w = max(_MIN_WINDOW, n // _WINDOWS)
     if n < 2 * w:
@@ -235,6 +239,8 @@ def velocity_mismatch(t, q, qd):
         return math.nan, int(np.count_nonzero(judged)), -1
     err = np.maximum(np.abs(dq_w - int_w) - slack, 0.0)
     mismatch = float(err[judged].sum() / size[judged].sum())
+    if not math.isfinite(mismatch):
+        return math.nan, 0, -1
     worst = int(np.flatnonzero(judged)[np.argmax(err[judged])]) * w
     return mismatch, int(np.count_nonzero(judged)), worst
 
