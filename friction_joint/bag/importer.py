@@ -82,13 +82,13 @@ GAP = 10.0
 #: a step of the stamps longer than this many median intervals splits a run into pieces
 SPLIT = 5.0
 #: bytes of memory an import needs per row of a log besides 8 per column kept (the topics'
-#: arrays and the temporaries of resampling, differentiating and checking; measured about
-#: 110 with four columns), checked against the memory budget
-ROW_BYTES = 120
-#: bytes of memory writing a recording takes per message (measured: about 520 with
-#: :func:`~friction_joint.bag.write_recording` building every topic's messages at once and
-#: sealing them; to be lowered when it streams)
-WRITE_BYTES = 600
+#: arrays and the temporaries of resampling, differentiating and checking), checked against
+#: the memory budget; measured in all about 107 a row with four columns and two topics, of
+#: the 160 estimated
+ROW_BYTES = 80
+#: bytes of memory writing a recording takes per message (the streaming
+#: :func:`~friction_joint.bag.write_recording`: measured about 10, its merge of the stamps)
+WRITE_BYTES = 24
 #: stamps within this fraction of an interval of the uniform grid are kept as they are
 _ON_GRID = 1e-3
 #: a friction column opposing the velocity on more than this fraction of the sliding
@@ -344,7 +344,8 @@ def _one_file(path, columns, options):
                                     dt)
         resampled += bool(moved)
         if 'velocity' not in cols:
-            cols = dict(cols, velocity=np.gradient(cols['position'], tt))
+            with np.errstate(all='ignore'):         # an overflow is refused by _file_checks
+                cols = dict(cols, velocity=np.gradient(cols['position'], tt))
         pieces.append((tt, cols))
     del t, picked
     return pieces, dt, mapping, resampled
@@ -357,7 +358,8 @@ def _effort(cols, flip):
     if flip:
         x = np.negative(x, out=x)                   # the piece's own array
     if 'load' in cols:
-        x = x + cols['load']
+        with np.errstate(all='ignore'):             # an overflow is refused by _file_checks
+            x = x + cols['load']
     return x
 
 
@@ -397,7 +399,13 @@ def _file_checks(path, pieces, flip_friction, friction_mode):
     for k, f in (('xi', 'temperature'), ('tau', 'load')):
         if f in pieces[0][1]:
             fields[k] = _concat([c[f] for _, c in pieces])
-    check_samples(path, t - t[0], fields, position=('q', 'qd'))
+    for k, x in fields.items():                     # a derivative or sum that overflowed
+        if not np.isfinite(x).all():
+            i = int(np.flatnonzero(~np.isfinite(x))[0])
+            raise RecordingError(f'{path}: the {k} at t = {t[i] - t[0]:.9g} s of the file is not '
+                                 'finite (an overflow of the values logged)')
+    with np.errstate(all='ignore'):                 # huge values: judged, not warned about
+        check_samples(path, t - t[0], fields, position=('q', 'qd'))
     if not friction_mode:
         return None
     frac = _opposed_fraction(fields['qd'], _concat([c['friction'] for _, c in pieces]))

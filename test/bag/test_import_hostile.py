@@ -197,6 +197,8 @@ def test_conversion_overflow_and_radius(tmp_path, capsys):
     log = _csv(tmp_path / 'big.csv', rows)
     _fails(capsys, tmp_path / 'rec', log, '--time', 'time', '--position', 'pos:rev',
            '--torque', 'tau', expect=(str(log), 'row 5', 'position', 'not finite', 'rev'))
+    swing = _csv(tmp_path / 'swing.csv', [(f'{i}e-6', f'{(-1) ** i}e308', '1') for i in range(9)])
+    _fails(capsys, tmp_path / 'rec', swing, *COLS, expect=(str(swing), 'qd', 'not finite'))
     ok = _csv(tmp_path / 'ok.csv', _rows(20))
     for radius in ('1e-320', '0', '-1', 'nan', 'inf', '1e300'):
         _fails(capsys, tmp_path / 'rec', ok, '--time', 'time', '--position', 'pos:mm',

@@ -20,10 +20,10 @@ import shutil
 import subprocess
 import sys
 
+import friction_joint.bag as bag
 from friction_joint.bag import read_recording
 import friction_joint.bag.importer as importer
 import friction_joint.bag.tables as tables
-import friction_joint.bag.writer as writer
 from friction_joint.cli import main
 import numpy as np
 import pytest
@@ -166,10 +166,12 @@ def test_full_disk_one_line_old_output_kept(tmp_path, capsys, monkeypatch):
     assert _import(capsys, log, '--out', rec, *COLS, '--quiet')[0] == 0
     before = {p: p.read_bytes() for p in rec.iterdir()}
 
-    def full(*args, **kwargs):
+    def full(path, *args, **kwargs):                # a part written, then the disk is full
+        os.mkdir(path)
+        (Path(path) / 'part.mcap').write_bytes(bytes(1000))
         raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC))
 
-    monkeypatch.setattr(writer, 'seal_recording', full)
+    monkeypatch.setattr(bag, 'write_recording', full)
     _one_line(*_import(capsys, log, '--out', rec, *COLS, '--force')[::2], str(rec),
               'No space left')
     assert {p: p.read_bytes() for p in rec.iterdir()} == before
