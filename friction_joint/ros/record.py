@@ -84,6 +84,7 @@ import time
 
 from ._rclpy import take_all
 from .qos import dds_environ, READY_QOS, READY_TOPIC, recorder_qos
+from .startup import check_domain_id
 from ..bag import CONTRACT_TYPES
 from ..bag.checksums import seal_rosbag2
 from ..bag.staging import (flush_chunks, FLUSH_PERIOD, killed_recordings, RecorderStaging,
@@ -484,6 +485,7 @@ def record(out, *, topics=None, duration=None, args=None, log=None, stop=None,
         raise RecordingError(f'{out} exists already, not overwriting')
     if duration is not None and not duration > 0:
         raise RecordingError(f'--duration must be positive, got {duration}')
+    check_domain_id(error=RecordingError)
     pairs = parse_topics(topics if topics else list(CONTRACT_TYPES))
     for topic, msgtype in pairs:
         message_class(topic, msgtype)

@@ -49,6 +49,7 @@ import time
 from ._rclpy import RCLError
 from .qos import dds_environ, replay_qos
 from .record import install_signals, message_class
+from .startup import check_domain_id
 from ..bag import iter_messages, recording_topics
 from ..exceptions import RecordingError
 
@@ -149,6 +150,7 @@ def replay(bag, *, rate=1.0, topics=None, clock=True, loop=False, wait=2.0, sett
     for option, value in (('--wait', wait), ('--settle', settle)):
         if not 0 <= value <= MAX_WAIT:
             raise RecordingError(f'{option} must be in [0, {MAX_WAIT:g}] s, got {value}')
+    check_domain_id(error=RecordingError)
     available = recording_topics(bag)
     if topics:
         missing = [t for t in topics if t not in available]

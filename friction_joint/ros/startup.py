@@ -43,7 +43,7 @@ from ._rclpy import parameter_overrides, RCLError
 from ..exceptions import FrictionJointError, GearConfigError
 from ..inputs import check_input
 
-__all__ = ['check_ros_args', 'rcl_init', 'one_line', 'check_qos_overrides',
+__all__ = ['check_ros_args', 'check_domain_id', 'MAX_DOMAIN_ID', 'rcl_init', 'one_line', 'check_qos_overrides',
            'check_overrides_used', 'QOS_POLICIES', 'MAX_QOS_DEPTH', 'QOS_PREFIX']
 
 #: prefix of the standard QoS override parameters (rclpy QosOverridingOptions)
@@ -56,6 +56,9 @@ QOS_POLICIES = {'history': ('keep_last', 'keep_all', 'system_default'),
 MAX_QOS_DEPTH = 100_000
 _WHY_NOT = {'durability': 'the streams are volatile (transient_local would keep samples of a '
                           'keep-all topic for late joiners without bound)'}
+
+#: the largest ROS_DOMAIN_ID: Fast DDS's ports (7400 + 250 id + offsets) stay below 65536
+MAX_DOMAIN_ID = 232
 
 #: ROS arguments followed by a value
 _VALUE_FLAGS = ('-r', '--remap', '-e', '--enclave', '--log-level', '--log-file-name', '-p',
@@ -121,6 +124,22 @@ def check_ros_args(argv):
             why = _check_assignment(value)
             if why:
                 raise GearConfigError(why)
+
+
+def check_domain_id(environ=None, error=GearConfigError):
+    """
+    Check ``ROS_DOMAIN_ID`` (unset or an integer 0-232); Fast DDS exits on a larger one.
+
+    Raises
+    ------
+    error
+        One line naming the variable and its value.
+
+    """
+    text = (os.environ if environ is None else environ).get('ROS_DOMAIN_ID', '').strip()
+    if text and not (text.isdigit() and int(text) <= MAX_DOMAIN_ID):
+        raise error(f'ROS_DOMAIN_ID={text!r}: must be an integer from 0 to {MAX_DOMAIN_ID} '
+                    '(the DDS ports of larger ids do not exist)')
 
 
 def rcl_init(init):

@@ -36,6 +36,7 @@ ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)
 TRUTH = os.path.join(ROOT, 'config', 'csd25_truth.yaml')
 MODEL = os.path.join(ROOT, 'config', 'csd25.yaml')
 QOS = 'qos_overrides./joint_states.'
+CLI = [PY, '-m', 'friction_joint']
 
 
 def node_cmd(node, *ros_args, gear=None):
@@ -111,7 +112,7 @@ def test_bad_parameter_at_start_up_is_one_line(node, args, words, spawn):
 
 @pytest.mark.parametrize('rate', ['1.0e15', '1.0e-300'])
 def test_truth_gear_with_an_absurd_rate_is_one_line(rate, spawn, tmp_path):
-    """``simulation.rate`` 1e15 ended in a LinAlgError traceback, 1e-300 in another."""
+    """A ``simulation.rate`` of 1e15 ended in a LinAlgError traceback, 1e-300 in another."""
     gear = gear_with(tmp_path, '      rate: 3000.0', f'      rate: {rate}')
     one_line_exit_2(spawn(node_cmd('joint_sim', gear=gear)), 'joint_sim', ['rate'])
 
@@ -128,6 +129,16 @@ def test_params_file_fifo_missing_or_oversized_is_one_line(spawn, tmp_path):
              (['--log-config-file', str(fifo)], ['fifo.yaml', 'FIFO'])]
     for args, words in cases:
         one_line_exit_2(spawn(node_cmd('joint_sim', *args)), 'joint_sim', words)
+
+
+@pytest.mark.parametrize('domain', ['233', 'abc'])
+def test_domain_id_beyond_the_dds_ports_is_one_line(domain, spawn, ros_env, tmp_path):
+    """Fast DDS printed two lines to stdout and the node exited 1 with nothing on stderr."""
+    env = dict(ros_env, ROS_DOMAIN_ID=domain)
+    one_line_exit_2(spawn(node_cmd('joint_sim'), env=env), 'joint_sim', ['ROS_DOMAIN_ID'])
+    one_line_exit_2(spawn(CLI + ['record', str(tmp_path / 'rec')], env=env),
+                    'friction_joint record', ['ROS_DOMAIN_ID'])
+    assert not (tmp_path / 'rec').exists()
 
 
 def _set(ros_node, client, name, value):
@@ -167,8 +178,6 @@ def test_bad_parameter_set_at_run_time_is_refused_with_a_reason(spawn, ros_node)
 
 
 # ---------------------------------------------------------------- replay and record
-
-CLI = [PY, '-m', 'friction_joint']
 
 
 @pytest.mark.parametrize('args, words', [

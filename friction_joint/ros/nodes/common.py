@@ -37,7 +37,7 @@ import time
 from .._rclpy import guard_clock, RCLError, take_all, Waiter
 from ..parameters import declare_node_params, describe, prepare_ros_args, REJECT_LOG_PERIOD
 from ..qos import dds_environ
-from ..startup import check_overrides_used, one_line, rcl_init
+from ..startup import check_domain_id, check_overrides_used, one_line, rcl_init
 
 __all__ = ['stamp_to_ns', 'ns_to_stamp', 'joint_index', 'finite', 'take_queued',
            'StampPairing', 'StampOrder', 'Rejects', 'PairedInput', 'run_node',
@@ -519,6 +519,7 @@ def run_node(factory, name, args=None, drain=True):
     try:
         # the files rcl opens checked, the gear file through the package's reader; rcl
         # parses a normalized copy
+        check_domain_id()
         args, cleanup = prepare_ros_args(args)
     except Exception as exc:                    # noqa: BLE001 - one line, never a traceback
         print(f'{name}: error: {one_line(exc)}', file=sys.stderr)
