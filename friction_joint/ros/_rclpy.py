@@ -43,17 +43,77 @@ re-exports the public rclpy names the command line needs, so that only
 :mod:`friction_joint.ros` imports rclpy.
 """
 import contextlib
+import os
+import sys
+import tempfile
 
 from rclpy.executors import ExternalShutdownException
 from rclpy.impl.implementation_singleton import rclpy_implementation
-from rclpy.utilities import remove_ros_args
+from rclpy.utilities import remove_ros_args as _remove_ros_args
+
+from ..exceptions import RecordingError
 
 __all__ = ['ExternalShutdownException', 'RCLError', 'remove_ros_args', 'take_message',
            'take_all', 'parameter_override_names',
-           'parameter_overrides', 'Waiter', 'guard_clock']
+           'parameter_overrides', 'Waiter', 'guard_clock', 'held_stderr']
 
 #: raised by rcl calls that fail, e.g. publishing to a full keep-all queue
 RCLError = rclpy_implementation.RCLError
+
+
+def held_stderr(call):
+    """
+    Return ``call()`` with what C code (rcl) writes to stderr held back meanwhile.
+
+    On success the held-back output is written to stderr; on failure it is
+    dropped, so the caller's one-line report of the exception is all there is.
+    """
+    sys.stderr.flush()
+    saved = os.dup(2)
+    ok = False
+    with tempfile.TemporaryFile() as held:
+        try:
+            os.dup2(held.fileno(), 2)
+            try:
+                result = call()
+                ok = True
+            finally:
+                os.dup2(saved, 2)
+                os.close(saved)
+        finally:
+            if ok:
+                held.seek(0)
+                text = held.read().decode('utf-8', 'replace')
+                if text:
+                    sys.stderr.write(text)
+                    sys.stderr.flush()
+    return result
+
+
+def remove_ros_args(args):
+    """
+    Return ``args`` without the ROS arguments (rclpy's); malformed ones raise an error.
+
+    rcl parses them to find their end (reading every ``--params-file``: a
+    FIFO blocked it, so :func:`~friction_joint.ros.startup.check_ros_args`
+    checks them first) and raised ``RCLInvalidROSArgsError`` (after logging a
+    line of its own) on, e.g., ``-p :=1``.
+
+    Raises
+    ------
+    GearConfigError
+        A file named by a ROS argument is no readable regular file.
+    RecordingError
+        rcl cannot parse the ROS arguments.
+
+    """
+    from .startup import check_ros_args          # rcl reads --params-file here: no FIFO
+    check_ros_args(args)
+    try:
+        return held_stderr(lambda: _remove_ros_args(args))
+    except RCLError as exc:
+        text = ' '.join(str(exc).split()).split(', at /')[0]
+        raise RecordingError(f'ROS arguments: {text}') from None
 
 
 def take_message(subscription, msg_class, raw=False):

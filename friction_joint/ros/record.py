@@ -84,7 +84,7 @@ import time
 
 from ._rclpy import take_all
 from .qos import dds_environ, READY_QOS, READY_TOPIC, recorder_qos
-from .startup import check_domain_id
+from .startup import check_domain_id, init_context
 from ..bag import CONTRACT_TYPES
 from ..bag.checksums import seal_rosbag2
 from ..bag.staging import (flush_chunks, FLUSH_PERIOD, killed_recordings, RecorderStaging,
@@ -475,7 +475,6 @@ def record(out, *, topics=None, duration=None, args=None, log=None, stop=None,
     import rclpy
     from rclpy.context import Context
     from rclpy.executors import SingleThreadedExecutor
-    from rclpy.signals import SignalHandlerOptions
     from rosbags.rosbag2 import StoragePlugin, Writer
     from rosbags.typesys import Stores, get_typestore
 
@@ -514,7 +513,7 @@ def record(out, *, topics=None, duration=None, args=None, log=None, stop=None,
     node = executor = recorder = None
     try:
         dds_environ()                     # the package's DDS profile, unless one is set
-        rclpy.init(args=args, context=context, signal_handler_options=SignalHandlerOptions.NO)
+        init_context(args, context, RecordingError)     # a bad ROS argument: one line
         node = rclpy.create_node('friction_joint_recorder', context=context,
                                  start_parameter_services=False)
         executor = SingleThreadedExecutor(context=context)

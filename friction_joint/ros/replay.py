@@ -49,7 +49,7 @@ import time
 from ._rclpy import RCLError
 from .qos import dds_environ, replay_qos
 from .record import install_signals, message_class
-from .startup import check_domain_id
+from .startup import check_domain_id, init_context
 from ..bag import iter_messages, recording_topics
 from ..exceptions import RecordingError
 
@@ -141,7 +141,6 @@ def replay(bag, *, rate=1.0, topics=None, clock=True, loop=False, wait=2.0, sett
     import rclpy
     from rclpy.context import Context
     from rclpy.duration import Duration
-    from rclpy.signals import SignalHandlerOptions
 
     log = log or (lambda line: print(line, file=sys.stderr, flush=True))
     if not (rate == 0 or MIN_RATE <= rate < math.inf):
@@ -176,7 +175,7 @@ def replay(bag, *, rate=1.0, topics=None, clock=True, loop=False, wait=2.0, sett
         counts['/clock'] = 0
     try:
         dds_environ()                     # the package's DDS profile, unless one is set
-        rclpy.init(args=args, context=context, signal_handler_options=SignalHandlerOptions.NO)
+        init_context(args, context, RecordingError)     # a bad ROS argument: one line
         node = rclpy.create_node('friction_joint_replay', context=context,
                                  start_parameter_services=False)
         qos = replay_qos()

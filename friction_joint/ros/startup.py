@@ -32,18 +32,17 @@ created) and an entity the node has (:func:`check_overrides_used`, after).
 """
 import os
 import re
-import sys
-import tempfile
 
 from rclpy.exceptions import (InvalidParameterTypeException, InvalidParameterValueException,
                               ParameterException)
 from rclpy.parameter import Parameter
 
-from ._rclpy import parameter_overrides, RCLError
+from ._rclpy import held_stderr, parameter_overrides, RCLError
 from ..exceptions import FrictionJointError, GearConfigError
 from ..inputs import check_input
 
-__all__ = ['check_ros_args', 'check_domain_id', 'MAX_DOMAIN_ID', 'rcl_init', 'one_line', 'check_qos_overrides',
+__all__ = ['check_ros_args', 'check_domain_id', 'MAX_DOMAIN_ID', 'rcl_init', 'init_context',
+           'one_line', 'check_qos_overrides',
            'check_overrides_used', 'QOS_POLICIES', 'MAX_QOS_DEPTH', 'QOS_PREFIX']
 
 #: prefix of the standard QoS override parameters (rclpy QosOverridingOptions)
@@ -149,26 +148,24 @@ def rcl_init(init):
     On success the held-back output is written to stderr; on failure it is
     dropped (the caller reports the exception in one line).
     """
-    sys.stderr.flush()
-    saved = os.dup(2)
-    ok = False
-    with tempfile.TemporaryFile() as held:
-        try:
-            os.dup2(held.fileno(), 2)
-            try:
-                result = init()
-                ok = True
-            finally:
-                os.dup2(saved, 2)
-                os.close(saved)
-        finally:
-            if ok:
-                held.seek(0)
-                text = held.read().decode('utf-8', 'replace')
-                if text:
-                    sys.stderr.write(text)
-                    sys.stderr.flush()
-    return result
+    return held_stderr(init)
+
+
+def init_context(args, context, error):
+    """
+    ``rclpy.init`` of ``context`` with ``args`` (checked first); a failure raises ``error``.
+
+    For the commands that run a node of their own (record, replay): a bad ROS
+    argument is one line naming it, rcl's own lines are dropped.
+    """
+    import rclpy
+    from rclpy.signals import SignalHandlerOptions
+    try:
+        check_ros_args(args or [])
+        rcl_init(lambda: rclpy.init(args=args, context=context,
+                                    signal_handler_options=SignalHandlerOptions.NO))
+    except Exception as exc:                     # noqa: BLE001 - one line, never a traceback
+        raise error(one_line(exc)) from None
 
 
 _TYPE_ERROR = re.compile(r"parameter '([^']*)' to '(.*)' of type '(\w+)', expecting type '(\w+)'",

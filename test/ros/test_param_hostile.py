@@ -118,7 +118,7 @@ def test_truth_gear_with_an_absurd_rate_is_one_line(rate, spawn, tmp_path):
 
 
 def test_params_file_fifo_missing_or_oversized_is_one_line(spawn, tmp_path):
-    """rcl opened a FIFO named by --params-file before any code of ours and blocked forever."""
+    """A FIFO named by --params-file was opened by rcl before any code of ours: a hang."""
     fifo = tmp_path / 'fifo.yaml'
     os.mkfifo(fifo)
     big = tmp_path / 'big.yaml'
@@ -199,6 +199,20 @@ def test_record_into_a_path_through_a_file_is_one_line(spawn, tmp_path):
     proc = spawn(CLI + ['record', str(tmp_path / 'afile' / 'x')])
     one_line_exit_2(proc, 'friction_joint record', [str(tmp_path / 'afile'), 'not a directory'])
     assert (tmp_path / 'afile').read_text() == 'x'
+
+
+@pytest.mark.parametrize('script', ['record', 'replay'])
+def test_record_and_replay_with_bad_ros_arguments_are_one_line(script, spawn, tmp_path):
+    """A FIFO as --params-file blocked rcl's argument parser; ``-p :=1`` was a traceback."""
+    fifo = tmp_path / 'fifo.yaml'
+    os.mkfifo(fifo)
+    exe = os.path.join(os.path.dirname(PY), script)
+    for ros_args, words in ((['--params-file', str(fifo)], ['FIFO']),
+                            (['-p', ':=1'], ['-p :=1']),
+                            (['--log-level', 'bogus'], ['log level'])):
+        proc = spawn([exe, str(tmp_path / 'rec'), '--ros-args'] + ros_args)
+        one_line_exit_2(proc, script, words)
+    assert not (tmp_path / 'rec').exists()
 
 
 def _maps_rclpy(pid):
