@@ -39,6 +39,7 @@ import importlib
 import signal
 import sys
 import threading
+import warnings
 
 from ._console import check_numbers, exit_now
 from ..exceptions import FrictionJointError
@@ -88,27 +89,38 @@ def _stop_on_signals():
 def main(argv=None):
     """Entry point of ``friction_joint``; returns the exit status (128 + N after signal N)."""
     replaced = _stop_on_signals()
-    prog = 'friction_joint'
+    prog = ['friction_joint']
+    shown = warnings.showwarning
+    if argv is None:                         # the process's entry: warnings as one line each
+        warnings.showwarning = (lambda message, category, *rest:
+                                print(f'{prog[0]}: warning: {message}', file=sys.stderr))
+    try:
+        return _main(argv, prog)
+    finally:
+        warnings.showwarning = shown
+        for s, handler in replaced.items():
+            signal.signal(s, handler)
+
+
+def _main(argv, prog):
+    """Run the command of ``argv``; ``prog[0]`` becomes its name for messages."""
     try:
         args = build_parser().parse_args(argv)
-        prog = f'friction_joint {args.command}'
+        prog[0] = f'friction_joint {args.command}'
         check_numbers(args)
         return int(args.func(args) or 0)
     except FrictionJointError as exc:
-        print(f'{prog}: error: {exc}', file=sys.stderr)
+        print(f'{prog[0]}: error: {exc}', file=sys.stderr)
         return 2
     except OSError as exc:                   # a full disk, a read-only target found late, ...
         where = f'{exc.filename}: ' if exc.filename else ''
-        print(f'{prog}: error: {where}{exc.strerror or exc}', file=sys.stderr)
+        print(f'{prog[0]}: error: {where}{exc.strerror or exc}', file=sys.stderr)
         return 2
     except KeyboardInterrupt as exc:
         signum = getattr(exc, 'signum', signal.SIGINT)
         what = ('interrupted' if signum == signal.SIGINT else
                 f'stopped by {signal.Signals(signum).name}')
-        print(f'{prog}: {what}', file=sys.stderr)
+        print(f'{prog[0]}: {what}', file=sys.stderr)
         if argv is None:
             exit_now(128 + signum)
         return 128 + signum
-    finally:
-        for s, handler in replaced.items():
-            signal.signal(s, handler)

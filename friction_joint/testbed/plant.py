@@ -245,7 +245,7 @@ class Plant:
                                       'step refused, nothing applied')
         tau_app = self.current(tau_cmd) if not self.ideal else float(tau_cmd)
         q, qd, tau_r, tau_ext = self.joint.step(tau_app, self.dt, self.thermal.xi, tau_contact)
-        power = abs(tau_r * qd)
+        power = abs(float(tau_r) * float(qd))    # Python floats: inf, no overflow warning
         if not (math.isfinite(q) and math.isfinite(qd) and math.isfinite(power)):
             raise SimulationError(
                 f'the joint state is no longer finite at t = {self.t + self.dt:.4f} s '

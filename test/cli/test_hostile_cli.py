@@ -223,6 +223,24 @@ def test_float_options_must_be_finite(tmp_path, capsys, argv):
     assert not (tmp_path / 'out').exists()
 
 
+@pytest.mark.parametrize('key, lines', [('mass', 1), ('sigma1', 2)])
+def test_every_line_of_a_failing_run_is_a_message(tmp_path, key, lines):
+    """A numpy overflow warning (a 1e300 kg lever) or a gear warning printed source lines."""
+    with open(TRUTH, encoding='utf-8') as fh:
+        text = fh.read()
+    truth = tmp_path / 'truth.yaml'
+    truth.write_text(text.replace(f'  {key}: ', f'  {key}: 1.0e300 #', 1), encoding='utf-8')
+    proc = subprocess.run([sys.executable, '-m', 'friction_joint', 'experiment', 'chirp',
+                           '--model', MODEL, '--truth', str(truth), '--out',
+                           str(tmp_path / 'out'), '--duration-scale', '0.01'],
+                          capture_output=True, text=True, timeout=300, stdin=subprocess.DEVNULL)
+    got = proc.stderr.strip().splitlines()
+    assert proc.returncode == 2 and len(got) == lines, proc.stderr
+    assert all(line.startswith('friction_joint experiment: ') for line in got), proc.stderr
+    assert got[-1].startswith('friction_joint experiment: error: '), proc.stderr
+    assert not (tmp_path / 'out').exists()
+
+
 @pytest.mark.parametrize('gains', ['J=1e308', 'kp=1e300,kd=1e300'])
 def test_gains_beyond_the_plant_refused_before_the_run(tmp_path, capsys, gains):
     """``--gains J=1e308`` gave a ValueError traceback from the controller."""
