@@ -134,9 +134,11 @@ class _Topic:
         self.n = n = len(t)
         self.t_recv = (None if spec.get('t_recv') is None
                        else _times(topic, 't_recv', spec['t_recv'], n))
+        self.columns, self.raw, self.order = {}, b'', None
+        if n == 0:                                 # a channel without messages
+            return
         header = T['std_msgs/msg/Header'](stamp=T['builtin_interfaces/msg/Time'](sec=0, nanosec=0),
                                           frame_id=str(spec.get('frame_id') or ''))
-        self.columns = {}
         if topic == '/clock':
             template = T[msgtype](clock=T['builtin_interfaces/msg/Time'](sec=0, nanosec=0))
         elif topic == '/joint_temperature':
@@ -165,7 +167,6 @@ class _Topic:
                                      for f in ('position', 'velocity', 'effort')})
         self.raw = bytes(typestore.serialize_cdr(template, msgtype))
         self.layout = WALKERS[msgtype](self.raw)
-        self.order = self.recv_sorted = None
         recv = self.t if self.t_recv is None else self.t_recv
         last = None
         for a in range(0, n, _CHECK):
