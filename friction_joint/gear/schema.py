@@ -47,7 +47,7 @@ from ..exceptions import GearConfigError
 
 __all__ = ['REQUIRED', 'FRICTION_MODELS', 'MAX_POLYNOMIAL_ORDER', 'MAX_GMS_ELEMENTS',
            'MAX_RIPPLE_HARMONICS', 'INT64_RANGE', 'ABSOLUTE_ZERO', 'TEMPERATURE_BOUNDS',
-           'RATE_BOUNDS', 'ENCODER_BITS_BOUNDS', 'MIN_CUTOFF_FRACTION',
+           'RATE_BOUNDS', 'ENCODER_BITS_BOUNDS', 'RIPPLE_CYCLES_BOUNDS', 'MIN_CUTOFF_FRACTION',
            'TEMPERATURE_RESOLUTION_BOUNDS', 'VELOCITY_SCALE_BOUNDS', 'STRIBECK_EXPONENT_BOUNDS',
            'Float', 'Int', 'Str', 'FloatList', 'Section',
            'FRICTION_SCHEMA', 'SCHEMA', 'DEFAULT_SECTIONS', 'validate_fields', 'key_specs',
@@ -75,6 +75,9 @@ RATE_BOUNDS = (1.0, 1.0e6, 'a step longer than 1 s resolves no motion of a joint
 #: output encoder resolution, bits per revolution
 ENCODER_BITS_BOUNDS = (1, 52, 'a count of 2 pi / 2**52 rad is the resolution of a double '
                        'at one revolution; finer counts cannot be represented')
+#: position ripple fundamental, cycles per revolution
+RIPPLE_CYCLES_BOUNDS = (None, 2.0 ** 52, 'a cycle shorter than 2 pi / 2**52 rad is below the '
+                        'resolution of a double at one revolution')
 #: smallest velocity filter cut-off as a fraction of the rate
 MIN_CUTOFF_FRACTION = 1.0e-6
 #: temperature sensor resolution, degC
@@ -331,7 +334,8 @@ FRICTION_SCHEMA = {
     'offset': Float(0.0, doc='constant torque added to the friction torque, Nm'),
     'position_ripple': Section({
         'cycles_per_rev': Float(REQUIRED, positive=True,
-                                doc='fundamental, cycles per output revolution'),
+                                doc='fundamental, cycles per output revolution',
+                                bounds=RIPPLE_CYCLES_BOUNDS),
         'amplitude': _harmonics(REQUIRED, 'Nm, one per harmonic 1..n'),
         'phase': _harmonics(None, 'rad, one per harmonic (default 0)'),
     }, doc='torque ripple periodic in q, added to the friction torque'),

@@ -79,6 +79,8 @@ def _rejected(path, *words):
     ('    thermal:\n      ambient: 1.0e300\n', 'thermal.ambient'),
     ('    thermal:\n      initial: -274.0\n', 'thermal.initial'),
     ('    lever:\n      mass: 1.0e300\n      length: 1.0e300\n', 'lever'),
+    ('    friction.position_ripple:\n      cycles_per_rev: 1.0e300\n      amplitude: [0.1]\n',
+     'friction.position_ripple.cycles_per_rev'),
 ])
 def test_out_of_range_value_is_one_line_naming_file_and_key(tmp_path, extra, key):
     """Every value that reaches an exponent, a division or an allocation is bounded."""
