@@ -94,6 +94,8 @@ STARTUP = [
     ('joint_sim', ['-p', 'friction.fc:=[]'], ['friction.fc', 'empty list']),
     ('joint_sim', ['-p', ':=1'], ['-p :=1', 'name is empty']),
     ('joint_sim', ['--log-level', 'bogus'], ['log level']),
+    ('joint_sim', ['-p', 'mode:=lockstep', '-p', 'follow:=a b'], ['parameter follow', "'a b'"]),
+    ('joint_sim', ['-p', 'wait_recorder:=1abc'], ['parameter wait_recorder', "'1abc'"]),
     ('controller', ['-p', 'rise_time:=1e-300'], ['rise_time', '1e-300']),
     ('controller', ['-p', 'rise_time:=0.001'], ['rise_time', 'samples']),
     ('controller', ['-p', 'design_inertia:=1e308'], ['design_inertia', 'inertia']),

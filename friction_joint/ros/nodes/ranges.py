@@ -26,7 +26,8 @@ from ...gear.schema import RATE_BOUNDS
 
 __all__ = ['between', 'DURATION_BOUNDS', 'WAIT_BOUNDS', 'RESEND_BOUNDS', 'RISE_TIME_BOUNDS',
            'INERTIA_FACTOR', 'MIN_RISE_STEPS', 'PUBLISH_RATE_BOUNDS', 'SAMPLE_RATE_BOUNDS',
-           'BETA_BOUNDS', 'sample_rate', 'check_controller_params', 'check_estimator_params']
+           'BETA_BOUNDS', 'sample_rate', 'check_controller_params', 'check_estimator_params',
+           'topics_problem']
 
 #: simulated or recorded time, s: ROS stamps carry int32 seconds (2.1e9 s, of which the
 #: wall clock has used 1.8e9): 1e8 s (3 years) leaves room for any start time
@@ -49,6 +50,26 @@ BETA_BOUNDS = (1.0e-3, math.pi * RATE_BOUNDS[1], 'a time constant of at most 100
 INERTIA_FACTOR = 1000.0
 #: samples per rise time: a discrete PD designed faster than this is unstable
 MIN_RISE_STEPS = 10
+
+
+def topics_problem(text, allow=()):
+    """
+    Return why the comma-separated topic names ``text`` are not valid ROS topic names, or None.
+
+    An empty ``text`` is valid (no topics); the words in ``allow`` (e.g.
+    ``'loop'``) are accepted as they are.
+    """
+    from rclpy.expand_topic_name import expand_topic_name
+    from rclpy.validate_full_topic_name import validate_full_topic_name
+    if not text.strip() or text.strip() in allow:
+        return None
+    for name in (t.strip() for t in text.split(',')):
+        try:
+            validate_full_topic_name(expand_topic_name(name, 'node', '/'))
+        except Exception as exc:             # noqa: BLE001 - rclpy's ValueError or its own
+            why = ' '.join(str(exc).split()).split(', at /')[0]
+            return f'{name!r} is not a topic name: {why}'
+    return None
 
 
 def between(value, bounds, unit, zero=None):

@@ -23,7 +23,8 @@ and ``q0`` within the plausible temperature and position of the gear).
 """
 import math
 
-from .ranges import between, DURATION_BOUNDS, PUBLISH_RATE_BOUNDS, RESEND_BOUNDS, WAIT_BOUNDS
+from .ranges import (between, DURATION_BOUNDS, PUBLISH_RATE_BOUNDS, RESEND_BOUNDS,
+                     topics_problem, WAIT_BOUNDS)
 from ..parameters import describe
 from ...exceptions import GearConfigError
 from ...gear.schema import INT64_RANGE
@@ -47,11 +48,9 @@ VALIDATORS = {
     'resend_period': lambda v: between(v, RESEND_BOUNDS, 's'),
     'wait_subscribers': lambda v: between(v, (0, 1000, 'peers on one topic'), ''),
     'start_delay': lambda v: between(v, WAIT_BOUNDS, 's'),
-    'follow': lambda v: (None if all(t.strip() for t in v.split(',')) or not v.strip()
-                         else 'must be comma-separated topic names'),
+    'follow': topics_problem,
     'window': lambda v: between(v, (1, 10_000_000, 'states held by a follower'), ''),
-    'wait_recorder': lambda v: (None if all(t.strip() for t in v.split(',')) or not v.strip()
-                                else "must be comma-separated topic names or 'loop'"),
+    'wait_recorder': lambda v: topics_problem(v, allow=('loop',)),
     'command_timeout': lambda v: between(v, WAIT_BOUNDS, 's', zero='no watchdog'),
     'timeout_reaction': lambda v: (None if v in REACTIONS
                                    else f'must be {" or ".join(REACTIONS)}'),
