@@ -68,8 +68,11 @@ def held_stderr(call):
     On success the held-back output is written to stderr; on failure it is
     dropped, so the caller's one-line report of the exception is all there is.
     """
-    sys.stderr.flush()
-    saved = os.dup(2)
+    try:
+        sys.stderr.flush()
+        saved = os.dup(2)
+    except (OSError, AttributeError, ValueError):   # no stderr to hold back
+        return call()
     ok = False
     with tempfile.TemporaryFile() as held:
         try:
