@@ -32,7 +32,7 @@ import os
 from friction_joint.bag import write_recording
 from friction_joint.gear import load_gear
 from friction_joint.models import StaticFriction
-from hypothesis import given, strategies as st
+from hypothesis import event, given, strategies as st
 import numpy as np
 import pytest
 
@@ -141,6 +141,7 @@ def test_disagreeing_topics(truth, no_figures, case, tmp_path_factory, capsys):
     rc = guarded(['identify', rec, '--model', BASE, '--out', out, '--presliding', 'skip',
                   '--quiet'])
     err = capsys.readouterr().err
+    event(f'{kind} {topic if kind == "shift" else ""}: exit {rc}')
     if rc == 0:
         why = _matches_truth(out)
         assert why is None, f'silent misread of {case}: {why}'
