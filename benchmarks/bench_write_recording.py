@@ -123,7 +123,8 @@ def _write(kind, path, topics):
 
 
 def _hwm_kb():
-    """Return this process's peak resident memory (KiB) since its exec (``VmHWM``).
+    """
+    Return this process's peak resident memory (KiB) since its exec (``VmHWM``).
 
     ``ru_maxrss`` of a child also counts the parent's resident memory when it forked.
     """
