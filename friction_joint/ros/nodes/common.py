@@ -485,9 +485,10 @@ def run_node(factory, name, args=None, drain=True):
 
     The first SIGINT/SIGTERM stops the node *after* it has processed what is
     already queued (``drain``; e.g. an estimator behind a simulator that has
-    finished), so no answer is lost; a second signal exits at once.  Bad
-    parameters (:class:`~friction_joint.exceptions.FrictionJointError`) end
-    with a one-line error naming the problem and exit status 2.  A node may
+    finished), so no answer is lost; a second signal exits at once.  Every
+    start-up failure (a bad parameter or ROS argument, an rcl error, anything
+    the node's constructor raises; see :mod:`~friction_joint.ros.startup`)
+    and any error that ends the loop is one line on stderr and exit status 2.  A node may
     end itself by raising ``SystemExit(0)`` from a callback.  A node with a
     ``spin_step(executor)`` method runs its own loop: it is called instead of
     ``executor.spin_once``.  ``factory`` may also return a composition: an
@@ -516,22 +517,20 @@ def run_node(factory, name, args=None, drain=True):
         if len(stop) > 1:
             raise KeyboardInterrupt
 
+    cleanup = None
     try:
         # the files rcl opens checked, the gear file through the package's reader; rcl
         # parses a normalized copy
         check_domain_id()
         args, cleanup = prepare_ros_args(args)
-    except Exception as exc:                    # noqa: BLE001 - one line, never a traceback
-        print(f'{name}: error: {one_line(exc)}', file=sys.stderr)
-        return 2
-    try:
         dds_environ()                     # the package's DDS profile, unless one is set
         rcl_init(lambda: rclpy.init(args=args, signal_handler_options=SignalHandlerOptions.NO))
-    except Exception as exc:              # noqa: BLE001 - e.g. a -p value rcl cannot parse
+    except Exception as exc:              # noqa: BLE001 - one line, never a traceback
         print(f'{name}: error: {one_line(exc)}', file=sys.stderr)
         return 2
     finally:
-        cleanup()                    # rcl has parsed the copies at init
+        if cleanup is not None:
+            cleanup()                     # rcl has parsed the copies at init
     old = {s: signal.signal(s, on_signal) for s in (signal.SIGINT, signal.SIGTERM)}
     node = executor = None
     status = 0
