@@ -30,6 +30,7 @@ node must name a policy the node lets be overridden (:data:`QOS_POLICIES`)
 with a valid value (:func:`check_qos_overrides`, before the publishers are
 created) and an entity the node has (:func:`check_overrides_used`, after).
 """
+import math
 import os
 import re
 
@@ -39,6 +40,7 @@ from rclpy.parameter import Parameter
 
 from ._rclpy import held_stderr, parameter_overrides, RCLError
 from ..exceptions import FrictionJointError, GearConfigError
+from ..gear.strict_yaml import parse_yaml_text
 from ..inputs import check_input
 
 __all__ = ['check_ros_args', 'check_domain_id', 'MAX_DOMAIN_ID', 'rcl_init', 'init_context',
@@ -97,6 +99,10 @@ def _check_assignment(text):
     return None
 
 
+#: the ``-p`` assignments of the last :func:`check_ros_args`: (node or '', name, text)
+_ASSIGNED = []
+
+
 def check_ros_args(argv):
     """
     Check the ROS arguments of ``argv`` before ``rclpy.init`` reads them.
@@ -112,6 +118,7 @@ def check_ros_args(argv):
         One line naming the argument or file and the problem.
 
     """
+    _ASSIGNED.clear()
     for flag, value in _flags(list(argv)):
         if value is None:
             raise GearConfigError(f'{flag} needs a value after it')
@@ -123,6 +130,9 @@ def check_ros_args(argv):
             why = _check_assignment(value)
             if why:
                 raise GearConfigError(why)
+            name, _, text = value.partition(':=')
+            node, _, name = name.rpartition(':')
+            _ASSIGNED.append((node, name, text))
 
 
 def check_domain_id(environ=None, error=GearConfigError):
@@ -233,9 +243,52 @@ def check_qos_overrides(node):
             raise GearConfigError(f'parameter {name}: {why}')
 
 
+def _given(text):
+    """Return the value of ``-p name:=text`` as rcl reads it (YAML; ``nan``, ``1e5`` numbers)."""
+    try:
+        value = parse_yaml_text(text, '-p')
+    except GearConfigError:
+        return text
+    if isinstance(value, str):
+        try:
+            return float(value)
+        except ValueError:
+            return value
+    if isinstance(value, list):
+        return [_given(v) if isinstance(v, str) else v for v in value]
+    return value
+
+
+def _same(given, held):
+    if isinstance(held, (list, tuple)) or type(held).__name__ == 'array':
+        return (isinstance(given, list) and len(given) == len(held)
+                and all(_same(a, b) for a, b in zip(given, held)))
+    numbers = all(isinstance(v, (int, float)) and not isinstance(v, bool) for v in (given, held))
+    if numbers:
+        return (given != given and held != held) or math.isclose(given, held, rel_tol=1e-12)
+    return type(given) is type(held) and given == held
+
+
+def _check_applied(node):
+    """Check that every ``-p`` given to ``node`` holds the value given (rcl may drop one)."""
+    for target, name, text in _ASSIGNED:
+        if target not in ('', node.get_name()) or not node.has_parameter(name):
+            continue
+        held = node.get_parameter(name).value
+        if not _same(_given(text), held):
+            raise GearConfigError(
+                f'parameter {name}: -p {name}:={text} was not applied ({node.get_name()} holds '
+                f'{held!r}): its type differs from the value in the params file, which rcl '
+                f'keeps; give a value of type {type(held).__name__}')
+
+
 def check_overrides_used(node):
     """
     Check that every ``qos_overrides.*`` given for ``node`` names an entity it has.
+
+    Also that every ``-p name:=value`` of the command line (:func:`check_ros_args`)
+    is what the node holds: rcl keeps a params file's value over a ``-p`` of
+    another type without a word.
 
     rclpy declares the QoS parameters as the publishers and subscriptions are
     created and ignores the others: a mistyped topic would be dropped silently.
@@ -245,6 +298,7 @@ def check_overrides_used(node):
     GearConfigError
 
     """
+    _check_applied(node)
     unused = sorted(n for n in parameter_overrides(node)
                     if n.startswith(QOS_PREFIX) and not node.has_parameter(n))
     if unused:

@@ -201,7 +201,7 @@ def test_replay_single_mcap_fast_without_clock(ros_node, spawn, tmp_path):
     n = 300
     _replay_bag(tmp_path / 'one.mcap', n)
     col = _Collector(ros_node.node, ['/joint_states', '/clock'])
-    rep = spawn(CLI + ['replay', tmp_path / 'one.mcap', '--rate', '0', '--no-clock', '--wait',
+    rep = spawn(CLI + ['replay', tmp_path / 'one.mcap', '--rate', 'max', '--no-clock', '--wait',
                        '60', '--topics', '/joint_states', '/clock'])
     assert ros_node.spin_until(lambda: rep.popen.poll() is not None and
                                col.has({'/joint_states': n, '/clock': n})), rep.describe()
@@ -219,7 +219,7 @@ def test_replay_ends_with_an_error_when_a_subscriber_stops_taking(ros_node, spaw
     _replay_bag(tmp_path / 'bag', n)
     ros_node.node.create_subscription(JointState, '/joint_states', lambda m: None,
                                       reliable_qos(None))      # keep-all, never spun
-    rep = spawn(CLI + ['replay', tmp_path / 'bag', '--rate', '0', '--no-clock', '--wait', '60',
+    rep = spawn(CLI + ['replay', tmp_path / 'bag', '--rate', 'max', '--no-clock', '--wait', '60',
                        '--topics', '/joint_states'])
     assert rep.wait(timeout=2 * DEADLINE) == 2, rep.describe()
     m = re.search(r'/joint_states: publishing failed after (\d+) messages .* a subscriber has '
