@@ -56,39 +56,50 @@ index) and converted to SI and the joint convention of the README
 * ``temperature`` becomes ``/joint_temperature`` (optional, at least
   −273.15 °C), ``load`` the measured τ_ext on ``/link_torque``.
 * **Memory**: the files are read in chunks (:mod:`~friction_joint.bag.tables`),
-  only the columns mapped are kept, and logs whose import and writing need
-  more than :data:`~friction_joint.inputs.MEMORY_BUDGET` (per row
-  :data:`ROW_BYTES` plus 8 per column kept plus :data:`WRITE_BYTES` per topic
-  written, all files together) are refused before they are decoded.
+  only the columns mapped are kept, every step works on them in place or a
+  block at a time (:mod:`~friction_joint.bag.blockwise`), and logs whose import
+  and writing need more than :data:`IMPORT_BUDGET` (per row :data:`ROW_BYTES`
+  plus 8 per column kept plus :data:`WRITE_BYTES` per topic written, all files
+  together) are refused before they are decoded, with one line naming the size.
 """
 import json
 import os
 
 import numpy as np
 
+from .blockwise import (first_where, gradient, grid, increasing_ns, interp, off_grid,
+                        opposed_fraction, spans, unwrap)
 from .plausible import check_samples
 from .tables import read_table
 from .topics import NS
 from .units import (check_radius, convert, header_unit, mapping_text, parse_column, QUANTITIES,
                     SI, UNITS)
 from ..exceptions import RecordingError
-from ..inputs import MEMORY_BUDGET, read_input
+from ..inputs import read_input
 
-__all__ = ['QUANTITIES', 'UNITS', 'GAP', 'SPLIT', 'ROW_BYTES', 'WRITE_BYTES', 'ImportedLog',
+__all__ = ['QUANTITIES', 'UNITS', 'GAP', 'SPLIT', 'IMPORT_BUDGET', 'ROW_BYTES', 'WRITE_BYTES',
+           'ImportedLog',
            'parse_column', 'load_mapping', 'file_gap', 'import_logs']
 
 #: smallest time gap (s) between the runs of two files
 GAP = 10.0
 #: a step of the stamps longer than this many median intervals splits a run into pieces
 SPLIT = 5.0
-#: bytes of memory an import needs per row of a log besides 8 per column kept (the topics'
-#: arrays and the temporaries of resampling, differentiating and checking), checked against
-#: the memory budget; measured in all about 107 a row with four columns and two topics, of
-#: the 160 estimated
-ROW_BYTES = 80
-#: bytes of memory writing a recording takes per message (the streaming
-#: :func:`~friction_joint.bag.write_recording`: measured about 10, its merge of the stamps)
-WRITE_BYTES = 24
+#: memory (bytes) the rows of the logs of one import may take (:data:`ROW_BYTES` and the
+#: columns a row), besides the fixed cost of the process (about 0.3 GB: the modules, a chunk
+#: of text being parsed, the writer's blocks), so that a 1 GB CSV of four columns (23 M rows)
+#: is imported in under 2 GB (``benchmarks/bench_import_memory.py``)
+IMPORT_BUDGET = 3 << 29
+#: bytes of memory an import needs per row of a log besides 8 per column it keeps (the time,
+#: the columns mapped, the velocity when not logged, a zero load): the scratch of resampling
+#: (the new time and one new column at a time, 16), of checking (one column, in place) and of
+#: joining the files (one column at a time), plus a margin; every other temporary is a
+#: block of :data:`~friction_joint.bag.blockwise.BLOCK` rows
+ROW_BYTES = 24
+#: bytes of memory writing a recording takes per message beyond the arrays written (the
+#: streaming :func:`~friction_joint.bag.write_recording` works a block at a time; stamps
+#: out of order would take 16 a message, which an import never writes)
+WRITE_BYTES = 0
 #: stamps within this fraction of an interval of the uniform grid are kept as they are
 _ON_GRID = 1e-3
 #: a friction column opposing the velocity on more than this fraction of the sliding
@@ -168,24 +179,23 @@ def _resolve(path, header, width, quantity, spec):
 # ------------------------------------------------------------------------- conversion ---
 
 def _check_time(path, t, rows):
-    big = np.flatnonzero(np.abs(t) > _TIME_LIMIT)
-    if len(big):
-        i = int(big[0])
-        raise RecordingError(f'{path}: row {rows[i]}: time {t[i]:.9g} s does not fit the '
+    n = len(t)
+    big = first_where(n, lambda a, b: np.abs(t[a:b]) > _TIME_LIMIT)
+    if big is not None:
+        raise RecordingError(f'{path}: row {rows[big]}: time {t[big]:.9g} s does not fit the '
                              "recording's int64 nanosecond stamps "
                              f'(|t| <= {_TIME_LIMIT:.3g} s); a wrong time unit?')
-    d = np.diff(t)
-    bad = np.flatnonzero(d <= 0)
-    if len(bad):
-        i = int(bad[0]) + 1
+    i = first_where(n, lambda a, b: np.diff(t[a:b + 1]) <= 0, overlap=1)
+    if i is not None:
+        i += 1
         raise RecordingError(f'{path}: row {rows[i]}: time {t[i]:.9g} s does not increase '
                              f'(previous row {t[i - 1]:.9g} s); time stamps must increase')
-    bad = np.flatnonzero(d < 1.0 / NS)
-    if len(bad):
-        i = int(bad[0]) + 1
-        raise RecordingError(f'{path}: row {rows[i]}: time step {d[i - 1]:.3g} s from the '
-                             "previous row, below 1 ns, the recording's resolution; a wrong "
-                             'time unit?')
+    i = first_where(n, lambda a, b: np.diff(t[a:b + 1]) < 1.0 / NS, overlap=1)
+    if i is not None:
+        i += 1
+        raise RecordingError(f'{path}: row {rows[i]}: time step {t[i] - t[i - 1]:.3g} s from '
+                             "the previous row, below 1 ns, the recording's resolution; a "
+                             'wrong time unit?')
     if t[-1] - t[0] >= _SPAN_LIMIT:
         raise RecordingError(f'{path}: the time spans {t[-1] - t[0]:.6g} s, more than a '
                              f'recording holds ({_SPAN_LIMIT:.0f} s); a wrong time unit?')
@@ -194,27 +204,57 @@ def _check_time(path, t, rows):
 def _pieces(t):
     """Index ranges split where a step exceeds SPLIT median intervals; the median."""
     d = np.diff(t)
-    dt = float(np.median(d))
-    cuts = np.flatnonzero(d > SPLIT * dt) + 1
+    dt = float(np.median(d, overwrite_input=True))
     del d
-    bounds = np.concatenate(([0], cuts, [len(t)]))
+    cuts = [np.flatnonzero(np.diff(t[a:b + 1]) > SPLIT * dt) + (a + 1)
+            for a, b in spans(len(t), 1)]
+    bounds = np.concatenate([[0]] + cuts + [[len(t)]])
     return [(int(a), int(b)) for a, b in zip(bounds[:-1], bounds[1:])], dt
 
 
-def _resample(t, cols, dt):
-    """Columns on the uniform grid of ``dt`` from t[0]; unchanged if already on it."""
+def _grid_size(t, dt):
+    """Return the size of the uniform grid of ``dt`` over ``t`` (None: ``t`` is on it)."""
     m = int(np.floor((t[-1] - t[0]) / dt * (1 + 1e-9) + 1e-9)) + 1
-    grid = np.arange(m, dtype=float)
-    grid *= dt
-    grid += t[0]
-    if m == len(t):
-        diff = t - grid
-        np.abs(diff, out=diff)
-        on_grid = diff.max() <= _ON_GRID * dt
-        del diff
-        if on_grid:
-            return t, cols, False
-    return grid, {k: np.interp(grid, t, v) for k, v in cols.items()}, True
+    if m == len(t) and off_grid(t, dt) <= _ON_GRID * dt:
+        return None
+    return m
+
+
+def _resample(path, rows, t, picked, ranges, dt):
+    """
+    Put the pieces on the uniform grid of ``dt`` (each from its first stamp), in place.
+
+    Stamps already on the grid are kept.  Returns the new time, the pieces' new index
+    ranges and how many were resampled; ``picked``'s columns are replaced one at a time
+    (memory: the new time and one new column besides the old ones).
+    """
+    sizes = [_grid_size(t[a:b], dt) for a, b in ranges]
+    moved = [m is not None for m in sizes]
+    if not any(moved):
+        return t, ranges, 0
+    sizes = [b - a if m is None else m for (a, b), m in zip(ranges, sizes)]
+    if min(sizes) < 2:
+        a, b = ranges[sizes.index(min(sizes))]
+        raise RecordingError(f'{path}: rows {rows[a]}-{rows[b - 1]}: a piece shorter than the '
+                             f'median interval {dt:.6g} s; at least 2 intervals are needed')
+    offsets = np.cumsum([0] + sizes)
+    out = [(int(o), int(o) + m) for o, m in zip(offsets[:-1], sizes)]
+    new_t = np.empty(int(offsets[-1]))
+    for (a, b), (c, d), m in zip(ranges, out, moved):
+        if m:
+            for u, w in spans(d - c):
+                new_t[c + u:c + w] = grid(u, w, dt, t[a])
+        else:
+            new_t[c:d] = t[a:b]
+    for k in list(picked):
+        col = np.empty(len(new_t))
+        for (a, b), (c, d), m in zip(ranges, out, moved):
+            if m:
+                interp(col[c:d], new_t[c:d], t[a:b], picked[k][a:b])
+            else:
+                col[c:d] = picked[k][a:b]
+        picked[k] = col                             # the old column is freed
+    return new_t, out, sum(moved)
 
 
 def file_gap(dts):
@@ -268,6 +308,14 @@ def _check_columns(columns, radius, joint_name):
                              f'without surrounding spaces, got {joint_name!r}')
 
 
+def _row_bytes(columns):
+    """Return the memory (bytes) an import of ``columns`` needs per row (the estimate)."""
+    topics = 1 + ('friction' in columns or 'load' in columns) + ('temperature' in columns)
+    kept = len(columns) + ('velocity' not in columns) + ('friction' in columns
+                                                         and 'load' not in columns)
+    return ROW_BYTES + 8 * kept + WRITE_BYTES * topics
+
+
 def _read(path, columns, options, budget):
     """Read the columns of one file; return ``{quantity: (array, name, unit)}``, rows, bytes."""
     found = {}
@@ -278,8 +326,7 @@ def _read(path, columns, options, budget):
                 found[q] = _resolve(path, header, width, q, columns[q])
         return sorted({idx for idx, _, _ in found.values()})
 
-    topics = 1 + ('friction' in columns or 'load' in columns) + ('temperature' in columns)
-    row_bytes = ROW_BYTES + 8 * len(columns) + WRITE_BYTES * topics
+    row_bytes = _row_bytes(columns)
     header, cols, rows = read_table(path, options['skip_rows'], pick=pick, row_bytes=row_bytes,
                                     budget=budget)
     by_index = dict(zip(sorted({idx for idx, _, _ in found.values()}), cols))
@@ -305,7 +352,7 @@ def _read(path, columns, options, budget):
 
 def _one_file(path, columns, options):
     """Read and convert one file; returns the list of pieces and what was done."""
-    raw, rows, used = _read(path, columns, options, MEMORY_BUDGET - options['used'])
+    raw, rows, used = _read(path, columns, options, IMPORT_BUDGET - options['used'])
     options['used'] += used
     radius = options['radius']
     picked, mapping = {}, {}
@@ -330,48 +377,41 @@ def _one_file(path, columns, options):
         if UNITS['position'][mapping['position']['unit']][1]:
             raise RecordingError(f'{path}: --unwrap applies to angles, the position is in '
                                  f'{mapping["position"]["unit"]}')
-        picked['position'] = np.unwrap(picked['position'])
+        unwrap(picked['position'])
     ranges, dt = _pieces(t)
-    pieces, resampled = [], 0
     for a, b in ranges:
         if b - a < 3:
             raise RecordingError(f'{path}: rows {rows[a]}-{rows[b - 1]}: a piece of {b - a} '
                                  f'sample(s) between gaps (> {SPLIT:g} x the median interval '
                                  f'{dt:.6g} s); at least 3 are needed')
-        whole = a == 0 and b == len(t)
-        tt, cols, moved = _resample(t if whole else t[a:b],
-                                    picked if whole else {k: v[a:b] for k, v in picked.items()},
-                                    dt)
-        resampled += bool(moved)
-        if 'velocity' not in cols:
-            with np.errstate(all='ignore'):         # an overflow is refused by _file_checks
-                cols = dict(cols, velocity=np.gradient(cols['position'], tt))
-        pieces.append((tt, cols))
-    del t, picked
-    return pieces, dt, mapping, resampled
+    t, ranges, resampled = _resample(path, rows, t, picked, ranges, dt)
+    if 'velocity' not in picked:
+        qd = np.empty(len(t))
+        with np.errstate(all='ignore'):             # an overflow is refused by _file_checks
+            for a, b in ranges:
+                gradient(picked['position'][a:b], t[a:b], qd[a:b])
+        picked['velocity'] = qd
+    return t, picked, ranges, dt, mapping, resampled
 
 
-def _effort(cols, flip):
+def _effort(cols, flip, friction_mode):
+    """
+    Return the effort column and the friction sign warning's fraction (friction mode).
+
+    In friction mode the friction column becomes the effort in place (negated with
+    ``flip``, plus the load): the fraction is found before.
+    """
     if 'torque' in cols:
-        return cols['torque']
-    x = cols['friction']
+        return cols.pop('torque'), None
+    x = cols.pop('friction')
     if flip:
-        x = np.negative(x, out=x)                   # the piece's own array
+        x = np.negative(x, out=x)
+    frac = opposed_fraction(cols['velocity'], x) if friction_mode else None
     if 'load' in cols:
         with np.errstate(all='ignore'):             # an overflow is refused by _file_checks
-            x = x + cols['load']
-    return x
-
-
-def _opposed_fraction(qd, friction):
-    """Fraction of the sliding samples where ``friction`` opposes ``qd`` (None: no sliding)."""
-    aq = np.abs(qd)
-    moving = aq > 0.1 * np.percentile(aq, 99) if len(aq) else aq > 0
-    del aq
-    moving &= friction != 0
-    if not np.any(moving):
-        return None
-    return float(np.mean(np.sign(friction[moving]) != np.sign(qd[moving])))
+            for a, b in spans(len(x)):
+                x[a:b] += cols['load'][a:b]
+    return x, frac
 
 
 def _check_stamps(path, t):
@@ -379,10 +419,7 @@ def _check_stamps(path, t):
     if t[-1] >= _SPAN_LIMIT:
         raise RecordingError(f'{path}: the files end at {t[-1]:.6g} s of the recording, more '
                              f'than it holds ({_SPAN_LIMIT:.0f} s)')
-    ns = np.round(t * NS)
-    ok = bool(np.all(ns[1:] > ns[:-1]))
-    del ns
-    if not ok:
+    if not increasing_ns(t, NS):
         raise RecordingError(f'{path}: two samples fall on the same nanosecond of the '
                              "recording's stamps; a sample interval of at least 1 ns is needed")
 
@@ -391,24 +428,18 @@ def _concat(parts):
     return parts[0] if len(parts) == 1 else np.concatenate(parts)
 
 
-def _file_checks(path, pieces, flip_friction, friction_mode):
+def _file_checks(path, t, cols, flip_friction, frac):
     """Per file: what a reader would refuse (absurd samples); the friction sign warning."""
-    t = _concat([tt for tt, _ in pieces])
-    fields = {k: _concat([c[f] for _, c in pieces])
-              for k, f in (('q', 'position'), ('qd', 'velocity'), ('effort', 'effort'))}
-    for k, f in (('xi', 'temperature'), ('tau', 'load')):
-        if f in pieces[0][1]:
-            fields[k] = _concat([c[f] for _, c in pieces])
+    fields = {k: cols[f] for k, f in (('q', 'position'), ('qd', 'velocity'),
+                                      ('effort', 'effort'), ('xi', 'temperature'),
+                                      ('tau', 'load')) if f in cols}
     for k, x in fields.items():                     # a derivative or sum that overflowed
-        if not np.isfinite(x).all():
-            i = int(np.flatnonzero(~np.isfinite(x))[0])
+        i = first_where(len(x), lambda a, b: ~np.isfinite(x[a:b]))
+        if i is not None:
             raise RecordingError(f'{path}: the {k} at t = {t[i] - t[0]:.9g} s of the file is not '
                                  'finite (an overflow of the values logged)')
     with np.errstate(all='ignore'):                 # huge values: judged, not warned about
-        check_samples(path, t - t[0], fields, position=('q', 'qd'))
-    if not friction_mode:
-        return None
-    frac = _opposed_fraction(fields['qd'], _concat([c['friction'] for _, c in pieces]))
+        check_samples(path, t, fields, position=('q', 'qd'), origin=float(t[0]))
     if frac is None or frac <= _OPPOSED:
         return None
     flag = 'without' if flip_friction else 'with'
@@ -464,37 +495,35 @@ def import_logs(paths, columns, *, radius=1.0, unwrap=False, flip_friction=False
     files, notes, warnings, mapping = [], [], [], {}
     start, dts, end = 0.0, [], None
     for path in map(os.fspath, paths):
-        pieces, dt, mapping, resampled = _one_file(path, columns, options)
+        t, cols, ranges, dt, mapping, resampled = _one_file(path, columns, options)
         if files:
             start = end + file_gap(dts + [dt])
-        offset = start - pieces[0][0][0]
+        offset = start - t[0]
         dts.append(dt)
-        for tt, cols in pieces:
-            cols['effort'] = _effort(cols, flip_friction)
-        warning = _file_checks(path, pieces, flip_friction, friction_mode)
+        cols['effort'], frac = _effort(cols, flip_friction, friction_mode)
+        warning = _file_checks(path, t, cols, flip_friction, frac)
         if warning:
             warnings.append(warning)
-        spans = [[float(p[0][0] + offset), float(p[0][-1] + offset)] for p in pieces]
-        for tt, cols in pieces:
-            tt += offset                            # the piece's own array
-            _check_stamps(path, tt)
-            out['t'].append(tt)
-            out['q'].append(cols['position'])
-            out['qd'].append(cols['velocity'])
-            out['effort'].append(cols['effort'])
-            if friction_mode or 'load' in columns:
-                out['tau'].append(cols['load'] if 'load' in cols else np.zeros(len(tt)))
-            if 'temperature' in cols:
-                out['xi'].append(cols['temperature'])
-        end = float(out['t'][-1][-1])
+        spans_ = [[float(t[a] + offset), float(t[b - 1] + offset)] for a, b in ranges]
+        t += offset                                 # the file's own array
+        for a, b in ranges:
+            _check_stamps(path, t[a:b])
+        out['t'].append(t)
+        out['q'].append(cols.pop('position'))
+        out['qd'].append(cols.pop('velocity'))
+        out['effort'].append(cols.pop('effort'))
+        if friction_mode or 'load' in columns:
+            out['tau'].append(cols.pop('load') if 'load' in cols else np.zeros(len(t)))
+        if 'temperature' in cols:
+            out['xi'].append(cols.pop('temperature'))
+        end = float(t[-1])
         files.append({'path': path, 'offset_s': offset, 'sample_interval_s': dt,
-                      'samples': int(sum(len(p[0]) for p in pieces)), 'pieces': spans,
-                      'resampled_pieces': resampled})
-        del pieces
+                      'samples': len(t), 'pieces': spans_, 'resampled_pieces': resampled})
+        del t, cols
     cat = {}
     for k in list(out):
         if out[k]:
-            cat[k] = _concat(out.pop(k))
+            cat[k] = _concat(out.pop(k))            # one file: its arrays, not a copy
     topics = {'/joint_states': {'t': cat['t'], 'q': cat['q'], 'qd': cat['qd'],
                                 'effort': cat['effort'], 'name': joint_name}}
     if friction_mode or 'load' in columns:

@@ -39,13 +39,14 @@ are rejected (a float64 with a flipped exponent bit is off by a factor of
 2^32 or more).  Signals with fewer than ``2k + 1`` samples, or with ``S = 0``
 (constant apart from at most ``k`` samples), are not judged.
 """
+from functools import partial
 import math
 
 import numpy as np
 
 from ..exceptions import RecordingError
 
-__all__ = ['FACTOR', 'VELOCITY_FACTOR', 'WINDOW', 'implausible', 'check_values',
+__all__ = ['FACTOR', 'VELOCITY_FACTOR', 'WINDOW', 'BLOCK', 'implausible', 'check_values',
            'check_samples']
 
 #: a sample further than this many robust spreads from the median is absurd
@@ -54,6 +55,9 @@ FACTOR = 1e6
 VELOCITY_FACTOR = 1e3
 #: samples either side over which a velocity is compared with the position's differences
 WINDOW = 5
+#: samples judged at a time (the temporaries of a check are this long, but for one scratch
+#: copy of the signal)
+BLOCK = 1 << 18
 _FRACTION = 1e-3
 _MIN_K = 3
 _REL_FLOOR = 1e-3
@@ -62,17 +66,27 @@ _UNITS = {'q': 'rad', 'qd': 'rad/s', 'effort': 'N m', 'xi': 'degC', 'tau': 'N m'
           'q_d': 'rad', 'qd_d': 'rad/s', 'tau_ext': 'N m'}
 
 
-def _position_rate(t, q):
-    """Largest |dq/dt| of the position's differences within WINDOW samples of each sample."""
-    dt = np.diff(t)
-    rate = np.zeros(len(q))
-    ok = dt > 0
+def _rate(t, q, a, b, origin=0.0):
+    """
+    Return the largest |dq/dt| within WINDOW samples of samples ``a:b`` (of ``t - origin``).
+
+    Computed from the samples ``a - WINDOW - 1 .. b + WINDOW`` only, value for value as
+    over the whole signal (a window of the position's differences either side of each sample).
+    """
+    n = len(q)
+    lo, hi = max(0, a - WINDOW), min(n, b + WINDOW)
+    k0, k1 = max(0, lo - 1), min(n - 1, hi)         # the differences needed: [k0, k1)
+    tt = t[k0:k1 + 1] - origin
+    dt = np.diff(tt)
     fd = np.zeros(len(dt))
-    fd[ok] = np.abs(np.diff(q)[ok] / dt[ok])
-    both = np.maximum(np.r_[0.0, fd], np.r_[fd, 0.0])        # steps either side of a sample
+    ok = dt > 0
+    fd[ok] = np.abs(np.diff(q[k0:k1 + 1])[ok] / dt[ok])
+    ext = np.zeros(hi - lo + 1)                     # differences lo - 1 .. hi - 1, 0 outside
+    ext[k0 - lo + 1:k1 - lo + 1] = fd
+    both = np.maximum(ext[:-1], ext[1:])            # steps either side of a sample
     padded = np.pad(both, WINDOW, mode='edge')
-    rate[:] = np.lib.stride_tricks.sliding_window_view(padded, 2 * WINDOW + 1).max(axis=1)
-    return rate
+    rate = np.lib.stride_tricks.sliding_window_view(padded, 2 * WINDOW + 1).max(axis=1)
+    return rate[a - lo:b - lo]
 
 
 def implausible(x, reference=None, factor=FACTOR):
@@ -98,27 +112,60 @@ def implausible(x, reference=None, factor=FACTOR):
 
     """
     x = np.asarray(x, dtype=float)
-    fin = np.flatnonzero(np.isfinite(x))
-    n = len(fin)
+    if reference is None:
+        return _implausible(x, None, factor)
+    reference = np.asarray(reference, dtype=float)
+    return _implausible(x, partial(_slice, reference), factor)
+
+
+def _slice(x, a, b):
+    return x[a:b]
+
+
+def _implausible(x, ref, factor):
+    """
+    :func:`implausible` with the reference given by ``ref(a, b)`` (its samples ``a:b``).
+
+    Memory: one scratch copy of ``x`` (its median and spread, found in place), the rest
+    :data:`BLOCK` samples at a time (a signal with non-finite samples: copies of the
+    finite ones and of the reference).
+    """
+    fin = None
+    if not np.isfinite(x).all():
+        fin = np.flatnonzero(np.isfinite(x))
+        if ref is not None:
+            ref = partial(_slice, ref(0, len(x))[fin])
+    v = x if fin is None else x[fin]
+    n = len(v)
     k = max(_MIN_K, int(math.ceil(_FRACTION * n)))
     none = np.zeros(0, dtype=np.int64)
     if n < 2 * k + 1:
         return none, math.nan, math.nan
-    v = x[fin]
-    med = float(np.median(v))
-    dev = np.abs(v - med)
-    spread = max(float(np.partition(dev, n - k - 1)[n - k - 1]), _REL_FLOOR * abs(med))
-    limit = np.full(n, spread)
-    if reference is not None:
-        limit = np.maximum(limit, np.asarray(reference, dtype=float)[fin])
-    bad = np.flatnonzero((dev > factor * limit) & (limit > 0))
-    if not len(bad):
+    scratch = v.copy()
+    med = float(np.median(scratch, overwrite_input=True))
+    np.subtract(v, med, out=scratch)
+    np.abs(scratch, out=scratch)
+    scratch.partition(n - k - 1)
+    spread = max(float(scratch[n - k - 1]), _REL_FLOOR * abs(med))
+    del scratch
+    hits, scores = [], []
+    for a in range(0, n, BLOCK):
+        b = min(n, a + BLOCK)
+        dev = np.abs(v[a:b] - med)
+        limit = np.full(b - a, spread)
+        if ref is not None:
+            limit = np.maximum(limit, ref(a, b))
+        bad = np.flatnonzero((dev > factor * limit) & (limit > 0))
+        if len(bad):
+            hits.append(bad + a)
+            scores.append(-dev[bad] / limit[bad])
+    if not hits:
         return none, med, spread
-    bad = bad[np.argsort(-dev[bad] / limit[bad], kind='stable')]
-    return fin[bad], med, spread
+    bad = np.concatenate(hits)[np.argsort(np.concatenate(scores), kind='stable')]
+    return (bad if fin is None else fin[bad]), med, spread
 
 
-def check_samples(label, t, fields, position=None):
+def check_samples(label, t, fields, position=None, *, origin=0.0):
     """
     Raise on the first absurd sample of some signals sampled at ``t``.
 
@@ -133,6 +180,9 @@ def check_samples(label, t, fields, position=None):
     position : tuple of str, optional
         ``(position field, velocity field)``: the velocity is also measured against the
         position's differences.
+    origin : float
+        Time (s) subtracted from ``t`` (the times are ``t - origin``, computed a block at
+        a time rather than as a copy).
 
     Raises
     ------
@@ -140,28 +190,38 @@ def check_samples(label, t, fields, position=None):
         Naming ``label``, the field, the value, its time and sample index, and the scale it
         was judged against.
 
+    Notes
+    -----
+    Memory beyond the arrays given: one scratch copy of a field at a time and
+    :data:`BLOCK`-sized temporaries.
+
     """
     t = np.asarray(t, dtype=float)
-    ref = {}
+    velocity, q = None, None
     if position is not None and position[0] in fields and position[1] in fields:
-        ref[position[1]] = _position_rate(t, np.asarray(fields[position[0]], dtype=float))
+        velocity = position[1]
+        q = np.asarray(fields[position[0]], dtype=float)
+
+    def rate(a, b):
+        return _rate(t, q, a, b, origin)
     for name, x in fields.items():
-        factor = FACTOR if name not in ref else VELOCITY_FACTOR
-        bad, med, spread = implausible(x, ref.get(name), factor)
+        x = np.asarray(x, dtype=float)
+        factor = FACTOR if name != velocity else VELOCITY_FACTOR
+        bad, med, spread = _implausible(x, rate if name == velocity else None, factor)
         if not len(bad):
             continue
         i = int(bad[0])
-        value = float(np.asarray(x, dtype=float)[i])
+        value = float(x[i])
         unit = _UNITS.get(name, '')
         also = ''
-        if name in ref:
+        if name == velocity:
             also = (f" and from the position's rate of change around then "
-                    f'({ref[name][i]:.3g} {unit} at most over {2 * WINDOW + 1} samples)')
+                    f'({rate(i, i + 1)[0]:.3g} {unit} at most over {2 * WINDOW + 1} samples)')
         raise RecordingError(
-            f'{label}: implausible {name} {value:.6g} {unit} at t = {t[i]:.6f} s (sample {i}'
-            f'{f", {len(bad)} such samples" if len(bad) > 1 else ""}): more than {factor:.0e} '
-            f"times the signal's robust spread ({spread:.3g} {unit}) from its median "
-            f'({med:.3g} {unit}){also}; a corrupt value (a flipped bit?)')
+            f'{label}: implausible {name} {value:.6g} {unit} at t = {t[i] - origin:.6f} s '
+            f'(sample {i}{f", {len(bad)} such samples" if len(bad) > 1 else ""}): more than '
+            f"{factor:.0e} times the signal's robust spread ({spread:.3g} {unit}) from its "
+            f'median ({med:.3g} {unit}){also}; a corrupt value (a flipped bit?)')
 
 
 def check_values(recording):

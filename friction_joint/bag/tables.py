@@ -41,7 +41,7 @@ from ..inputs import MEMORY_BUDGET, open_input
 __all__ = ['CHUNK', 'MAX_LINE', 'RowLines', 'read_table']
 
 #: bytes read and parsed at a time
-CHUNK = 8 << 20
+CHUNK = 2 << 20
 #: longest line (bytes) accepted
 MAX_LINE = 1 << 20
 _NUMBER = re.compile(r'[+-]?(?:(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][+-]?[0-9]+)?'

@@ -128,7 +128,7 @@ def test_chunked_reader_matches_whole_file(tmp_path, monkeypatch):
 def test_budget_refuses_before_decoding(tmp_path, capsys, monkeypatch):
     """A log over the memory budget: one line naming its size, no number decoded."""
     log = _log(tmp_path / 'log.csv', n=5000)
-    monkeypatch.setattr(importer, 'MEMORY_BUDGET', 100_000)
+    monkeypatch.setattr(importer, 'IMPORT_BUDGET', 100_000)
 
     def no_parse(*args, **kwargs):
         raise AssertionError('decoded although over the budget')
@@ -141,8 +141,8 @@ def test_budget_refuses_before_decoding(tmp_path, capsys, monkeypatch):
     _one_line(*_import(capsys, npz, '--out', tmp_path / 'rec', *COLS)[::2], str(npz),
               'memory budget')
     monkeypatch.undo()
-    one = 5000 * (importer.ROW_BYTES + 3 * 8 + importer.WRITE_BYTES)
-    monkeypatch.setattr(importer, 'MEMORY_BUDGET', int(1.5 * one))   # one file fits, not two
+    one = 5000 * (importer.ROW_BYTES + 4 * 8 + importer.WRITE_BYTES)   # and the velocity
+    monkeypatch.setattr(importer, 'IMPORT_BUDGET', int(1.5 * one))   # one file fits, not two
     assert _import(capsys, log, '--out', tmp_path / 'one', *COLS, '--quiet')[0] == 0
     _one_line(*_import(capsys, log, log, '--out', tmp_path / 'two', *COLS)[::2],
               'memory budget')
