@@ -21,7 +21,9 @@ Text is read through the input gate (:mod:`friction_joint.inputs`: regular
 files only) and **streamed**: whole lines in chunks of :data:`CHUNK` bytes, each
 parsed at once by numpy; only the columns asked for are kept, in arrays
 allocated once from a first pass that counts the lines, after checking the
-memory they need against a budget (:data:`~friction_joint.inputs.MEMORY_BUDGET`).
+memory they need against a budget (the caller's, by default
+:data:`~friction_joint.inputs.MEMORY_BUDGET`).  Chunks are small: a chunk of
+text being parsed costs several times its size in transient buffers.
 A number is plain ASCII decimal or scientific notation (``-1.5``, ``2e-3``,
 ``.5``), or ``nan``/``inf`` (refused later where a column is used); Python's
 other spellings (``1_000``, ``0x10``, non-ASCII digits) are errors naming the
