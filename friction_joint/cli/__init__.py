@@ -34,7 +34,6 @@ complete (:class:`~friction_joint.output.OutputSet`).  The exit status is
 SIGINT, 143 for SIGTERM, 129 for SIGHUP.  ``record`` and ``replay`` install
 their own handlers for the time they run.
 """
-import argparse
 import importlib
 import signal
 import sys
@@ -42,6 +41,7 @@ import threading
 import warnings
 
 from ._console import check_numbers, exit_now
+from ._parser import Parser
 from ..exceptions import FrictionJointError
 
 __all__ = ['main', 'build_parser', 'SUBCOMMANDS']
@@ -53,7 +53,7 @@ SUBCOMMANDS = ('classic', 'experiment', 'identify', 'demo', 'record', 'replay', 
 
 def build_parser():
     """Return the ``friction_joint`` argument parser with every subcommand."""
-    parser = argparse.ArgumentParser(
+    parser = Parser(
         prog='friction_joint',
         description='Simulated Harmonic Drive joint with thermal- and load-dependent friction.')
     sub = parser.add_subparsers(dest='command', metavar='COMMAND')

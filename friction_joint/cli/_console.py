@@ -13,12 +13,12 @@
 # limitations under the License.
 
 """Body of the ``record`` / ``replay`` console scripts (``ros2 run friction_joint PROG``)."""
-import argparse
 import contextlib
 import math
 import os
 import sys
 
+from ._parser import Parser
 from ..exceptions import FrictionJointError, RecordingError
 
 __all__ = ['console_main', 'progress_printer', 'check_numbers', 'exit_now']
@@ -48,7 +48,7 @@ def console_main(module, argv=None):
     try:                                     # Ctrl-C while rclpy imports: one line, 130
         from ..ros._rclpy import ExternalShutdownException, remove_ros_args
         argv = list(sys.argv if argv is None else argv)
-        parser = argparse.ArgumentParser(prog=module.NAME, description=module.DESCRIPTION)
+        parser = Parser(prog=module.NAME, description=module.DESCRIPTION)
         module.add_arguments(parser)
         args = parser.parse_args(remove_ros_args(argv)[1:])
         args.ros_args = argv
