@@ -61,7 +61,6 @@ setup(
     description=('Simulated Harmonic Drive joint with thermal- and load-dependent dynamic '
                  'friction.'),
     license='Apache-2.0',
-    tests_require=['pytest'],
     entry_points={
         'console_scripts': [
             'friction_joint = friction_joint.cli:main',
