@@ -35,6 +35,7 @@ import numpy as np
 import yaml
 
 from .criterion import effect_variables
+from .findings import candidate_summary, finding_lines, next_step_lines
 from .pipeline import diagnose, EFFECTS
 from .scan import markdown_lines, scan_png
 from .structures import accumulated_travel
@@ -193,17 +194,35 @@ def figures(diag):
         effs = [c['effect'] for c in rep['candidates']]
         nr = len(rep['rounds'])
         w = 0.8 / max(nr, 1)
+        named = rep['named_causes']
         for i, r in enumerate(rep['rounds']):
             g = {c['effect']: c.get('gain_raw', 0.0) for c in r['candidates']}
+            sig = {c['effect'] for c in r['candidates'] if c.get('significant')}
             vals = [100 * g.get(e, np.nan) for e in effs]
-            ax.bar(np.arange(len(effs)) + i * w, vals, w, label=f'round {r["round"]}')
+            x = np.arange(len(effs)) + i * w
+            against = ('against the base model' if i == 0 else
+                       'after adding ' + ', '.join(named[:i]))
+            bars = ax.bar(x, vals, w, color=f'C{i}', label=f'round {r["round"]}: {against}')
+            for e, b in zip(effs, bars):
+                if e not in sig:            # not significant: hatched, pale
+                    b.set_alpha(0.45)
+                    b.set_hatch('//')
+            for e, xx, v in zip(effs, x, vals):
+                if e in sig and math.isfinite(v):
+                    ax.annotate('named' if e in named else 'significant', (xx, v),
+                                ha='center', va='bottom', fontsize=7)
         ax.axhline(100 * rep['criterion']['min_gain'], color='k', ls=':', lw=1,
-                   label='minimum gain')
+                   label='minimum gain (named only if also significant)')
+        ax.bar([np.nan], [np.nan], color='0.7', hatch='//', alpha=0.45,
+               label='hatched: not significant (p (Holm) >= '
+                     f'{rep["criterion"]["alpha"]:g})')
         ax.set_xticks(np.arange(len(effs)) + 0.4 - w / 2)
         ax.set_xticklabels(effs, rotation=30, ha='right')
         ax.set_ylabel('held-out torque RMSE reduction (%)')
+        ax.set_title('gain of each candidate per round; the table gives the last round for '
+                     'effects not named', fontsize=9)
         ax.set_ylim(max(-20, ax.get_ylim()[0]), 100)
-        ax.legend(fontsize=8)
+        ax.legend(fontsize=7)
     out.append(('gains.png', render_png(gains, (8, 4.5))))
     variables = effect_variables(data, diag.ctx.travel) if rep.get('confounds') else {}
     for pair in rep.get('confounds', []):
@@ -239,8 +258,8 @@ def _gap_lines(gaps):
             f'Rule: {gaps["rule"]}.', '']
 
 
-def markdown(diag, figure_names, model_path):
-    """``report.md`` text."""
+def markdown(diag, figure_names, model_path, out_dir=None):
+    """``report.md`` text: findings and next steps first, then the details."""
     rep = diag.report
     crit = rep['criterion']
     xi = rep['data']['xi_range']
@@ -248,6 +267,9 @@ def markdown(diag, figure_names, model_path):
     if rep['data'].get('has_temperature', True):
         temp = f'temperature {xi[0]:.2f}..{xi[1]:.2f} degC'
     lines = ['# Friction model diagnosis', '',
+             *finding_lines(diag),
+             *next_step_lines(rep, out_dir, rep['data']['recordings']),
+             '## Data', '',
              f'Base model: `{model_path}`  ',
              'Recordings: ' + ', '.join(f'`{p}`' for p in rep['data']['recordings']), '',
              f'{rep["data"]["sliding_s"]:.1f} s of sliding data (10 ms bins), '
@@ -263,28 +285,42 @@ def markdown(diag, figure_names, model_path):
              f'{_fmt(rep["baseline"]["velocity_rmse"], ".4g")} | '
              f'{_fmt(rep["extended"]["velocity_rmse"], ".4g")} |', '',
              '## Criterion', '',
+             'In plain words: an effect is named only when adding it to the model predicts '
+             'the torque of data the fit has not seen better, in most time blocks and by '
+             'enough to matter.', '',
              f'{crit["blocks"]} contiguous time blocks; every model is fitted on the other blocks '
              'and predicts the held-out one.  Per block the statistic is '
-             f'{crit["statistic"]}; {crit["test"]}; {crit["multiplicity"]}.  '
+             f'{crit["statistic"]} (d_k > 0: the candidate predicted block k better); '
+             f'{crit["test"]}; {crit["multiplicity"]} (testing several candidates at once '
+             'makes a lucky one likely; the correction raises each p-value accordingly).  '
              f'A candidate is significant when its adjusted p-value is below {crit["alpha"]} and '
              f'its gain ({crit["gain"]}) is at least {100 * crit["min_gain"]:.0f} % or the '
              f'RMS torque it explains held out is at least '
              f'{100 * crit.get("min_explained", 0):.0f} % of the friction level.  '
              f'Selection: {crit["selection"]}.', '',
              '## Candidates', '',
-             '| effect | testable | round | gain | p | p (Holm) | blocks improved | significant '
-             '| note |',
-             '|---|---|---|---|---|---|---|---|---|']
+             '*gain*: how much smaller the held-out torque error gets with the effect added '
+             '(*round 1*: against the base model; *gain*: in the round given, against the model '
+             'at that round).  *p*: the chance of an improvement this consistent over the '
+             'blocks if the effect were not there; *p (Holm)*: the same corrected for the '
+             'number of candidates tested; *blocks improved*: in how many of the time blocks '
+             'the candidate predicted better.', '',
+             '| effect | testable | gain round 1 | round | gain | p | p (Holm) | '
+             'blocks improved | significant | note |',
+             '|---|---|---|---|---|---|---|---|---|---|']
+    first = {c['effect']: c for c in rep['rounds'][0]['candidates']} if rep['rounds'] else {}
     for c in rep['candidates']:
         if not c.get('testable', True):
-            lines.append(f'| {c["effect"]} | no | - | - | - | - | - | no | {c["reason"]} |')
+            lines.append(f'| {c["effect"]} | no | - | - | - | - | - | - | no | {c["reason"]} |')
             continue
+        g1 = first.get(c['effect'], {}).get('gain_raw')
+        g1 = '-' if g1 is None else f'{100 * g1:+.1f} %'
         note = c.get('note', '')
         if c.get('physical') is False:
             note = 'not physical, left out of extended.yaml: ' + c.get('reason', '')
         elif c.get('representable') is False:
             note = c.get('reason', '')
-        lines.append(f'| {c["effect"]} | yes | {c.get("round", "-")} | '
+        lines.append(f'| {c["effect"]} | yes | {g1} | {c.get("round", "-")} | '
                      f'{100 * c.get("gain", 0):.1f} % | '
                      f'{_fmt(c.get("p_value"), ".2g")} | {_fmt(c.get("p_holm"), ".2g")} | '
                      f'{c.get("blocks_improved", "-")}/{c.get("blocks", "-")} | '
@@ -292,6 +328,10 @@ def markdown(diag, figure_names, model_path):
     lines += ['', 'Named effects: gain when added (against the model at that round); the others: '
               'gain against the final model.  An untestable candidate (the data cannot tell '
               'it) is never named.', '']
+    lines += [f'**Not named despite a large first-round gain:** {t}' for t in
+              candidate_summary(rep)]
+    if candidate_summary(rep):
+        lines.append('')
     for note in rep.get('notes', []):
         lines += [f'**Note:** {note}', '']
     adj = rep['extended_fit'].get('sigma1_passivity')
@@ -304,6 +344,9 @@ def markdown(diag, figure_names, model_path):
             lines += [f'![{name}]({name})', '']
     if rep.get('residual_scan'):
         lines += markdown_lines(rep['residual_scan'])
+        lines += ['In plain words: a flagged variable is one the remaining error still '
+                  'follows, more than chance would give when the error is shifted in time '
+                  'against it; it points at an effect outside the candidate list.', '']
     lines += ['## Timing', '', '| stage | s |', '|---|---|']
     lines += [f'| {k} | {v:.2f} |' for k, v in rep['timing'].items()]
     return '\n'.join(lines) + '\n'
@@ -382,12 +425,14 @@ def _diagnose_into(outputs, paths, model_path, out, start, *, effects, joint_nam
     rep['model_file'] = os.path.abspath(model_path)
     rep['extended_file'] = os.path.abspath(os.path.join(out, 'extended.yaml'))
     rep['timing']['total_s'] = time.perf_counter() - start
-    md = markdown(diag, [n for n, _ in figs], model_path)
+    md = markdown(diag, [n for n, _ in figs], model_path, out_dir=os.path.normpath(out))
     targets = figs + [('report.md', md.encode('utf-8')),
                       ('extended.yaml', gear_text.encode('utf-8')),
                       ('report.json', json_bytes(rep))]
     outputs.write_directory(out, targets)
     paths_written = outputs.publish()
     if progress:
+        for text in candidate_summary(rep):
+            progress('not named: ' + text)
         progress('timing: ' + ', '.join(f'{k} {v:.2f} s' for k, v in rep['timing'].items()))
     return paths_written
