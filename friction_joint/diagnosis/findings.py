@@ -26,6 +26,7 @@ one for any other.  The text only words what the diagnosis computed: no number
 of the diagnosis and no named effect is changed here.
 """
 import math
+import os
 
 import numpy as np
 
@@ -124,8 +125,8 @@ def _load(fit, base, rng):
         d = sum(v * (hi ** (j + 1) - lo ** (j + 1)) for j, v in enumerate(c))
         ref = fc if key == 'fc_load' else _poly(fit.get('fv'), _mid_t(rng))
         rel = f' ({_pct(d / ref)} of {name})' if ref > 0 else ''
-        terms.append(f'{name} {_rises(d)} by {abs(d):.3g}{" Nm" if key == "fc_load" else ""}'
-                     f'{rel}')
+        unit = ' Nm' if key == 'fc_load' else ' Nm s/rad'
+        terms.append(f'{name} {_rises(d)} by {abs(d):.3g}{unit}{rel}')
     what = ' and '.join(terms) if terms else 'friction changes'
     return (f'Load: {what} as the load torque goes from {lo:.3g} to {hi:.3g} Nm '
             f'(the base model ignores the load)')
@@ -161,10 +162,14 @@ def _stribeck(fit, base, rng):
     t = _mid_t(rng)
     fs, fc = _poly(fit.get('fs'), t), _poly(fit.get('fc'), t)
     vs = _poly(fit.get('vs'), t)
-    rel = f' ({100 * (fs / fc - 1):+.0f} % of F_c = {fc:.3g} Nm)' if fc > 0 else ''
-    return (f'Stribeck: the breakaway friction F_s = {fs:.3g} Nm{rel} falls to the Coulomb '
-            f'level within about {vs:.3g} rad/s of sliding speed (the base model has no such '
-            f'peak; sliding speeds {rng["speed"][0]:.3g} to {rng["speed"][1]:.3g} rad/s)')
+    way = 'above' if fs >= fc else 'below'
+    rel = f' ({_pct(fs / fc - 1)} {way} F_c = {fc:.3g} Nm)' if fc > 0 else ''
+    moves = 'falls' if fs >= fc else 'rises'
+    had = 'a different' if base.get('fs') else 'no such'
+    return (f'Stribeck: the friction at breakaway F_s = {fs:.3g} Nm{rel} {moves} to the '
+            f'Coulomb level within about {vs:.3g} rad/s of sliding speed (the base model has '
+            f'{had} low-speed level; sliding speeds {rng["speed"][0]:.3g} to '
+            f'{rng["speed"][1]:.3g} rad/s)')
 
 
 def _presliding(fit, base, rng):
@@ -283,9 +288,9 @@ def finding_lines(diag):
 
 def next_step_lines(rep, out_dir, recordings):
     """Return the ``## What to do next`` Markdown section."""
-    base_dir = out_dir.rstrip('/') if out_dir else 'DIR'
+    base_dir = os.path.normpath(out_dir) if out_dir else 'DIR'
     ext = base_dir + '/extended.yaml'
-    recs = ' '.join(recordings)
+    recs = ' '.join(os.path.normpath(r) for r in recordings)
     lines = ['## What to do next', '']
     if rep['named_causes'] and rep.get('extended_effects'):
         lines += [f'* Use `{ext}` as the gear file: it is the base model with '
@@ -313,10 +318,14 @@ def next_step_lines(rep, out_dir, recordings):
         lines += ['* Effects these recordings cannot test, and what to record to test them:', '']
         for eff, why in untestable.items():
             advice = RECORD_ADVICE.get(eff, 'record data that covers the variable of this effect')
+            if eff == 'gravity' and 'linear device' in why:
+                advice = 'nothing to record: a linear device has no gravity torque'
             lines.append(f'  * {eff} ({why}): {advice}.')
         lines.append('')
     for pair in rep.get('confounds', []):
         a, b = pair['effects']
+        if a not in rep['named_causes'] and b not in rep['named_causes']:
+            continue                # neither named: nothing in the findings to separate
         lines += [f'* {a} and {b} cannot be told apart in these recordings (they change '
                   f'together); to separate them: {pair["separate_by"]}.', '']
     return lines

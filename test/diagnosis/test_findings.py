@@ -27,7 +27,7 @@ import re
 
 import friction_joint
 from friction_joint.diagnosis import run_diagnose
-from friction_joint.diagnosis.findings import effect_finding, SENTENCES
+from friction_joint.diagnosis.findings import effect_finding, next_step_lines, SENTENCES
 from friction_joint.experiments.hidden import apply_effect, simulate_recording
 import numpy as np
 import pytest
@@ -149,7 +149,7 @@ FITS = {
     'position_ripple': ({'position_ripple': {'cycles_per_rev': 200.0, 'amplitude': [0.1],
                                              'phase': [0.0]}}, r'\+-0\.1 Nm .*200 times'),
     'nonlinear_viscous': ({'delta_v': [0.6]}, r'speed\^0\.60, less than in proportion'),
-    'stribeck': ({'fs': [2.6], 'vs': [0.05]}, r'F_s = 2\.6 Nm \(\+30 % of F_c'),
+    'stribeck': ({'fs': [2.6], 'vs': [0.05]}, r'F_s = 2\.6 Nm \(30 % above F_c = 2 Nm\) falls'),
     'presliding': ({'presliding': {'model': 'lugre', 'stiffness': 2000.0}}, r'about 1 mrad'),
     'inertia': ({'d_inertia': -0.01}, r'0\.04 kg m\^2 .*20 % less'),
     'asymmetry': ({'offset': -0.2}, r'about 0\.4 Nm .*negative direction'),
@@ -169,3 +169,29 @@ def test_every_effect_kind_has_a_sentence_in_physical_units(effect):
 def test_unknown_effect_gets_the_generic_sentence():
     text = effect_finding('backlash', _fake_rep('backlash', {}), RANGES)
     assert text.startswith('Backlash: missing from the base model; explains 0.1 Nm'), text
+
+
+def test_gravity_finding_with_the_corrected_lever():
+    """A named gravity effect states the corrected m g l and zero angle against the base's."""
+    fit = {'gravity': {'sin': 0.3, 'cos': 0.4, 'lever': {
+        'mgl': 12.0, 'angle_offset': 0.1, 'mgl_base': 10.0, 'angle_offset_base': 0.0}}}
+    text = effect_finding('gravity', _fake_rep('gravity', fit), RANGES)
+    assert 'm g l is 12 Nm (+20 %) instead of 10 Nm in the base model' in text, text
+    assert 'zero at 0.1 rad instead of 0 rad' in text, text
+
+
+def test_next_steps_say_what_to_record_for_the_untestable():
+    """Each untestable effect gets its reason and what to record, in plain words."""
+    rep = _fake_rep('thermal', {})
+    rep.update({'named_causes': ['thermal'], 'extended_effects': ['thermal'],
+                'untestable': {'asymmetry': 'the joint slides in the negative direction 0.0 % '
+                                            'of the time (at least 5 % needed)',
+                               'gravity': 'a linear device (imported with a radius) has no '
+                                          'gravity torque'},
+                'confounds': []})
+    text = '\n'.join(next_step_lines(rep, 'out/', ['rec']))
+    assert '--model out/extended.yaml --out out_check' in text, text
+    assert 'asymmetry (the joint slides in the negative direction' in text, text
+    assert 'move in both directions' in text, text
+    assert 'nothing to record: a linear device has no gravity torque' in text, text
+    assert '//' not in text
