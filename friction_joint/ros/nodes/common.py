@@ -34,6 +34,7 @@ import collections
 import math
 import time
 
+from .usage import exit_on_help
 from .._rclpy import guard_clock, RCLError, take_all, Waiter
 from ..parameters import declare_node_params, describe, prepare_ros_args, REJECT_LOG_PERIOD
 from ..qos import dds_environ
@@ -483,25 +484,25 @@ def run_node(factory, name, args=None, drain=True):
     """
     Run a node as the ``main()`` body: init, spin, quiet end on Ctrl-C / SIGTERM.
 
-    The first SIGINT/SIGTERM stops the node *after* it has processed what is
-    already queued (``drain``; e.g. an estimator behind a simulator that has
-    finished), so no answer is lost; a second signal exits at once.  Every
-    start-up failure (a bad parameter or ROS argument, an rcl error, anything
-    the node's constructor raises; see :mod:`~friction_joint.ros.startup`)
-    and any error that ends the loop is one line on stderr and exit status 2.  A node may
-    end itself by raising ``SystemExit(0)`` from a callback.  A node with a
-    ``spin_step(executor)`` method runs its own loop: it is called instead of
-    ``executor.spin_once``.  ``factory`` may also return a composition: an
-    object with ``nodes`` (the nodes, all added to the one executor) and
-    ``spin_step`` (see :mod:`~friction_joint.ros.nodes.composed`).
+    ``-h``/``--help`` before ``--ros-args`` prints the usage and exits 0 (no gear file needed,
+    :mod:`~friction_joint.ros.nodes.usage`). The first SIGINT/SIGTERM stops the node *after* it
+    has processed what is already queued (``drain``; e.g. an estimator behind a simulator that
+    has finished), so no answer is lost; a second signal exits at once. Every start-up failure
+    (a bad parameter or ROS argument, an rcl error, anything the node's constructor raises; see
+    :mod:`~friction_joint.ros.startup`) and any error that ends the loop is one line on stderr
+    and exit status 2. A node may end itself by raising ``SystemExit(0)`` from a callback. A
+    node with a ``spin_step(executor)`` method runs its own loop: it is called instead of
+    ``executor.spin_once``. ``factory`` may also return a composition: an object with ``nodes``
+    (the nodes, all added to the one executor) and ``spin_step`` (see
+    :mod:`~friction_joint.ros.nodes.composed`).
 
     The single-threaded executor is used: ``rclpy.experimental.EventsExecutor``
     is faster but was seen to stop delivering messages to one of two
     subscriptions on these wheels.
     """
+    exit_on_help(factory, name, args)     # before rclpy.init: no gear file needed
     import signal
     import sys
-    import time
 
     import rclpy
     from rclpy.executors import ExternalShutdownException, SingleThreadedExecutor
@@ -519,8 +520,7 @@ def run_node(factory, name, args=None, drain=True):
 
     cleanup = None
     try:
-        # the files rcl opens checked, the gear file through the package's reader; rcl
-        # parses a normalized copy
+        # files rcl opens checked, the gear file by the package's reader; rcl parses a copy
         check_domain_id()
         args, cleanup = prepare_ros_args(args)
         dds_environ()                     # the package's DDS profile, unless one is set
