@@ -46,7 +46,7 @@ __all__ = ['figures', 'markdown', 'CAUSE_VARIABLES', 'run_diagnose']
 
 #: effect -> axis label of the variable its residual is plotted against
 CAUSE_VARIABLES = {
-    'thermal': 'housing temperature xi (degC)',
+    'thermal': 'housing temperature xi (degC); residual x sign(qd)',
     'load': 'load |tau_ext| (Nm); residual x sign(qd)',
     'position_ripple': 'q modulo the ripple period (fraction of a period)',
     'nonlinear_viscous': '|qd| (rad/s); residual x sign(qd)',
@@ -79,8 +79,8 @@ def _travel_since_reversal(data):
 
 def _variable(effect, data, diag):
     sgn = np.sign(data.average(data.qd))
-    if effect == 'thermal':
-        return data.average(data.xi), 1.0, False
+    if effect == 'thermal':          # F_c and F_v terms: the residual's sign follows qd
+        return data.average(data.xi), sgn, False
     if effect == 'load':
         return data.average(data.tl), sgn, False
     if effect == 'position_ripple':
@@ -126,9 +126,12 @@ def figures(diag):
 
     def torque(fig):
         ax = fig.subplots(2, 1, sharex=True)
-        ax[0].plot(tb, y, '.', ms=1.5, color='k', label='measured tau - tau_ext - J qdd')
-        ax[0].plot(tb, pb, '.', ms=1.0, color='C3', label='base model (held out)')
-        ax[0].plot(tb, pe, '.', ms=1.0, color='C0', label='extended model (held out)')
+        # models as larger pale points underneath, the measurement on top stays visible
+        ax[0].plot(tb, pb, '.', ms=4.0, color='C3', alpha=0.35, label='base model (held out)')
+        ax[0].plot(tb, pe, '.', ms=4.0, color='C0', alpha=0.35,
+                   label='extended model (held out)')
+        ax[0].plot(tb, y, '.', ms=1.2, color='k', zorder=3,
+                   label='measured tau - tau_ext - J qdd')
         ax[0].set_ylabel('friction torque (Nm)')
         ax[0].legend(loc='upper right', fontsize=8, markerscale=6)
         ax[1].plot(tb, y - pb, '.', ms=1.5, color='C3',
