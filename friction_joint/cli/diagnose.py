@@ -26,6 +26,7 @@ replaces it as a whole; on an error nothing is written and the command exits
 with status 2.
 """
 import json
+import os
 
 from ._console import progress_printer
 from ..diagnosis import EFFECTS
@@ -79,6 +80,7 @@ def run(args):
                            progress=progress_printer(args.quiet), force=args.force)
     with open(written[-1], encoding='utf-8') as fh:
         named = json.load(fh)['named_causes']
-    print(f'named causes: {", ".join(named) or "none"}; wrote {args.out}/report.json, '
-          f'{args.out}/extended.yaml, {args.out}/report.md')
+    out = os.path.normpath(args.out)                 # DIR/ or DIR// named as DIR
+    print(f'named causes: {", ".join(named) or "none"}; wrote '
+          + ', '.join(os.path.join(out, f) for f in ('report.json', 'extended.yaml', 'report.md')))
     return 0

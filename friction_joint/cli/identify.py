@@ -17,6 +17,8 @@
 
 See :mod:`friction_joint.identification`.
 """
+import os
+
 from ._console import progress_printer
 from ..exceptions import GearConfigError
 from ..gear.schema import MAX_POLYNOMIAL_ORDER
@@ -96,5 +98,5 @@ def run(args):
                          report_dir=args.report, presliding=args.presliding,
                          joint_name=args.joint, progress=progress_printer(args.quiet),
                          force=args.force)
-    print('wrote ' + ', '.join(paths))
+    print('wrote ' + ', '.join(os.path.normpath(p) for p in paths))
     return 0

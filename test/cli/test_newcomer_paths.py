@@ -1,0 +1,62 @@
+# Copyright 2026 friction_joint maintainers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""
+Paths the commands print are normalised (issue 22): --out DIR/ printed DIR//report.json.
+
+The work is stubbed: only what the command prints is under test.
+"""
+import json
+import os
+
+from friction_joint.cli import main
+import friction_joint.diagnosis.report as diagnosis_report
+import friction_joint.identification.pipeline as identification_pipeline
+import pytest
+
+MODEL = os.path.join(os.path.dirname(__file__), '..', '..', 'config', 'csd25.yaml')
+
+
+def _no_doubled_separator(text):
+    return not any('//' in word for word in text.split())
+
+
+@pytest.mark.parametrize('suffix', ['/', '//', ''])
+def test_diagnose_prints_normal_paths(tmp_path, capsys, monkeypatch, suffix):
+    def run_diagnose(recordings, model, out, **options):
+        os.makedirs(out, exist_ok=True)
+        path = os.path.join(out, 'report.json')
+        with open(path, 'w', encoding='utf-8') as fh:
+            json.dump({'named_causes': ['thermal']}, fh)
+        return [path]
+    monkeypatch.setattr(diagnosis_report, 'run_diagnose', run_diagnose)
+    out = str(tmp_path / 'report') + suffix
+    assert main(['diagnose', 'rec.mcap', '--model', MODEL, '--out', out, '--quiet']) == 0
+    printed = capsys.readouterr().out
+    assert _no_doubled_separator(printed), printed
+    assert os.path.join(str(tmp_path), 'report', 'report.json') in printed
+    assert printed.startswith('named causes: thermal; wrote ')
+
+
+def test_identify_prints_normal_paths(tmp_path, capsys, monkeypatch):
+    def run_identify(paths, model, out, **options):
+        report = options['report_dir']
+        return [os.path.join(report, 'identification.json'), out]
+    monkeypatch.setattr(identification_pipeline, 'run_identify', run_identify)
+    out = str(tmp_path) + '//gear.yaml'
+    assert main(['identify', 'rec.mcap', '--model', MODEL, '--out', out, '--report',
+                 str(tmp_path) + '/rep/', '--quiet']) == 0
+    printed = capsys.readouterr().out
+    assert _no_doubled_separator(printed), printed
+    assert os.path.join(str(tmp_path), 'gear.yaml') in printed
