@@ -33,7 +33,12 @@ anything runs (an existing non-empty DIR is an error unless ``force``; one
 containing the model or truth file always), built in a temporary sibling
 directory and swapped in as a whole at the end, so a failure leaves the old
 DIR untouched and no file of an earlier run remains.
+
+Progress (``progress``, e.g. to stderr): one line as each stage starts and one
+as it ends, with its duration and the time since the start.  Paths are named
+as they will be once DIR is in place, never the temporary directory's.
 """
+import contextlib
 import json
 import os
 import time
@@ -66,18 +71,40 @@ def _config(name):
     raise FrictionJointError(f'cannot find config/{name} next to the package')
 
 
+def _clock(seconds):
+    """Return ``seconds`` as m:ss."""
+    return f'{int(seconds) // 60}:{int(seconds) % 60:02d}'
+
+
+class _Stages:
+    """One progress line as a stage starts and one as it ends (its duration, time elapsed)."""
+
+    def __init__(self, progress=None):
+        self.say = progress or (lambda message: None)
+        self.start = time.perf_counter()
+
+    @contextlib.contextmanager
+    def stage(self, name):
+        t0 = time.perf_counter()
+        self.say(f'demo: {name} ... ({_clock(t0 - self.start)} elapsed)')
+        yield
+        t1 = time.perf_counter()
+        self.say(f'demo: {name}: done in {t1 - t0:.1f} s ({_clock(t1 - self.start)} elapsed)')
+
+
 def _figures(d):
     return sorted(f for f in os.listdir(d) if f.endswith('.png'))
 
 
-def run_demo(out, model=None, truth=None, duration_scale=1.0, *, force=False):
+def run_demo(out, model=None, truth=None, duration_scale=1.0, *, force=False, progress=None):
     """
     Run all experiments into ``out`` and write ``out/report.md`` and ``out/report.html``.
 
     ``truth`` is the simulated hardware; by default the test-bed experiments
     run against both ``config/csd25_truth.yaml`` (LuGre friction) and
     ``config/csd25_truth_gms.yaml`` (GMS friction), the ROS run and the
-    identification against the first.  Returns the path of ``report.md``.
+    identification against the first.  ``progress(message)`` is called as
+    each stage starts and ends.  Returns the path of ``report.md``.
     """
     model = model or _config('csd25.yaml')
     truths = [truth] if truth else [_config(name) for name in TRUTHS]
@@ -87,9 +114,11 @@ def run_demo(out, model=None, truth=None, duration_scale=1.0, *, force=False):
         outputs.check()
         stage = outputs.staging_path(out)
         os.mkdir(stage)
-        _run_all(stage, model, truths, duration_scale, outputs.final_path)
-        outputs.publish()
-    return os.path.join(out, 'report.md')
+        stages = _Stages(progress)
+        _run_all(stage, model, truths, duration_scale, outputs.final_path, stages=stages)
+        with stages.stage('moving the results into place'):
+            outputs.publish()
+    return os.path.join(os.path.normpath(out), 'report.md')
 
 
 def _hardware_keys(truths):
@@ -104,8 +133,9 @@ def _hardware_keys(truths):
     return keys
 
 
-def _run_all(out, model, truths, duration_scale, relocate):
+def _run_all(out, model, truths, duration_scale, relocate, *, stages=None):
     """Run everything into the (staged) directory ``out``."""
+    stages = stages or _Stages()
     start = time.perf_counter()
     truth = truths[0]
     lines = ['# friction_joint demo report', '',
@@ -116,8 +146,9 @@ def _run_all(out, model, truths, duration_scale, relocate):
              + ', '.join(f'`{os.path.basename(t)}`' for t in truths) + '. Every figure is in '
              'this directory; `report.html` is this report with the figures embedded.', '']
     if TESTBED:
-        lines += _testbed(out, model, truths, duration_scale)
-    lines += _ros_run(out, model, truth, max(0.5, 3.0 * duration_scale))
+        lines += _testbed(out, model, truths, duration_scale, stages)
+    with stages.stage('ROS 2 nodes, lockstep run recorded to bag/'):
+        lines += _ros_run(out, model, truth, max(0.5, 3.0 * duration_scale))
     lines += ['## Classic LuGre experiments (Canudas de Wit et al. 1995)', '',
               'The LuGre model of `friction_joint.models` on the textbook unit-mass system of '
               'Canudas de Wit et al. (1995), to check it against known behaviour before it is '
@@ -125,18 +156,21 @@ def _run_all(out, model, truths, duration_scale, relocate):
     for name in CLASSIC:
         t0 = time.perf_counter()
         d = os.path.join(out, 'classic')
-        write_experiment(name, CLASSIC_EXPERIMENTS[name](), d)
+        with stages.stage(f'classic experiment {name}'):
+            write_experiment(name, CLASSIC_EXPERIMENTS[name](), d)
         with open(os.path.join(d, f'{name}.json'), encoding='utf-8') as fh:
             numbers = json.load(fh)
         lines += [f'### {name} ({time.perf_counter() - t0:.1f} s)', '',
                   CLASSIC_TEXT.get(name, ''), '', f'![{name}](classic/{name}.png)', '']
         lines += _number_table(numbers) + ['']
-    lines += _identification(out, model, truth, duration_scale, relocate=relocate)
+    with stages.stage('identification (excitation recorded, then identified)'):
+        lines += _identification(out, model, truth, duration_scale, relocate=relocate)
     lines += [f'The whole demo took {time.perf_counter() - start:.0f} s.', '']
     path = os.path.join(out, 'report.md')
-    with open(path, 'w', encoding='utf-8') as fh:
-        fh.write('\n'.join(lines))
-    write_html_report(path)
+    with stages.stage('report.md and report.html'):
+        with open(path, 'w', encoding='utf-8') as fh:
+            fh.write('\n'.join(lines))
+        write_html_report(path)
 
 
 #: one sentence per classic experiment: what it shows
@@ -163,18 +197,20 @@ def _number_table(numbers):
     return ['| quantity | value |', '|---|---|'] + rows if rows else []
 
 
-def _testbed(out, model, truths, duration_scale):
+def _testbed(out, model, truths, duration_scale, stages):
     """Run the test-bed experiments against every truth; returns report lines."""
     results = {}
     for key, truth in zip(_hardware_keys(truths), truths):
         results[key] = {}
         for name in TESTBED:
             d = os.path.join(out, 'testbed', key, name)
-            run_experiment(name, model, truth, d, duration_scale=duration_scale)
+            with stages.stage(f'test bed, {key} hardware: {name}'):
+                run_experiment(name, model, truth, d, duration_scale=duration_scale)
             with open(os.path.join(d, 'summary.json'), encoding='utf-8') as fh:
                 results[key][name] = json.load(fh)
     d = os.path.join(out, 'testbed', 'gain_sweep')
-    run_experiment('gain_sweep', model, truths[0], d, duration_scale=duration_scale)
+    with stages.stage('test bed: sweep of the design inertia'):
+        run_experiment('gain_sweep', model, truths[0], d, duration_scale=duration_scale)
     with open(os.path.join(d, 'summary.json'), encoding='utf-8') as fh:
         sweep = json.load(fh)
     return testbed_markdown(results, sweep, rel='testbed')
@@ -225,8 +261,9 @@ def _ros_run(out, model, truth, duration):
 
     bag = os.path.join(out, 'bag')
     t0 = time.perf_counter()
+    # quiet: bringup would name the bag in the staging directory, gone once DIR is in place
     bringup(model, truth, duration, record=bag, mode='lockstep', friction='lugre',
-            amplitude=0.4, xi0=27.0, log_dir=os.path.join(out, 'logs'))
+            amplitude=0.4, xi0=27.0, log_dir=os.path.join(out, 'logs'), quiet=True)
     wall = time.perf_counter() - t0
     rec = read_recording(bag)
     check = check_lockstep(rec)
