@@ -106,3 +106,10 @@ def test_ros_args_help_is_not_taken_for_ours():
                 'follow:=--help'])
     assert res.returncode == 2 and 'usage:' not in res.stdout
     assert res.stderr.startswith('joint_sim: error: ')
+
+
+def test_help_into_a_closed_pipe_is_quiet():
+    """``estimator --help | head -1`` printed a BrokenPipeError traceback."""
+    res = subprocess.run(f'"{PY}" -m friction_joint.ros.nodes.estimator --help | true',
+                         shell=True, capture_output=True, text=True, timeout=60)
+    assert res.stderr == ''

@@ -28,6 +28,7 @@ and this text.  Only the arguments before ``--ros-args`` are looked at (rcl
 owns the rest); no argument parser is involved.
 """
 import math
+import os
 import re
 import sys
 import textwrap
@@ -157,5 +158,8 @@ def exit_on_help(factory, name, args=None):
     composition); its module supplies the docstring and parameter tables.
     """
     if help_requested(args):
-        print(node_usage(sys.modules[factory.__module__], name))
+        try:
+            print(node_usage(sys.modules[factory.__module__], name), flush=True)
+        except BrokenPipeError:             # `joint_sim --help | head`: no traceback at exit
+            os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
         raise SystemExit(0)
