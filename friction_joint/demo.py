@@ -91,6 +91,10 @@ class _Stages:
         t1 = time.perf_counter()
         self.say(f'demo: {name}: done in {t1 - t0:.1f} s ({_clock(t1 - self.start)} elapsed)')
 
+    def detail(self, message):
+        """Report a step within a stage (a message naming no path)."""
+        self.say(f'demo:   {message}')
+
 
 def _figures(d):
     return sorted(f for f in os.listdir(d) if f.endswith('.png'))
@@ -164,7 +168,8 @@ def _run_all(out, model, truths, duration_scale, relocate, *, stages=None):
                   CLASSIC_TEXT.get(name, ''), '', f'![{name}](classic/{name}.png)', '']
         lines += _number_table(numbers) + ['']
     with stages.stage('identification (excitation recorded, then identified)'):
-        lines += _identification(out, model, truth, duration_scale, relocate=relocate)
+        lines += _identification(out, model, truth, duration_scale, relocate=relocate,
+                                 progress=stages.detail)
     lines += [f'The whole demo took {time.perf_counter() - start:.0f} s.', '']
     path = os.path.join(out, 'report.md')
     with stages.stage('report.md and report.html'):
@@ -224,12 +229,13 @@ def _relative(line, out, model):
     return line
 
 
-def _identification(out, model, truth, duration_scale, *, relocate=None):
+def _identification(out, model, truth, duration_scale, *, relocate=None, progress=None):
     """Record the paper's identification excitation on the simulator and identify."""
     d = os.path.join(out, 'identification')
     bag = os.path.join(d, 'excitation')
     t0 = time.perf_counter()
-    run_experiment('identification', None, truth, bag, duration_scale=0.25 * duration_scale)
+    run_experiment('identification', None, truth, bag, duration_scale=0.25 * duration_scale,
+                   progress=progress)                # per block; no path (the staged one)
     t1 = time.perf_counter()
     gear = os.path.join(d, 'identified.yaml')
     report = os.path.join(d, 'report')

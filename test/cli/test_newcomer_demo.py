@@ -42,6 +42,7 @@ def stubbed(monkeypatch):
         return ['ros run (stub)', '']
 
     def identification(out, model, truth, duration_scale, **options):
+        options['progress']('block 1/1: 22.0 degC')            # a step within the stage
         Path(out, 'identification').mkdir()
         Path(out, 'identification', 'identified.yaml').write_text('joint_name: j\n')
         return ['identification (stub)', '']
@@ -65,7 +66,8 @@ def test_demo_prints_a_line_as_each_stage_starts_and_ends(stubbed, tmp_path, cap
     assert started == ended and len(started) >= 4, err
     assert any('ROS 2' in s for s in started) and any('identification' in s for s in started)
     assert 'classic experiment lag' in started
-    assert len(err) == 2 * len(started), err           # nothing else on stderr
+    assert 'demo:   block 1/1: 22.0 degC' in err              # a step, indented
+    assert len(err) == 2 * len(started) + 1, err       # nothing else on stderr
 
 
 def test_demo_last_lines_name_what_exists(stubbed, tmp_path, capsys):
