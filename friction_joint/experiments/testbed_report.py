@@ -153,8 +153,8 @@ def _estimation(runs, rel):
         if not near:
             continue
         for m in ('lugre', 'gms'):
-            if m == hw or m not in near:
-                continue
+            if m == hw or near.get(m) is None or (span or {}).get(m) is None:
+                continue                  # a run too short to hold a reversal
             lines += [f'The mismatched {NAMES[m]} observer on the {HARDWARE[hw]} has its largest '
                       f'error, {s["max_error"][m]:.2f} Nm, {1e3 * near[m]:.0f} ms from a '
                       'velocity reversal, and every error above a quarter of it lies within '
