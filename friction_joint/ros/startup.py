@@ -53,8 +53,9 @@ QOS_PREFIX = 'qos_overrides.'
 QOS_POLICIES = {'history': ('keep_last', 'keep_all', 'system_default'),
                 'depth': None,
                 'reliability': ('reliable', 'best_effort', 'system_default')}
-#: the largest keep-last depth: 100 s of a 1 kHz stream queued per entity
-MAX_QOS_DEPTH = 100_000
+#: the largest keep-last depth: 1000 s of a 1 kHz stream queued per entity (a replayed
+#: recording answered in sync holds that many)
+MAX_QOS_DEPTH = 1_000_000
 _WHY_NOT = {'durability': 'the streams are volatile (transient_local would keep samples of a '
                           'keep-all topic for late joiners without bound)'}
 

@@ -217,7 +217,7 @@ def alive(pid):
 def test_bringup_stops_with_one_line_when_a_node_ends_at_start(ros_env, tmp_path):
     """A node refusing its parameters ends bringup at once, naming the node and the reason."""
     proc = roshelpers.Proc([PY, '-m', 'friction_joint', 'bringup', '--model', MODEL,
-                            '--truth', TRUTH, '--duration', '30', '--amplitude', 'nan'], ros_env)
+                            '--truth', TRUTH, '--duration', '30', '--amplitude', '5.0'], ros_env)
     try:
         rc = proc.wait(timeout=120)
     finally:

@@ -81,7 +81,7 @@ def _joint_state(i):
     m = JointState()
     m.header.stamp.sec, m.header.stamp.nanosec = 100 + i // 1000, (i % 1000) * 1_000_000
     m.name = ['joint']
-    m.position, m.velocity, m.effort = [float(i)], [1.0], [0.5]
+    m.position, m.velocity, m.effort = [float(i)], [1000.0], [0.5]    # 1 rad per 1 ms stamp
     return m
 
 

@@ -48,7 +48,7 @@ def _joint_state(i, names=('joint',)):
     m.name = list(names)
     k = len(names)
     m.position = [float(i) + j for j in range(k)]
-    m.velocity = [0.5 * i] * k
+    m.velocity = [1000.0] * k                   # the position rises by 1 per 1 ms stamp
     m.effort = [-float(i)] * k
     return m
 
