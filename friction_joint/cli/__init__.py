@@ -40,7 +40,7 @@ import sys
 import threading
 import warnings
 
-from ._console import check_numbers, exit_now
+from ._console import check_numbers, exit_now, finished, interrupts_between_imports
 from ._parser import Parser
 from ..exceptions import FrictionJointError
 
@@ -95,11 +95,16 @@ def main(argv=None):
         warnings.showwarning = (lambda message, category, *rest:
                                 print(f'{prog[0]}: warning: {message}', file=sys.stderr))
     try:
-        return _main(argv, prog)
+        if argv is not None:
+            return _main(argv, prog)
+        with interrupts_between_imports():
+            return _main(argv, prog)
     finally:
         warnings.showwarning = shown
         for s, handler in replaced.items():
             signal.signal(s, handler)
+        if argv is None:                     # the command has ended: no traceback from an
+            finished()                       # interrupt while the interpreter shuts down
 
 
 def _main(argv, prog):

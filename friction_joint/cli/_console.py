@@ -16,12 +16,14 @@
 import contextlib
 import math
 import os
+import signal
 import sys
 
 from ._parser import Parser
 from ..exceptions import FrictionJointError, RecordingError
 
-__all__ = ['console_main', 'progress_printer', 'check_numbers', 'exit_now']
+__all__ = ['finished', 'interrupts_between_imports', 'console_main', 'progress_printer',
+           'check_numbers', 'exit_now']
 
 
 def progress_printer(quiet=False):
@@ -42,8 +44,70 @@ def console_main(module, argv=None):
     ``rclpy.init`` (default ``sys.argv``); ROS arguments (``--ros-args ...``)
     are removed before parsing and passed on to rclpy as ``args.ros_args``.
     A :class:`RecordingError` ends with ``PROG: error: ...`` and status 2,
-    Ctrl-C with 130.
+    Ctrl-C with 130.  As the process's entry point, an interrupt after the
+    command has ended (while the interpreter shuts down) is ignored.
     """
+    if argv is not None:
+        return _console_main(module, argv)
+    try:
+        with interrupts_between_imports():
+            return _console_main(module, argv)
+    finally:
+        finished()
+
+
+#: seconds between checks whether a deferred Ctrl-C can be raised (no import running)
+_RECHECK = 0.02
+
+
+def _importing(frame):
+    """Whether ``frame`` or a caller of it is Python's import machinery."""
+    while frame is not None:
+        if frame.f_code.co_filename.startswith('<frozen importlib'):
+            return True
+        frame = frame.f_back
+    return False
+
+
+@contextlib.contextmanager
+def interrupts_between_imports():
+    """
+    Raise Ctrl-C's ``KeyboardInterrupt`` only where no module is being imported.
+
+    An interrupt inside an import run from a C extension's initialisation (numba's)
+    is printed there as a traceback before the command sees it.  Inside this context
+    SIGINT during an import is held and raised once the import is over (checked every
+    :data:`_RECHECK` s with SIGALRM); elsewhere it is raised at once, as usual.  For a
+    process's entry point only (it takes SIGALRM).
+    """
+    def on_sigint(signum, frame):
+        if _importing(frame):
+            signal.setitimer(signal.ITIMER_REAL, _RECHECK)
+            return
+        signal.setitimer(signal.ITIMER_REAL, 0)
+        raise KeyboardInterrupt
+
+    old = {s: signal.signal(s, on_sigint) for s in (signal.SIGINT, signal.SIGALRM)}
+    try:
+        yield
+    finally:
+        signal.setitimer(signal.ITIMER_REAL, 0)
+        for s, handler in old.items():
+            signal.signal(s, handler)
+
+
+def finished():
+    """
+    Ignore Ctrl-C from now on: the command has ended and the interpreter shuts down.
+
+    An interrupt while modules run their exit handlers (which may import) would print a
+    traceback after the command's own last line.
+    """
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+
+
+def _console_main(module, argv=None):
+    """Run :func:`console_main` (its body: the handlers stay in place around it)."""
     entry = argv is None                     # the process's entry point (a console script)
     try:                                     # Ctrl-C while rclpy imports: one line, 130
         from ..ros._rclpy import ExternalShutdownException, remove_ros_args
