@@ -45,7 +45,7 @@ from rclpy.exceptions import InvalidParameterValueException
 from rclpy.parameter import Parameter
 
 from ._rclpy import parameter_override_names, parameter_overrides
-from .startup import check_qos_overrides, check_ros_args
+from .startup import check_qos_overrides, check_ros_args, ros_flags
 from ..exceptions import GearConfigError
 from ..gear import gear_from_flat, SCHEMA, Section
 from ..gear.files import format_ros_params, read_ros_params_file
@@ -229,25 +229,7 @@ def parameter_guard(node, defaults, validators, apply):
     node.add_on_set_parameters_callback(callback)
 
 
-#: ROS arguments followed by a value (skipped when looking for ``--params-file``)
-_VALUE_FLAGS = ('-r', '--remap', '-e', '--enclave', '--log-level', '--log-config-file',
-                '--log-file-name')
 _PARAM_FLAGS = ('-p', '--param')
-
-
-def _ros_arguments(argv):
-    """Yield (flag, index of its value) for the flags inside ``--ros-args ... [--]``."""
-    i, inside = 0, False
-    while i < len(argv):
-        arg = argv[i]
-        if arg == '--ros-args':
-            inside = True
-        elif inside and arg == '--':
-            inside = False
-        elif inside and arg in ('--params-file',) + _VALUE_FLAGS + _PARAM_FLAGS:
-            yield arg, i + 1
-            i += 1
-        i += 1
 
 
 def _one_type_list(assignment):
@@ -301,7 +283,7 @@ def prepare_ros_args(args=None):
     """
     argv = list(sys.argv if args is None else args)
     check_ros_args(argv)                     # the files rcl opens, -p syntax; before rcl
-    found = list(_ros_arguments(argv))
+    found = list(ros_flags(argv))
     files = [i for flag, i in found if flag == '--params-file']
     params = [i for flag, i in found if flag in _PARAM_FLAGS and i < len(argv)]
     if any(i >= len(argv) for i in files):

@@ -43,7 +43,8 @@ from ..exceptions import FrictionJointError, GearConfigError
 from ..gear.strict_yaml import parse_yaml_text
 from ..inputs import check_input
 
-__all__ = ['check_ros_args', 'check_domain_id', 'MAX_DOMAIN_ID', 'rcl_init', 'init_context',
+__all__ = ['ros_flags', 'check_ros_args',
+           'check_domain_id', 'MAX_DOMAIN_ID', 'rcl_init', 'init_context',
            'one_line', 'check_qos_overrides',
            'check_overrides_used', 'QOS_POLICIES', 'MAX_QOS_DEPTH', 'QOS_PREFIX']
 
@@ -69,8 +70,8 @@ _VALUE_FLAGS = ('-r', '--remap', '-e', '--enclave', '--log-level', '--log-file-n
 _NAME = re.compile(r'^[A-Za-z_][A-Za-z0-9_]*(\.[A-Za-z_/][A-Za-z0-9_/]*)*$')
 
 
-def _flags(argv):
-    """Yield (flag, value or None) for the flags inside ``--ros-args ... [--]``."""
+def ros_flags(argv):
+    """Yield (flag, index of its value) of the flags with a value in ``--ros-args ... [--]``."""
     i, inside = 0, False
     while i < len(argv):
         arg = argv[i]
@@ -79,9 +80,15 @@ def _flags(argv):
         elif inside and arg == '--':
             inside = False
         elif inside and arg in _VALUE_FLAGS:
-            yield arg, (argv[i + 1] if i + 1 < len(argv) else None)
+            yield arg, i + 1
             i += 1
         i += 1
+
+
+def _flags(argv):
+    """Yield (flag, value or None) for the flags inside ``--ros-args ... [--]``."""
+    for flag, i in ros_flags(argv):
+        yield flag, (argv[i] if i < len(argv) else None)
 
 
 def _check_assignment(text):
