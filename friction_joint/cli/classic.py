@@ -17,6 +17,8 @@
 
 See :mod:`friction_joint.experiments.classic`.
 """
+import os
+
 from ..experiments.classic import EXPERIMENTS
 
 __all__ = ['NAME', 'HELP', 'DESCRIPTION', 'add_arguments', 'run']
@@ -47,5 +49,5 @@ def run(args):
     """Run the experiment and write its figure and numbers."""
     from ..experiments.classic_report import run_classic
     paths = run_classic(args.experiment, args.out, force=args.force)
-    print('wrote ' + ', '.join(paths))
+    print('wrote ' + ', '.join(os.path.normpath(p) for p in paths))
     return 0

@@ -17,6 +17,8 @@
 
 See :mod:`friction_joint.experiments`.
 """
+import os
+
 from ._console import progress_printer
 from ..experiments.runner import EXPERIMENTS
 
@@ -62,5 +64,5 @@ def run(args):
     paths = run_experiment(args.name, args.model, args.truth, args.out,
                            duration_scale=args.duration_scale, progress=progress_printer(),
                            force=args.force, gains=args.gains)
-    print('wrote ' + ', '.join(paths))
+    print('wrote ' + ', '.join(os.path.normpath(p) for p in paths))
     return 0
