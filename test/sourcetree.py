@@ -42,7 +42,9 @@ def package_modules():
     return out
 
 
-#: ``../shared`` beside the clone (CI puts it there): real data and the MCAP CLI
-SHARED = os.path.join(os.path.dirname(ROOT), 'shared')
+#: ``../shared`` beside the clone (CI puts it there): real data and the MCAP CLI;
+#: FRICTION_JOINT_SHARED points elsewhere (e.g. from a colcon workspace's src/)
+SHARED = (os.environ.get('FRICTION_JOINT_SHARED')
+          or os.path.join(os.path.dirname(ROOT), 'shared'))
 #: the upstream MCAP CLI (``mcap doctor``); FRICTION_JOINT_MCAP_CLI overrides
 MCAP_CLI = os.environ.get('FRICTION_JOINT_MCAP_CLI') or os.path.join(SHARED, 'tools', 'mcap')

@@ -27,9 +27,10 @@ import friction_joint.bag.tables as tables
 from friction_joint.cli import main
 import numpy as np
 import pytest
+from sourcetree import SHARED
 
 COLS = ['--time', 'time', '--position', 'pos', '--torque', 'tau']
-REAL = Path('/work/shared/real-data/tribometer/test_data_2.txt')
+REAL = Path(SHARED, 'real-data', 'tribometer', 'test_data_2.txt')
 
 
 def _import(capsys, *argv):
