@@ -353,9 +353,10 @@ def diagnose(paths, base, effects=EFFECTS, joint_name=None, progress=None):
         sig = [e for e in tested if table[e]['significant']]
         rounds.append({'round': rnd, 'model_rmse': cur_cv.rmse, 'candidates': table,
                        'cv': cvs, 'cur_cv': cur_cv, 'structure': cur})
-        say(f'round {rnd}: ' + ', '.join(
-            f'{e} {100 * table[e]["gain_raw"]:+.1f} % (p_holm {table[e].get("p_holm", 1):.2g})'
-            for e in tested))
+        against = 'the base model' if not named else 'the model with ' + ', '.join(named)
+        say(f'round {rnd} (held-out gain against {against}; * significant): ' + ', '.join(
+            f'{e} {100 * table[e]["gain_raw"]:+.1f} %{"*" if table[e]["significant"] else ""} '
+            f'(p_holm {table[e].get("p_holm", 1):.2g})' for e in tested))
         last_table = table
         if not sig:
             break
