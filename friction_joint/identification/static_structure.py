@@ -127,11 +127,20 @@ class StaticStructure:
         return [p for p in PARAMS if self.load_orders.get(p, 0) > 0]
 
     def describe(self):
-        """``fc: [3], fv: [3], ..., fc_load: [1]`` (list lengths)."""
-        parts = [f'{p}: [{self.orders[p] + 1}]' for p in self.params]
-        parts += [f'{p}: fixed' for p in self.fixed]
-        parts += [f'{p}_load: [{self.load_orders[p]}]' for p in self.load_params]
-        return ', '.join(parts)
+        """
+        Say in words what is fitted, e.g. ``fc linear in temperature, fv constant, ...``.
+
+        The list lengths of the gear file's keys follow in brackets
+        (``fc: [2]`` = 2 coefficients).
+        """
+        shape = {1: 'constant', 2: 'linear in temperature', 3: 'quadratic in temperature'}
+        parts = [f'{p} {shape.get(self.orders[p] + 1, f"degree {self.orders[p]} in temperature")}'
+                 for p in self.params]
+        parts += [f'{p} kept from the structure file' for p in self.fixed]
+        parts += [f'{p} x load up to |tau_L|^{self.load_orders[p]}' for p in self.load_params]
+        lengths = [f'{p}: [{self.orders[p] + 1}]' for p in self.params]
+        lengths += [f'{p}_load: [{self.load_orders[p]}]' for p in self.load_params]
+        return ', '.join(parts) + f' ({", ".join(lengths)})'
 
 
 # ------------------------------------------------------------- data checks ---
