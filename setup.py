@@ -54,7 +54,8 @@ setup(
         ('share/' + package_name + '/launch', glob('launch/*.launch.py')),
     ],
     install_requires=['setuptools', 'numpy', 'scipy', 'PyYAML', 'matplotlib', 'markdown'],
-    extras_require={'fast': ['numba'], 'bags': ['rosbags', 'mcap', 'mcap-ros2-support']},
+    extras_require={'fast': ['numba'], 'bags': ['rosbags', 'mcap', 'mcap-ros2-support'],
+                    'test': ['pytest']},      # 'test': colcon test runs pytest, not unittest
     zip_safe=True,
     maintainer='friction_joint maintainers',
     maintainer_email='maintainers@friction-joint.invalid',
