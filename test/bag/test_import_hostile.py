@@ -14,35 +14,15 @@
 
 """``friction_joint import`` against hostile logs: malformed NPZ, numbers, units, stamps."""
 import io
-import os
 import struct
 import zipfile
 
 from friction_joint.bag import read_recording
-from friction_joint.cli import main
 import numpy as np
 import pytest
+from test_import import _fails, _import
 
 COLS = ['--time', 'time', '--position', 'pos', '--torque', 'tau']
-
-
-def _import(capsys, *argv):
-    status = main(['import', *map(str, argv)])
-    out, err = capsys.readouterr()
-    return status, out, err
-
-
-def _fails(capsys, out, *argv, expect=()):
-    """Exit 2 with one line naming what is expected, nothing written at ``out``."""
-    status, _, err = _import(capsys, *argv, '--out', out)
-    assert status == 2, err
-    lines = err.strip().splitlines()
-    assert len(lines) == 1 and lines[0].startswith('friction_joint import: error: '), err
-    for word in expect:
-        assert word in lines[0], lines[0]
-    assert not os.path.lexists(out)
-    assert not [p for p in os.listdir(os.path.dirname(out)) if p.endswith('.tmp')]
-    return lines[0]
 
 
 def _csv(path, rows, header='time,pos,tau'):

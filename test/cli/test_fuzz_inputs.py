@@ -43,23 +43,16 @@ import signal
 from friction_joint.bag import read_recording
 from friction_joint.cli import main
 from friction_joint.exceptions import RecordingError
-from hypothesis import event, given, HealthCheck, settings, strategies as st
+from hypothesis import event, given, strategies as st
 import numpy as np
 import pytest
+
+from test_fuzz import fuzz
 
 #: generated import cases (with the other fuzz files: >= 500 new cases, issue 23)
 IMPORT_CASES = 300
 #: seconds one case may take before it counts as a hang
 GUARD_S = 60
-
-_HEALTH = [HealthCheck.function_scoped_fixture, HealthCheck.too_slow,
-           HealthCheck.data_too_large]
-
-
-def fuzz(cases):
-    """Return reproducible hypothesis settings for ``cases`` examples."""
-    return settings(max_examples=cases, deadline=None, derandomize=True, database=None,
-                    print_blob=True, suppress_health_check=_HEALTH)
 
 
 class Hang(Exception):
