@@ -36,7 +36,9 @@ result directory nor the network:
 * inline math ``$...$`` stays text (``<span class="math">``), protected from
   Markdown's emphasis (``$a*b$``), and a backslash before ``$`` makes it a plain
   dollar sign; no MathJax, nothing is loaded;
-* table cells that hold a single number are right-aligned (class ``num``).
+* table cells that hold a single number are right-aligned (class ``num``);
+* code blocks wrap their long lines (``white-space: pre-wrap``) on screen and
+  in print, so a wide gear file is never cut off on the right.
 
 :func:`write_html_report` converts a Markdown file and writes the HTML
 atomically (a hidden temporary sibling, then :func:`os.replace`), so a reader
@@ -88,10 +90,17 @@ td.num { text-align: right; font-variant-numeric: tabular-nums; white-space: now
 code, pre { font-family: ui-monospace, 'SFMono-Regular', Menlo, Consolas, monospace;
   font-size: 0.9em; }
 code { background: #f6f8fa; padding: 0.1em 0.3em; border-radius: 4px; }
-pre { background: #f6f8fa; padding: 0.8em 1em; overflow-x: auto; border-radius: 6px; }
-pre code { background: none; padding: 0; }
+pre { background: #f6f8fa; padding: 0.8em 1em; border-radius: 6px; white-space: pre-wrap;
+  overflow-wrap: anywhere; }
+pre code { background: none; padding: 0; white-space: inherit; }
 .math { font-family: 'Latin Modern Math', 'STIX Two Math', 'Cambria Math', serif; }
 a { color: #0969da; }
+@media print {
+  main { max-width: none; padding: 0; }
+  pre, code { white-space: pre-wrap; overflow-wrap: anywhere; }
+  table { display: table; overflow: visible; }
+  img, pre, tr { break-inside: avoid; }
+}
 """
 
 _PAGE = """<!DOCTYPE html>

@@ -215,3 +215,14 @@ def test_report_html_renders_in_headless_chromium(report, tmp_path):
     assert float(rgb.std()) > 0.02          # not a blank page
     red = (rgb[..., 0] > 0.85) & (rgb[..., 1] < 0.15) & (rgb[..., 2] < 0.15)
     assert int(red.sum()) > 0.6 * RED_SIZE[0] * RED_SIZE[1], int(red.sum())
+
+
+def test_code_blocks_wrap_on_screen_and_in_print(tmp_path):
+    long_line = 'fc: [' + ', '.join(f'{0.1 * i:.6f}' for i in range(40)) + ']'
+    page = markdown_to_html(f'```\n{long_line}\n```\n', base_dir=tmp_path)
+    assert long_line in page                       # kept whole; the browser wraps it
+    css = page[page.index('<style>'):page.index('</style>')]
+    pre_rule = re.search(r'(?m)^pre \{([^}]*)\}', css).group(1)
+    assert 'white-space: pre-wrap' in pre_rule and 'overflow-wrap: anywhere' in pre_rule
+    print_rules = css[css.index('@media print'):]
+    assert 'white-space: pre-wrap' in print_rules
