@@ -161,7 +161,7 @@ def test_readme_command_blocks_run_on_a_fresh_copy(ros_env, tmp_path):
 
 
 def check_outputs(clone):
-    """What the README says its blocks write, checked in the copy they ran in."""
+    """Check what the README says its blocks write, in the copy they ran in."""
     # the hand-started realtime loop with a recorder: every message from the first state
     run1 = read_recording(str(clone / 'bags' / 'run1'))
     k = np.round(np.asarray(run1.joint_states.t) * 1000.0).astype(np.int64)
