@@ -12,7 +12,7 @@
 # See the License for the specific language governing permissions and
 # limitations under the License.
 """
-The layering rules of the README, checked on the source tree.
+The layering rules of docs/development.md, checked on the source tree.
 
 * only :mod:`friction_joint.ros` imports rclpy: every other module imports
   in a fresh interpreter in which importing rclpy (or a ROS message package)

@@ -17,7 +17,7 @@ Foreign logs (CSV/TSV/NPZ) -> the topics of a recording (``friction_joint import
 
 Each input file is one run.  Its columns are picked by a mapping
 (:data:`QUANTITIES` -> ``COL[:unit]``, ``COL`` a header name or a 0-based
-index) and converted to SI and the joint convention of the README
+index) and converted to SI and the joint convention of docs/interfaces.md
 (*Interfaces*):
 
 * **Units** (:data:`UNITS`, :mod:`~friction_joint.bag.units`): time

@@ -17,7 +17,7 @@ The topics of a recording and the numpy arrays they are read into.
 
 A recording is a rosbag2 directory (``metadata.yaml`` + ``.mcap``, CDR, ROS 2
 Jazzy message definitions) or a single ``.mcap`` file, with the topics of the
-README's *Interfaces* (topics and recordings).  Only ``/joint_states`` is
+docs/interfaces.md (topics and recordings).  Only ``/joint_states`` is
 required (:data:`REQUIRED_TOPICS`); every other topic, ``/joint_temperature``
 included, is optional and its attribute of :class:`Recording` is None when the
 recording lacks it (or has no message on it).

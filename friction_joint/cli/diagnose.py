@@ -15,7 +15,7 @@
 """
 ``friction_joint diagnose RECORDING ... --model BASE.yaml --out DIR``.
 
-Outputs: README, *Interfaces*, ``diagnose`` outputs.
+Outputs: docs/interfaces.md, ``diagnose`` outputs.
 
 Fits BASE's structure to the recordings, names the missing effects and writes
 ``DIR/report.json``, ``DIR/extended.yaml``, ``DIR/report.md`` and figures

@@ -15,7 +15,7 @@
 """
 ``friction_joint import LOG [LOG ...] --out REC --time COL[:unit] --position ... ``.
 
-Outputs: README, *Interfaces* (recordings).
+Outputs: docs/interfaces.md (recordings).
 
 Turns CSV/TSV/NPZ logs (one run per file) into a recording (method and
 conventions: :mod:`friction_joint.bag.importer`).  The columns and units come

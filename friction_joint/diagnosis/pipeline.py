@@ -114,7 +114,7 @@ from ..output import json_clean
 __all__ = ['EFFECTS', 'UNREPRESENTABLE', 'ALPHA', 'MIN_GAIN', 'MIN_EXPLAINED', 'WINDOW',
            'Diagnosis', 'diagnose', 'base_structure', 'extend']
 
-#: candidate effects (README, Interfaces: diagnose outputs), in the order they are reported
+#: candidate effects (docs/interfaces.md, diagnose outputs), in the order they are reported
 EFFECTS = ('thermal', 'load', 'position_ripple', 'nonlinear_viscous', 'stribeck',
            'presliding', 'inertia', 'asymmetry', 'drift', 'gravity')
 #: effects the gear file has no key for: named and measured, not in ``extended.yaml``

@@ -16,7 +16,7 @@
 Measured-style recordings with hidden effects, for testing ``friction_joint diagnose``.
 
 A *truth* gear is a base gear file (e.g. ``config/csd25_base.yaml``) plus one
-or more effects the base model lacks (README, Interfaces: diagnose outputs names them).
+or more effects the base model lacks (docs/interfaces.md, diagnose outputs, names them).
 :func:`apply_effect` builds such a truth, :func:`draw_effect` draws a
 realistic size of an effect at random, and :func:`simulate_recording` runs the
 truth on the simulated test bed (:class:`~friction_joint.testbed.plant.Plant`, with
@@ -120,7 +120,7 @@ from ..testbed.plant import Plant
 __all__ = ['EFFECTS', 'EFFECT_RANGES', 'MAGNITUDE', 'apply_effect', 'apply_effects',
            'draw_effect', 'segment_temperatures', 'plan_segment', 'simulate_recording']
 
-#: effect names of README, Interfaces: diagnose outputs
+#: effect names of docs/interfaces.md, diagnose outputs
 EFFECTS = ('thermal', 'load', 'position_ripple', 'nonlinear_viscous', 'stribeck',
            'presliding', 'inertia', 'asymmetry', 'gravity')
 

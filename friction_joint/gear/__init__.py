@@ -13,7 +13,7 @@
 # limitations under the License.
 
 """
-Gear parameter files: load, validate, modify and save (README, Interfaces: gear parameter files).
+Gear parameter files: load, validate, modify and save (docs/interfaces.md, gear parameter files).
 
 Modules: :mod:`.schema` (every key, limits), :mod:`.params` (the validated
 parameters and their checks), :mod:`.polynomial` (exact bounds of the

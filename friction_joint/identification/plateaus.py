@@ -50,7 +50,7 @@ Per plateau
 -----------
 * ``qd``: outlier-robust mean velocity (samples further than
   ``clip_mad`` median absolute deviations from the median are left out).
-* ``tau_r``: friction torque tau_r = effort - tau_ext - J qdd (README,
+* ``tau_r``: friction torque tau_r = effort - tau_ext - J qdd (docs/interfaces.md,
   Interfaces: sign convention), same robust mean.  tau_ext is the ``/link_torque`` sensor when
   the recording has it, else the lever gravity m g l sin(q - angle_offset) of the STRUCTURE
   gear file (no contact torque); J is the structure's inertia and qdd the
@@ -310,7 +310,7 @@ def plateaus_from_arrays(t, q, qd, effort, xi, tau_ext, *, inertia, options=None
     xi : array_like
         Housing temperature at the sample times (degC).
     tau_ext : array_like
-        External torque at the sample times (Nm), signed as in README, Interfaces: sign convention.
+        External torque at the sample times (Nm), signed as in docs/interfaces.md: sign convention.
     inertia : float
         J (kg m^2) for the J qdd term.
     options : dict, optional

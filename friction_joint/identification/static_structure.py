@@ -16,7 +16,7 @@
 The structure of a static friction model and the checks that data can determine it.
 
 A :class:`StaticStructure` says which coefficients a static model has (the
-list lengths of a gear file, README, Interfaces: gear parameter files); :func:`check_excitation`
+list lengths of a gear file, docs/interfaces.md: gear parameter files); :func:`check_excitation`
 names what to record when plateaus cannot determine one of them.
 """
 import dataclasses
@@ -51,7 +51,7 @@ class StaticStructure:
     """
     Which coefficients a static model has (the model structure).
 
-    See the README, *Interfaces*, gear parameter files.
+    See docs/interfaces.md, gear parameter files.
 
     Attributes
     ----------

@@ -15,7 +15,7 @@
 """
 Friction models and the joint they act in (seed eq. 1, 5-7, 10-13).
 
-Sign convention: README, *Interfaces*.
+Sign convention: docs/interfaces.md.
 
 * :mod:`~friction_joint.models.static`: static Stribeck curve with nonlinear
   viscous friction, temperature and load polynomials (eq. 1, 5-7);

@@ -13,7 +13,7 @@
 # limitations under the License.
 
 """
-Rigid single joint with friction: J qdd = tau - tau_r - tau_ext (README, *Interfaces*).
+Rigid single joint with friction: J qdd = tau - tau_r - tau_ext (docs/interfaces.md).
 
 tau is the drive torque, tau_r the friction torque (static, LuGre or GMS),
 tau_ext everything from the link side: an input profile plus a linear spring

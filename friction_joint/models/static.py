@@ -27,7 +27,7 @@ temperature xi (powers 0..n) plus a polynomial in the load tau_L (powers
 velocity unit the coefficients were identified in, e.g. ``gear_ratio`` when
 they refer to wave-generator (motor-side) speed as the paper's Table I does.
 
-Evaluation rules (documented in the README):
+Evaluation rules (documented in docs/interfaces.md):
 
 * xi is clipped to ``friction.temperature_range`` before the polynomials are
   evaluated: identified polynomials are not extrapolated.

@@ -99,7 +99,7 @@ def declare_gear(node, own=()):
     keys = gear_keys()
     flat = {}
     for name in keys:
-        desc = ParameterDescriptor(description=f'gear file key {name} (see the README)',
+        desc = ParameterDescriptor(description=f'gear file key {name} (docs/interfaces.md)',
                                    dynamic_typing=True, read_only=True)
         p = node.declare_parameter(name, None, desc)
         if p.type_ != Parameter.Type.NOT_SET:

@@ -100,7 +100,7 @@ DESCRIPTORS = {
     'overshoot': describe('overshoot the PD gains are designed for (fraction)', low=0.0,
                           high=1.0),
     'design_inertia': describe("inertia the PD gains are designed for, kg m^2 (0: the gear's "
-                               'joint inertia; 0.016: the paper preset, see README)'),
+                               'joint inertia; 0.016: the paper preset, docs/design.md)'),
     'rate': describe("control rate, Hz (0: the gear's simulation.rate)"),
     'sync': describe('pair each state with the temperature of the same stamp and answer every '
                      'state (lockstep); false: answer the newest state (real time)'),

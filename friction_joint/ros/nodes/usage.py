@@ -145,7 +145,7 @@ def node_usage(module, name):
         'one from a recording. For example:')
     lines += ['', f'    {name} {example}',
               f'    python -m friction_joint.ros.nodes.{name} {example}', '']
-    lines += fill.wrap('Remap the namespace with -r __ns:=/arm1; see the README (nodes) '
+    lines += fill.wrap('Remap the namespace with -r __ns:=/arm1; see docs/ros.md '
                        'for the topics, the loop modes and a three-terminal example.')
     return '\n'.join(lines)
 
