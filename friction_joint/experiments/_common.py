@@ -186,24 +186,35 @@ def peak_window(t, errors, start, half_width):
 
 def reversal_peak_window(t, errors, reversals, start, before, after):
     """
-    Zoom window ``(t_r - before, t_r + after)`` on the reversal with the largest |error|.
+    Zoom window on the largest |error| after ``start``, framed by its velocity reversal.
 
-    ``reversals`` are the times t_r of velocity reversals; those whose window
-    lies in the evaluated part (``t >= start``) compete by the largest |error|
-    of ``errors`` (arrays on ``t``) inside their window.  Without such a
-    reversal: :func:`peak_window` with half width ``(before + after) / 2``.
+    The sample k of the largest |error| of ``errors`` (arrays on ``t``) at
+    ``t >= start`` -- the maximum a summary reports -- is found first; the
+    window is ``(t_r - before, t_r + after)`` around the reversal t_r (of
+    ``reversals``) nearest to it, widened to hold t_k with a margin of a
+    tenth of the window's width and cut to the run.  Without a reversal
+    within ``before + after`` of t_k: :func:`peak_window` (centred on t_k)
+    with half width ``(before + after) / 2``.
+    Either way the window contains t_k.
     """
     t = np.asarray(t)
     mag = np.max(np.abs(np.vstack([np.asarray(e) for e in errors])), axis=0)
-    best, window = -1.0, None
-    for tr in reversals:
-        t0, t1 = tr - before, tr + after
-        if t0 < start or t1 > t[-1]:
-            continue
-        m = (t >= t0) & (t <= t1)
-        if m.any() and float(np.max(mag[m])) > best:
-            best, window = float(np.max(mag[m])), (float(t0), float(t1))
-    return window or peak_window(t, errors, start, 0.5 * (before + after))
+    idx = np.flatnonzero(t >= start)
+    if idx.size == 0:
+        idx = np.arange(t.size)
+    k = idx[np.argmax(mag[idx])]
+    tk = float(t[k])
+    reversals = np.asarray(reversals, dtype=float)
+    if reversals.size == 0:
+        return peak_window(t, errors, start, 0.5 * (before + after))
+    tr = float(reversals[np.argmin(np.abs(reversals - tk))])
+    margin = 0.1 * (before + after)
+    if abs(tr - tk) > before + after:          # no reversal near it: centred on t_k
+        return peak_window(t, errors, start, 0.5 * (before + after))
+    t0 = min(tr - before, tk - margin)
+    t1 = max(tr + after, tk + margin)
+    t0, t1 = max(t0, float(t[0])), min(t1, float(t[-1]))
+    return float(t0), float(t1)
 
 
 def sign_changes(t, v):

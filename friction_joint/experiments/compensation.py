@@ -15,6 +15,7 @@
 """Friction compensation (seed Section V-C, Fig. 6-7): sine tracking with feed-forward."""
 import copy
 import math
+import time
 
 import numpy as np
 
@@ -53,26 +54,31 @@ def tracking_run(model, warm, *, kp, kd, kind, amp, n, ff_velocity='measured'):
     return r
 
 
-def warmed_plants(model, truth, kp, kd, temperatures):
+def warmed_plants(model, truth, kp, kd, temperatures, *, progress=None):
     """
     Plants at rest at q = 0 whose gear self-heated to each temperature, in rising order.
 
     One plant starts at the truth's ambient temperature and is warmed up
     (:func:`~friction_joint.experiments.warmup.warm_up`) to the first
     temperature, copied, warmed on to the next, and so on.  Returns
-    ``[(plant, warm_up_info), ...]`` in the order of ``temperatures``.
+    ``[(plant, warm_up_info), ...]`` in the order of ``temperatures``;
+    ``progress(message)`` is called after each warm-up.
     """
     plant = Plant(truth)
     ctrl = Controller(model, kp, kd, friction=COMPENSATION['warm_up_friction'], dt=plant.dt)
     out = {}
     for xi in sorted(temperatures):
+        t0, wall = plant.t, time.perf_counter()
         info = warm_up(plant, ctrl, xi)
         info['elapsed_s'] = float(plant.t)
         out[xi] = (copy.deepcopy(plant), info)
+        if progress is not None:
+            progress(f'warm-up to {xi:g} degC by self-heating: {info["reached"]:.1f} degC '
+                     f'after {plant.t - t0:.0f} s simulated ({time.perf_counter() - wall:.1f} s)')
     return [out[xi] for xi in temperatures]
 
 
-def compensation(model, truth, duration_scale=1.0, *, gains=None):
+def compensation(model, truth, duration_scale=1.0, *, gains=None, progress=None):
     """
     Friction compensation with eq. 17 (paper Section V-C, Fig. 6-7).
 
@@ -99,18 +105,24 @@ def compensation(model, truth, duration_scale=1.0, *, gains=None):
     gains : GainDesign or str, optional
         Gain design (a preset name, ``J=...`` or ``kp=...,kd=...``, see
         :func:`~friction_joint.control.gains.gain_design`); default ``paper``.
+    progress : callable, optional
+        ``progress(message)`` after each warm-up and after the tracking runs
+        at each temperature.
 
     Returns
     -------
     ExperimentResult
         ``summary``: ``max_error_pct[model][temperature][amplitude]`` (max
         |q_d - q_true| in % of a), ``rmse[...]`` (rad), ``max_error[...]``
-        (rad), ``temperature_end[...]`` (degC, true, end of run) for
+        (rad), ``max_error_time[...]`` (s since the start of tracking, where
+        the maximum is), ``temperature_end[...]`` (degC, true, end of run) for
         model in none/lugre/gms, keys like ``'27'`` and ``'0.4'``; ``gains``
         (the design and kp, kd), ``loop`` (omega_n, zeta, overshoot and rise
         time of the PD loop on the truth's inertia), ``warm_up[temperature]``
         (temperature reached, warm-up time), ``truth_model`` (the hardware's
-        friction model);
+        friction model); ``zoom[temperature][amplitude]``: the zoom window
+        of Fig. 6 (``window_s``), holding the larger of the LuGre and GMS
+        maxima (its ``model`` and ``time_s``);
         ``ff_velocity`` (the variant of the main tables) and
         ``ff_velocity_variants[variant]`` with the same tables for the
         others (lugre and gms only).
@@ -144,14 +156,16 @@ def compensation(model, truth, duration_scale=1.0, *, gains=None):
                'warm_up': {},
                'settle_s': settle, 'evaluation_s': window, 'ff_velocity': main,
                'max_error_pct': table(MODELS), 'rmse': table(MODELS),
-               'max_error': table(MODELS), 'temperature_end': table(MODELS),
+               'max_error': table(MODELS), 'max_error_time': table(MODELS),
+               'temperature_end': table(MODELS), 'zoom': {tk: {} for tk in temps},
                'peak_velocity': {},
                'ff_velocity_variants': {v: {'max_error_pct': table(('lugre', 'gms')),
                                             'rmse': table(('lugre', 'gms'))} for v in others}}
     traces = {}
-    warm = warmed_plants(model, truth, kp, kd, c['temperatures'])
+    warm = warmed_plants(model, truth, kp, kd, c['temperatures'], progress=progress)
     for (plant0, info), tk in zip(warm, temps):
         summary['warm_up'][tk] = info
+        wall, runs = time.perf_counter(), 0
         for amp, ak in zip(c['amplitudes'], amps):
             for kind in MODELS:
                 for variant in c['ff_velocity']:
@@ -159,12 +173,15 @@ def compensation(model, truth, duration_scale=1.0, *, gains=None):
                         continue        # nothing to feed forward: identical to the main run
                     r = tracking_run(model, plant0, kp=kp, kd=kd, kind=kind, amp=amp, n=n,
                                      ff_velocity=variant)
+                    runs += 1
                     e = (r['q_d'] - r['q_true'])[n_settle:]
                     pct = 100.0 * float(np.max(np.abs(e))) / amp
                     if variant == main:
                         summary['max_error_pct'][kind][tk][ak] = pct
                         summary['rmse'][kind][tk][ak] = rmse(e)
                         summary['max_error'][kind][tk][ak] = float(np.max(np.abs(e)))
+                        summary['max_error_time'][kind][tk][ak] = \
+                            float(r['t'][n_settle + int(np.argmax(np.abs(e)))])
                         summary['temperature_end'][kind][tk][ak] = float(r['xi_true'][-1])
                         summary['peak_velocity'][ak] = float(np.max(np.abs(r['qd_d'])))
                         traces[(tk, ak, kind)] = (r['t'], r['q_d'] - r['q_true'])
@@ -172,6 +189,24 @@ def compensation(model, truth, duration_scale=1.0, *, gains=None):
                         v = summary['ff_velocity_variants'][variant]
                         v['max_error_pct'][kind][tk][ak] = pct
                         v['rmse'][kind][tk][ak] = rmse(e)
+        if progress is not None:
+            progress(f'{tk} degC: {runs} tracking runs of {n * dt:.1f} s (a = '
+                     + ', '.join(amps) + ' rad; feed-forward none, LuGre, GMS) in '
+                     f'{time.perf_counter() - wall:.1f} s; max error at a = {amps[0]} rad: '
+                     + ', '.join(f'{LABELS[m]} {summary["max_error_pct"][m][tk][amps[0]]:.1f} %'
+                                 for m in MODELS))
+
+    for (tk, ak, kind), (t, e) in traces.items():
+        if kind != 'none':
+            continue
+        # the zoom of Fig. 6: the largest LuGre/GMS error of the table, at its reversal of q_d
+        reversals = (0.5 + np.arange(int(t[-1] * c['omega'] / math.pi) + 1)) \
+            * math.pi / c['omega']     # of q_d = a sin(omega t)
+        window = reversal_peak_window(t, [traces[(tk, ak, m)][1] for m in ('lugre', 'gms')],
+                                      reversals, float(t[n_settle]), 0.15, 0.5)
+        worst = max(('lugre', 'gms'), key=lambda m: summary['max_error'][m][tk][ak])
+        summary['zoom'][tk][ak] = {'window_s': list(window), 'model': worst,
+                                   'time_s': summary['max_error_time'][worst][tk][ak]}
 
     def draw_errors(fig):
         axes = fig.subplots(len(amps), len(temps), sharex=True, squeeze=False)
@@ -197,12 +232,11 @@ def compensation(model, truth, duration_scale=1.0, *, gains=None):
                     ax.set_xlabel('time since the start of tracking (s)')
                 t = curves[0][0]
                 add_headroom(ax, 0.45, [y[t >= settle] for _, y, _ in curves])
-                reversals = (0.5 + np.arange(int(t[-1] * c['omega'] / math.pi) + 1)) \
-                    * math.pi / c['omega']     # of q_d = a sin(omega t)
-                window = reversal_peak_window(t, [y for _, y, _ in curves[1:]], reversals,
-                                              settle, 0.15, 0.5)
-                _, loc = zoom_inset(ax, window, curves, scale_by=(1, 2), width=0.46,
-                                    height=0.36, title='zoom: worst reversal of $q_d$')
+                zoom = summary['zoom'][tk][ak]
+                _, loc = zoom_inset(ax, zoom['window_s'], curves, scale_by=(1, 2), width=0.46,
+                                    height=0.36,
+                                    title=f'zoom: largest {LABELS[zoom["model"]]} error '
+                                          f'(t = {zoom["time_s"]:.2f} s)')
                 ax.legend(fontsize='x-small', loc=loc)
                 grid_on(ax)
         paper_suptitle(fig, 6, 'position error of the friction compensation, low (top) and '

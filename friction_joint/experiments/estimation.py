@@ -85,8 +85,11 @@ def estimation(model, truth, duration_scale=1.0, *, gains=None):
     -------
     ExperimentResult
         ``summary``: ``rms_error``, ``max_error`` (Nm) and ``rms_error_pct``,
-        ``max_error_pct`` (% of ``load_amplitude`` = max |tau_ext|) per
-        observer model (none/lugre/gms) against the true tau_ext,
+        ``max_error_pct`` (% of ``load_amplitude`` = max |tau_ext|) and
+        ``max_error_time`` (s, where the maximum is) per observer model
+        (none/lugre/gms) against the true tau_ext; ``zoom`` (the figure's
+        zoom: ``window_s``, holding the larger of the LuGre and GMS maxima,
+        its ``model``, ``max_error`` and ``time_s``),
         ``vs_link_sensor`` (the same against the sensor),
         ``link_sensor_rms_error`` (Nm), ``beta``, ``beta_sweep``, ``q_range``,
         ``peak_velocity``; per model ``reversal_distance_of_max_error`` (s from
@@ -134,7 +137,7 @@ def estimation(model, truth, duration_scale=1.0, *, gains=None):
                'rms_error': {}, 'max_error': {}, 'rms_error_pct': {}, 'max_error_pct': {},
                'vs_link_sensor': {'rms_error': {}, 'max_error': {}},
                'link_sensor_rms_error': rmse(r['tau_link'][w] - te),
-               'beta_sweep': {}, 'reversal_distance_of_max_error': {},
+               'beta_sweep': {}, 'reversal_distance_of_max_error': {}, 'max_error_time': {},
                'large_error_reversal_span': {}}
     # where the errors are: distance (s) to the nearest velocity reversal of the joint
     dist = _distance_to_reversal(r['qd_true'], plant.dt)[w]
@@ -149,8 +152,17 @@ def estimation(model, truth, duration_scale=1.0, *, gains=None):
         summary['vs_link_sensor']['max_error'][kind] = mx_l
         err = np.abs(r['estimates'][kind][w] - te)
         summary['reversal_distance_of_max_error'][kind] = float(dist[np.argmax(err)])
+        summary['max_error_time'][kind] = float(r['t'][w][np.argmax(err)])
         large = err > LARGE_ERROR * mx
         summary['large_error_reversal_span'][kind] = float(np.max(dist[large]))
+    # the zoom of the figure: the largest LuGre/GMS error of the table, at its reversal
+    errs = [r['estimates'][kind] - r['tau_ext'] for kind in ('lugre', 'gms')]
+    window = reversal_peak_window(r['t'], errs, sign_changes(r['t'], r['qd_d']),
+                                  float(r['t'][n_settle]), 0.1, 0.3)
+    worst = max(('lugre', 'gms'), key=lambda kind: summary['max_error'][kind])
+    summary['zoom'] = {'window_s': list(window), 'model': worst,
+                       'max_error': summary['max_error'][worst],
+                       'time_s': summary['max_error_time'][worst]}
     for b in c['beta_sweep']:
         name = 'lugre' if b == c['beta'] else f'lugre@{b:g}'
         rms, mx = errors(r['estimates'][name], te)
@@ -184,11 +196,12 @@ def estimation(model, truth, duration_scale=1.0, *, gains=None):
         a1.set_ylabel(r'error $\hat\tau_{ext} - \tau_{ext}$ (Nm)')
         a1.set_title('estimation error against the true external torque', fontsize='medium')
         add_headroom(a1, 0.45)
-        window = reversal_peak_window(t, [y for _, y, _ in curves[1:]],
-                                      sign_changes(t, r['qd_d']), settle_s, 0.1, 0.3)
-        inset, loc1 = zoom_inset(a1, window, curves, scale_by=(1, 2), width=0.4, height=0.38,
-                                 title='zoom: velocity reversal with the largest LuGre/GMS '
-                                       'error')
+        zoom = summary['zoom']
+        inset, loc1 = zoom_inset(a1, zoom['window_s'], curves, scale_by=(1, 2), width=0.4,
+                                 height=0.38,
+                                 title=f'zoom: the largest LuGre/GMS error, '
+                                       f'{zoom["max_error"]:.2f} Nm ({LABELS[zoom["model"]]}) '
+                                       f'at t = {zoom["time_s"]:.2f} s')
         inset.axhline(1.0, **bound)
         inset.axhline(-1.0, **bound)
         a2.plot(t, r['q'], color='C4', lw=0.9, label='position (rad)')

@@ -17,6 +17,8 @@ import json
 import os
 
 from friction_joint.cli import main
+from friction_joint.experiments._common import reversal_peak_window
+import numpy as np
 import pytest
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
@@ -121,6 +123,40 @@ def test_estimation_better_with_friction_model(results):
     assert s['max_error']['lugre'] < 1.0                   # paper: < 1 Nm
     assert rms_pct['none'] > 15.0                          # friction dominates without model
     assert s['link_sensor_rms_error'] < 0.1
+
+
+def test_zoom_windows_hold_the_reported_maximum(results):
+    # Fig. 8: the zoom holds the sample of the larger LuGre/GMS maximum of the table
+    _, s = results['estimation']
+    worst = max(('lugre', 'gms'), key=lambda m: s['max_error'][m])
+    zoom = s['zoom']
+    assert zoom['model'] == worst and zoom['max_error'] == s['max_error'][worst]
+    t0, t1 = zoom['window_s']
+    assert t0 <= s['max_error_time'][worst] <= t1
+    assert s['max_error_time'][worst] >= s['settle_s']
+    # Fig. 6: each panel's zoom holds its larger LuGre/GMS maximum
+    _, c = results['compensation']
+    for tk, per_amp in c['zoom'].items():
+        for ak, z in per_amp.items():
+            worst = max(('lugre', 'gms'), key=lambda m: c['max_error'][m][tk][ak])
+            assert z['model'] == worst
+            assert z['window_s'][0] <= c['max_error_time'][worst][tk][ak] <= z['window_s'][1]
+
+
+def test_reversal_peak_window_holds_a_maximum_away_from_reversals():
+    # the largest error lies 0.35 s after a reversal, beyond the 0.3 s the window
+    # shows after one: the window of the reversal with the largest error inside it
+    # (at 5 s) would miss it
+    t = np.arange(0.0, 10.0, 1e-3)
+    err = 0.5 * np.exp(-((t - 5.0) / 0.02) ** 2) + 2.0 * np.exp(-((t - 7.35) / 0.02) ** 2)
+    t0, t1 = reversal_peak_window(t, [err, 0.5 * err], [2.0, 5.0, 7.0], 1.0, 0.1, 0.3)
+    assert t0 <= 7.35 <= t1 and t0 <= 7.0 - 0.1 + 1e-9     # the reversal framed too
+    # no reversal near: centred on the maximum
+    t0, t1 = reversal_peak_window(t, [err], [2.0], 1.0, 0.1, 0.3)
+    assert t0 <= 7.35 <= t1 and t1 - t0 == pytest.approx(0.4, abs=2e-3)
+    # a larger error in the settling interval does not count
+    t0, t1 = reversal_peak_window(t, [err + 5.0 * (t < 1.0)], [0.5, 7.0], 1.0, 0.1, 0.3)
+    assert t0 <= 7.35 <= t1
 
 
 def test_missing_model_file_exits_2_without_output(tmp_path, capsys):
