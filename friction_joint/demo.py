@@ -45,7 +45,7 @@ import time
 
 from .exceptions import FrictionJointError
 from .experiments.classic import EXPERIMENTS as CLASSIC_EXPERIMENTS
-from .experiments.classic_report import write_experiment
+from .experiments.classic_report import summary_markdown, write_experiment
 from .experiments.runner import run_experiment
 from .experiments.testbed_report import testbed_markdown
 from .gear import load_gear
@@ -166,7 +166,7 @@ def _run_all(out, model, truths, duration_scale, relocate, *, stages=None):
             numbers = json.load(fh)
         lines += [f'### {name} ({time.perf_counter() - t0:.1f} s)', '',
                   CLASSIC_TEXT.get(name, ''), '', f'![{name}](classic/{name}.png)', '']
-        lines += _number_table(numbers) + ['']
+        lines += summary_markdown(name, numbers) + ['']
     with stages.stage('identification (excitation recorded, then identified)'):
         lines += _identification(out, model, truth, duration_scale, relocate=relocate,
                                  progress=stages.detail)
@@ -191,17 +191,6 @@ CLASSIC_TEXT = {
 }
 
 
-def _number_table(numbers):
-    """Scalar numbers of a result as a two-column Markdown table, 3 significant digits."""
-    rows = []
-    for key, value in numbers.items():
-        if isinstance(value, bool) or isinstance(value, str):
-            rows.append(f'| {key} | {value} |')
-        elif isinstance(value, (int, float)):
-            rows.append(f'| {key} | {value:.3g} |')
-    return ['| quantity | value |', '|---|---|'] + rows if rows else []
-
-
 def _testbed(out, model, truths, duration_scale, stages):
     """Run the test-bed experiments against every truth; returns report lines."""
     results = {}
@@ -210,7 +199,8 @@ def _testbed(out, model, truths, duration_scale, stages):
         for name in TESTBED:
             d = os.path.join(out, 'testbed', key, name)
             with stages.stage(f'test bed, {key} hardware: {name}'):
-                run_experiment(name, model, truth, d, duration_scale=duration_scale)
+                run_experiment(name, model, truth, d, duration_scale=duration_scale,
+                               progress=stages.detail)
             with open(os.path.join(d, 'summary.json'), encoding='utf-8') as fh:
                 results[key][name] = json.load(fh)
     d = os.path.join(out, 'testbed', 'gain_sweep')

@@ -455,7 +455,10 @@ def stick_slip(k=2.0, vp=0.1, duration=30.0, dt=5e-5, threshold=0.05, params=Non
     dict
         ``summary`` exactly: ``slip_onsets`` (s), ``period`` (s, mean
         difference of the onsets; None with fewer than two), ``v_max`` (m/s),
-        ``x_end`` (m).  ``series``: ``t``, ``x``, ``v``, ``friction``,
+        ``x_end`` (m), ``spring_stiffness`` (N/m, ``k``), ``pull_velocity``
+        (m/s, ``vp``), ``spring_force_at_slip`` (N, the spring force k (y - x)
+        at each slip onset: the force at which the stuck mass broke loose).
+        ``series``: ``t``, ``x``, ``v``, ``friction``,
         ``y`` (spring end).
 
     """
@@ -468,8 +471,11 @@ def stick_slip(k=2.0, vp=0.1, duration=30.0, dt=5e-5, threshold=0.05, params=Non
     v0 = np.concatenate(([0.0], traj.qd))
     onsets = slip_onsets(t0, v0, threshold)
     period = float(np.mean(np.diff(onsets))) if len(onsets) >= 2 else None
+    x0 = np.concatenate(([0.0], traj.q))
+    spring = [float(k * (vp * t_on - np.interp(t_on, t0, x0))) for t_on in onsets]
     summary = {'slip_onsets': onsets, 'period': period, 'v_max': float(traj.qd.max()),
-               'x_end': float(traj.q[-1])}
+               'x_end': float(traj.q[-1]), 'spring_stiffness': float(k),
+               'pull_velocity': float(vp), 'spring_force_at_slip': spring}
     series = {'t': t, 'x': traj.q, 'v': traj.qd, 'friction': traj.tau_r, 'y': vp * t}
     return {'summary': summary, 'series': series}
 

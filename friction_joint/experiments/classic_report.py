@@ -21,6 +21,8 @@ writes them (the ``classic`` command).  The output of one experiment is that
 pair of files, not the directory: several experiments share one directory
 (``demo`` writes all four into ``classic/``), and an existing ``NAME.png`` or
 ``NAME.json`` is an error unless ``force`` (see :class:`~friction_joint.output.OutputSet`).
+:func:`summary_markdown` renders a summary as Markdown tables with units, the
+set-up beside the results (the ``demo`` report).
 """
 import os
 
@@ -28,7 +30,7 @@ import numpy as np
 
 from ..output import json_bytes, OutputSet, render_png
 
-__all__ = ['FIGURES', 'write_experiment', 'run_classic']
+__all__ = ['FIGURES', 'summary_markdown', 'write_experiment', 'run_classic']
 
 
 PLOT_POINTS = 20000   # series are thinned to about this many points per line
@@ -118,6 +120,108 @@ def _plot_stick_slip(fig, res):
     ax2b.set_ylabel('velocity (m/s)', color='C2')
     for t_on in m['slip_onsets']:
         ax2.axvline(t_on, color='k', lw=0.5, ls=':')
+
+
+def _g(x, digits=3):
+    """``x`` to ``digits`` significant digits (whole from 1000 on, thousands spaced); None: –."""
+    if x is None:
+        return '–'
+    if abs(x) >= 1000.0:
+        return f'{float(f"{x:.{digits}g}"):,.0f}'.replace(',', '\u2009')
+    return f'{x:.{digits}g}'
+
+
+def _rows(head, rows):
+    """Return a Markdown table: ``head``, its separator line, ``rows``."""
+    return [head, '|' + '---|' * (head.count('|') - 1)] + rows
+
+
+def _md_presliding(m):
+    um = 1e6
+    return _rows('| quantity | value | unit |', [
+        f'| applied force amplitude A (below F_s) | {_g(m["force_amplitude"])} | N |',
+        f'| bristle stiffness σ0 (parameter) | {_g(m["sigma0"])} | N/m |',
+        f'| stiffness measured at zero force (mean of {len(m["stiffness_passages"])} '
+        f'passages) | {_g(m["stiffness"], 5)} | N/m |',
+        f'| its error against σ0 | {100.0 * m["stiffness_error"]:.2f} | % |',
+        f'| stiffness on the first loading from rest | {_g(m["stiffness_virgin"], 5)} | N/m |',
+        f'| largest displacement (quasi-static formula) | {_g(um * m["x_max"])} '
+        f'({_g(um * m["x_max_quasistatic"])}) | µm |',
+        f'| smallest displacement (quasi-static formula) | {_g(um * m["x_min"])} '
+        f'({_g(um * m["x_min_quasistatic"])}) | µm |',
+        f'| displacement after the cycle, back at zero force | {_g(um * m["x_end"])} | µm |',
+        f'| loop closure (second +A hold minus first) | {_g(um * m["loop_closure"])} | µm |',
+        f'| largest velocity (never sliding: far below v_s = 1 mm/s) '
+        f'| {_g(1e3 * m["v_peak"])} | mm/s |'])
+
+
+def _md_lag(m):
+    head = [f'Imposed velocity v(t) = {1e3 * m["v_mean"]:g} + {1e3 * m["v_amplitude"]:g} '
+            'cos(ω t) mm/s; loop width: the largest friction difference between the '
+            'decelerating and the accelerating branch at equal velocity; loop area: the '
+            'area enclosed in the friction-velocity plane.', '']
+    return head + _rows('| ω (rad/s) | loop width (N) | loop area (N mm/s) |', [
+        f'| {w:g} | {_g(width)} | {_g(1e3 * area)} |'
+        for w, width, area in zip(m['omegas'], m['loop_width'], m['loop_area'])])
+
+
+def _md_breakaway(m):
+    head = [f'Force ramps F = r t on the resting mass (F_s = {m["fs"]:g} N, '
+            f'F_c = {m["fc"]:g} N); the break-away force is the friction at its stiction '
+            'peak, where the mass breaks loose.', '']
+    rows = []
+    for r, f, fa, tb in zip(m['rates'], m['breakaway_force'],
+                            m['applied_force_at_breakaway'], m['time_to_breakaway']):
+        if f is None:
+            rows.append(f'| {r:g} | no peak: friction rises straight to the kinetic level '
+                        '| – | – |')
+        else:
+            rows.append(f'| {r:g} | {f:.3f} | {fa:.3f} | {_g(tb)} |')
+    return head + _rows('| force rate r (N/s) | break-away force (N) | applied force then (N) '
+                        '| time to break-away (s) |', rows)
+
+
+def _md_stick_slip(m):
+    onsets = m['slip_onsets']
+    forces = m.get('spring_force_at_slip') or []
+    rows = [f'| spring stiffness k | {_g(m.get("spring_stiffness"))} | N/m |',
+            f'| pulling velocity v_p | {_g(m.get("pull_velocity"))} | m/s |',
+            f'| slips in the run | {len(onsets)} | |',
+            f'| first slip onset | {_g(onsets[0] if onsets else None, 4)} | s |',
+            f'| stick-slip period | {_g(m["period"], 4)} | s |']
+    if forces:
+        rows.append(f'| spring force at slip onset (the static level) | '
+                    f'{min(forces):.3f}' + (f'-{max(forces):.3f}' if
+                                            f'{min(forces):.3f}' != f'{max(forces):.3f}'
+                                            else '') + ' | N |')
+    rows += [f'| largest sliding velocity | {_g(m["v_max"])} | m/s |',
+             f'| position of the mass at the end | {_g(m["x_end"])} | m |']
+    return _rows('| quantity | value | unit |', rows)
+
+
+_MARKDOWN = {'presliding': _md_presliding, 'lag': _md_lag, 'breakaway': _md_breakaway,
+             'stick-slip': _md_stick_slip}
+
+
+def summary_markdown(name, summary):
+    """
+    Return the summary of classic experiment ``name`` as Markdown lines (tables with units).
+
+    Parameters
+    ----------
+    name : str
+        ``presliding``, ``lag``, ``breakaway`` or ``stick-slip``.
+    summary : dict
+        The experiment's ``summary`` (as written to ``NAME.json``).
+
+    Returns
+    -------
+    list of str
+        The set-up in a sentence where it is not in the table, then one
+        table with the results and their units.
+
+    """
+    return _MARKDOWN[name](summary)
 
 
 #: experiment name -> (figure function, title)

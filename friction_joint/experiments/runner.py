@@ -56,6 +56,7 @@ file) of the identification excitation of :mod:`friction_joint.experiments.excit
 for ``friction_joint identify``, under the same rules (``--force`` replaces an
 existing recording as a whole).
 """
+import inspect
 import math
 import os
 import time
@@ -158,7 +159,9 @@ def run_experiment(name, model_path, truth_path, out_dir, duration_scale=1.0, pr
     ``gains`` (a :class:`~friction_joint.control.gains.GainDesign` or its
     text, e.g. ``paper``, ``J=0.05``, ``kp=40,kd=1``) is the controller's gain
     design of the closed-loop experiments (:data:`CLOSED_LOOP`); default
-    their ``paper`` preset.  It is an error for the others.
+    their ``paper`` preset.  It is an error for the others.  ``progress(message)``
+    reports steps of the experiments that take it (``identification`` per
+    block, ``compensation`` per warm-up and temperature).
 
     Returns
     -------
@@ -211,6 +214,8 @@ def run_experiment(name, model_path, truth_path, out_dir, duration_scale=1.0, pr
                          f'{summary.get("duration_s", 0.0):.1f} s simulated in '
                          f'{summary["wall_time_s"]:.1f} s')
             return written
+        if progress is not None and 'progress' in inspect.signature(exp.func).parameters:
+            options['progress'] = progress
         result = exp.func(model, truth, scale, **options)
         result.summary['model_file'] = os.path.abspath(model_path)
         result.summary['truth_file'] = os.path.abspath(truth_path)

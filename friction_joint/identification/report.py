@@ -35,6 +35,8 @@ Figures of an identification, after the seed paper's Fig. 3 and Fig. 4.
 * ``plateaus.png`` -- the measured velocity of the first recording with the
   detected plateau windows shaded (check of the detection).
 """
+import os
+
 import numpy as np
 
 from ..models.static import StaticFriction
@@ -273,7 +275,8 @@ def identification_figures(ident, recordings=(), presliding=None):
             ax.set_yscale('symlog', linthresh=0.01)
             ax.set_xlabel('time (s)')
             ax.set_ylabel('velocity (rad/s, symlog)')
-            ax.set_title(f'plateau detection in {rec.path} ({int(src.sum())} plateaus)')
+            name = os.path.basename(os.path.normpath(rec.path))   # no temporary directory
+            ax.set_title(f'plateau detection in {name} ({int(src.sum())} plateaus)')
             ax.legend(fontsize='small', loc='upper right')
             _grid(ax)
 

@@ -234,7 +234,12 @@ def stick_slip_reference():
 def test_stick_slip_matches_radau(stick_slip_reference):
     ref = stick_slip_reference
     s = classic.stick_slip()['summary']
-    assert set(s) == {'slip_onsets', 'period', 'v_max', 'x_end'}
+    assert set(s) == {'slip_onsets', 'period', 'v_max', 'x_end', 'spring_stiffness',
+                      'pull_velocity', 'spring_force_at_slip'}
+    # each slip starts once the spring pulls beyond the static level F_s (not above
+    # the peak of the Stribeck curve by more than the mass's acceleration needs)
+    for f in s['spring_force_at_slip']:
+        assert classic.CANUDAS_1995['fc'] < f < 1.1 * classic.CANUDAS_1995['fs']
     assert len(s['slip_onsets']) == len(ref['slip_onsets']) == 4
     # periodic: equal intervals between onsets
     d = np.diff(s['slip_onsets'])
@@ -273,7 +278,8 @@ def test_cli_writes_png_and_json(tmp_path, name):
     required = {'presliding': {'stiffness', 'sigma0', 'x_max', 'force_amplitude'},
                 'lag': {'omegas', 'loop_width'},
                 'breakaway': {'rates', 'breakaway_force'},
-                'stick-slip': {'slip_onsets', 'period', 'v_max', 'x_end'}}[name]
+                'stick-slip': {'slip_onsets', 'period', 'v_max', 'x_end', 'spring_stiffness',
+                               'pull_velocity', 'spring_force_at_slip'}}[name]
     assert required <= set(data)
     if name == 'stick-slip':
         assert set(data) == required
@@ -303,3 +309,17 @@ def test_cli_reports_unwritable_out(tmp_path, monkeypatch, capsys):
     assert main(['classic', 'lag', '--out', str(blocker)]) == 2
     assert 'cannot create output directory' in capsys.readouterr().err
     assert blocker.read_text() == 'not a directory'
+
+
+def test_summary_markdown_gives_outputs_with_units(presliding_result):
+    lag = classic_report.summary_markdown(
+        'lag', classic.frictional_lag(samples_per_period=2000)['summary'])
+    assert '| ω (rad/s) | loop width (N) | loop area (N mm/s) |' in lag
+    assert sum(line.startswith('| 25 |') for line in lag) == 1     # one row per frequency
+    brk = classic.breakaway(rates=(1.0, 60.0))['summary']
+    rows = classic_report.summary_markdown('breakaway', brk)
+    assert any(line.startswith('| force rate r (N/s) | break-away force (N)') for line in rows)
+    assert f'| 1 | {brk["breakaway_force"][0]:.3f} |' in '\n'.join(rows)
+    assert any(line.startswith('| 60 | no peak') for line in rows)   # None: said in words
+    pre = '\n'.join(classic_report.summary_markdown('presliding', presliding_result['summary']))
+    assert '| N/m |' in pre and '| µm |' in pre
