@@ -38,13 +38,16 @@ one self-contained HTML file) and :mod:`~friction_joint.demo` (the main job).
 import importlib
 
 from ._version import __version__
-from .exceptions import (ExcitationError, ExperimentError, FrictionJointError, GearConfigError,
-                         GearConfigWarning, PreslidingDataError, RecordingError, SimulationError)
+from .exceptions import (ArgumentError, ExcitationError, ExperimentError, FrictionJointError,
+                         GearConfigError, GearConfigWarning, InputFileError, InputRejected,
+                         NodeError, OutputError, PreslidingDataError, RecordingError,
+                         SimulationError)
 
-__all__ = ['__version__', 'FrictionJointError', 'GearConfigError', 'GearConfigWarning',
-           'RecordingError', 'ExcitationError', 'PreslidingDataError', 'ExperimentError',
-           'SimulationError', 'FrictionParams', 'GearParams', 'gear_from_dict', 'load_gear',
-           'save_gear', 'StaticFriction', 'LuGre', 'GMS', 'Joint']
+__all__ = ['__version__', 'FrictionJointError', 'ArgumentError', 'InputFileError',
+           'OutputError', 'GearConfigError', 'GearConfigWarning', 'RecordingError',
+           'ExcitationError', 'PreslidingDataError', 'ExperimentError', 'SimulationError',
+           'InputRejected', 'NodeError', 'FrictionParams', 'GearParams', 'gear_from_dict',
+           'load_gear', 'save_gear', 'StaticFriction', 'LuGre', 'GMS', 'Joint']
 
 # the gear and model names load on first use (PEP 562): ``import friction_joint.cli`` stays
 # light, so the command line handles Ctrl-C from its first instants (numpy and numba load

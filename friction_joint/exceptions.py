@@ -14,13 +14,33 @@
 
 """Exceptions raised by friction_joint, named for the problem they report."""
 
-__all__ = ['FrictionJointError', 'GearConfigError', 'GearConfigWarning',
-           'RecordingError', 'ExcitationError', 'PreslidingDataError', 'ExperimentError',
-           'SimulationError']
+__all__ = ['FrictionJointError', 'ArgumentError', 'InputFileError', 'OutputError',
+           'GearConfigError', 'GearConfigWarning', 'RecordingError', 'ExcitationError',
+           'PreslidingDataError', 'ExperimentError', 'SimulationError', 'InputRejected',
+           'NodeError']
 
 
 class FrictionJointError(Exception):
-    """Base class of every error this package raises on bad input."""
+    """
+    Base class of every error this package raises on bad input.
+
+    Never raised itself: each problem has its class below, so a caller can
+    catch exactly it (``except ArgumentError``) or any of them
+    (``except FrictionJointError``); the command line turns every one into
+    one line and exit status 2.
+    """
+
+
+class ArgumentError(FrictionJointError, ValueError):
+    """An argument or option has a value the call cannot take; the message names it."""
+
+
+class InputFileError(FrictionJointError):
+    """An input file is refused before it is read: missing, special, unreadable or too large."""
+
+
+class OutputError(FrictionJointError):
+    """An output cannot be written: it exists (without ``force``), overlaps an input, ..."""
 
 
 class GearConfigError(FrictionJointError, ValueError):
@@ -49,3 +69,16 @@ class PreslidingDataError(FrictionJointError, ValueError):
 
 class ExperimentError(FrictionJointError, ValueError):
     """An experiment cannot run with the options given (e.g. a run too short to evaluate)."""
+
+
+class InputRejected(FrictionJointError, ValueError):
+    """
+    A sample given to a controller or observer is refused (not finite, overflowing).
+
+    The object's state is left as it was before the call, so a node can log
+    and count the sample and go on with the next.
+    """
+
+
+class NodeError(FrictionJointError, RuntimeError):
+    """A node process started by ``bringup`` ended early or failed."""

@@ -20,7 +20,7 @@ import signal
 import sys
 
 from ._parser import Parser
-from ..exceptions import FrictionJointError, RecordingError
+from ..exceptions import ArgumentError, FrictionJointError, RecordingError
 
 __all__ = ['finished', 'interrupts_between_imports', 'console_main', 'progress_printer',
            'check_numbers', 'exit_now']
@@ -156,11 +156,11 @@ def check_numbers(args):
 
     Raises
     ------
-    FrictionJointError
+    ArgumentError
         One line naming the option.
 
     """
     for dest, value in vars(args).items():
         if isinstance(value, float) and not math.isfinite(value):
-            raise FrictionJointError(f'--{dest.replace("_", "-")}: must be a finite number, '
-                                     f'got {value}')
+            raise ArgumentError(f'--{dest.replace("_", "-")}: must be a finite number, '
+                                f'got {value}')

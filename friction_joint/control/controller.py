@@ -24,9 +24,9 @@ overshoot and omega_n from the 10-90 % rise time of that system's step
 response (found numerically, not from an approximation formula).
 
 :class:`Controller` never holds a non-finite friction feed-forward state: a
-sample with a NaN/inf input raises ``ValueError`` before anything changes;
+sample with a NaN/inf input raises ``InputRejected`` (a ``ValueError``) before anything changes;
 a finite sample whose command overflows (e.g. a velocity of 1e306 rad/s in
-the friction curve) raises ``ValueError`` and relaxes the feed-forward state.
+the friction curve) raises ``InputRejected`` and relaxes the feed-forward state.
 Bounding the inputs to plausible values is the caller's job (the
 ``controller`` node gates them with
 :class:`~friction_joint.testbed.plant.InputLimits`).
@@ -36,7 +36,7 @@ import math
 import numpy as np
 from scipy.optimize import brentq
 
-from ..exceptions import FrictionJointError
+from ..exceptions import ArgumentError, InputRejected
 from ..models.friction import friction_model
 
 __all__ = ['pd_gains', 'step_metrics', 'SineTrajectory', 'Controller']
@@ -73,11 +73,11 @@ def pd_gains(inertia, rise_time=0.04, overshoot=0.06):
 
     """
     if not inertia > 0:
-        raise FrictionJointError(f'inertia must be > 0, got {inertia}')
+        raise ArgumentError(f'inertia must be > 0, got {inertia}')
     if not rise_time > 0:
-        raise FrictionJointError(f'rise time must be > 0, got {rise_time}')
+        raise ArgumentError(f'rise time must be > 0, got {rise_time}')
     if not 0.0 < overshoot < 1.0:
-        raise FrictionJointError(f'overshoot must be a fraction in (0, 1), got {overshoot}')
+        raise ArgumentError(f'overshoot must be a fraction in (0, 1), got {overshoot}')
     zeta = _zeta_from_overshoot(overshoot)
     peak = math.pi / math.sqrt(1.0 - zeta ** 2)          # normalised time of the first peak
     t10 = brentq(lambda x: _unit_step(x, zeta) - 0.1, 0.0, peak)
@@ -127,8 +127,8 @@ class Controller:
 
     def __init__(self, gear, kp, kd, friction='lugre', dt=1.0 / 3000.0, ff_velocity='measured'):
         if ff_velocity not in ('measured', 'desired'):
-            raise FrictionJointError("ff_velocity must be 'measured' or 'desired', "
-                                     f'got {ff_velocity!r}')
+            raise ArgumentError("ff_velocity must be 'measured' or 'desired', "
+                                f'got {ff_velocity!r}')
         self.gear = gear
         self.J = gear.inertia
         self.mgl = gear.mgl
@@ -153,7 +153,7 @@ class Controller:
 
         ``dt`` is the time since the previous sample when it differs from the
         control period (a real-time loop that skipped stale samples); it
-        advances the dynamic friction model's state.  Raises ``ValueError``
+        advances the dynamic friction model's state.  Raises ``InputRejected``
         for a sample that cannot give a finite command (see the module
         docstring).
         """
@@ -162,21 +162,21 @@ class Controller:
                             ('desired position', q_d), ('desired velocity', qd_d),
                             ('desired acceleration', qdd_d)):
             if not math.isfinite(value):
-                raise ValueError(f'controller input {name} is {value}: sample refused')
+                raise InputRejected(f'controller input {name} is {value}: sample refused')
         if not (math.isfinite(h) and h > 0):
-            raise ValueError(f'controller time step must be finite and > 0, got {h}')
+            raise ArgumentError(f'controller time step must be finite and > 0, got {h}')
         tau_g = self.gravity(q)
         tau_pd = self.kp * (q_d - q) + self.kd * (qd_d - qd)
         if not math.isfinite(self.J * qdd_d + tau_pd):
-            raise ValueError(f'controller command overflows (position {q} rad, velocity {qd} '
-                             'rad/s): sample refused')
+            raise InputRejected(f'controller command overflows (position {q} rad, velocity {qd} '
+                                'rad/s): sample refused')
         v = qd if self.ff_velocity == 'measured' else qd_d
         tau_f = self.friction.step(v, xi, abs(tau_g), h, q)
         tau = self.J * qdd_d + tau_pd + tau_g + tau_f
         if not math.isfinite(tau):
             self.reset()
-            raise ValueError(f'controller command overflows ({tau} Nm at position {q} rad, '
-                             f'velocity {qd} rad/s): sample refused, friction feed-forward '
-                             'relaxed')
+            raise InputRejected(f'controller command overflows ({tau} Nm at position {q} rad, '
+                                f'velocity {qd} rad/s): sample refused, friction feed-forward '
+                                'relaxed')
         self.last = {'pd': tau_pd, 'gravity': tau_g, 'friction': tau_f, 'inertia': self.J * qdd_d}
         return tau

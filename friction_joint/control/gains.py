@@ -48,7 +48,7 @@ import dataclasses
 import math
 
 from .controller import pd_gains
-from ..exceptions import FrictionJointError
+from ..exceptions import ArgumentError
 
 __all__ = ['GainDesign', 'GAIN_PRESETS', 'gain_design', 'loop_metrics']
 
@@ -82,15 +82,15 @@ class GainDesign:
 
     def __post_init__(self):
         if (self.kp is None) != (self.kd is None):
-            raise FrictionJointError('give both kp and kd, or neither')
+            raise ArgumentError('give both kp and kd, or neither')
         if self.kp is not None and not (self.kp > 0 and self.kd >= 0
                                         and math.isfinite(self.kp + self.kd)):
-            raise FrictionJointError(f'gains must be finite, kp > 0 and kd >= 0, got kp={self.kp}'
-                                     f', kd={self.kd}')
+            raise ArgumentError(f'gains must be finite, kp > 0 and kd >= 0, got kp={self.kp}'
+                                f', kd={self.kd}')
         if self.design_inertia is not None and not (math.isfinite(self.design_inertia)
                                                     and self.design_inertia > 0):
-            raise FrictionJointError(f'design inertia must be > 0 kg m^2, '
-                                     f'got {self.design_inertia}')
+            raise ArgumentError(f'design inertia must be > 0 kg m^2, '
+                                f'got {self.design_inertia}')
 
     def gains(self, model_inertia):
         """
@@ -138,19 +138,19 @@ def gain_design(spec):
         key, sep, value = part.partition('=')
         key = key.strip().lower()
         if not sep or key not in ('j', 'kp', 'kd') or key in fields:
-            raise FrictionJointError(
+            raise ArgumentError(
                 f'gains {spec!r}: expected a preset ({", ".join(GAIN_PRESETS)}), J=<kg m^2> '
                 'or kp=<Nm/rad>,kd=<Nm s/rad>')
         try:
             fields[key] = float(value)
         except ValueError:
-            raise FrictionJointError(f'gains {spec!r}: {key} is not a number') from None
+            raise ArgumentError(f'gains {spec!r}: {key} is not a number') from None
     if set(fields) == {'j'}:
         return GainDesign(f'J={fields["j"]:g}', design_inertia=fields['j'])
     if set(fields) == {'kp', 'kd'}:
         return GainDesign(f'kp={fields["kp"]:g},kd={fields["kd"]:g}', kp=fields['kp'],
                           kd=fields['kd'])
-    raise FrictionJointError(f'gains {spec!r}: give J=<kg m^2> alone, or kp and kd together')
+    raise ArgumentError(f'gains {spec!r}: give J=<kg m^2> alone, or kp and kd together')
 
 
 def loop_metrics(kp, kd, inertia):

@@ -27,10 +27,10 @@ estimate |tau_ext^|.
 
 The observer's states (the Q(s) sections, the LuGre/GMS friction state, the
 estimate) never hold a non-finite value.  A sample with a NaN/inf input, or
-whose ``tau + beta J qd`` overflows, raises ``ValueError`` before anything
+whose ``tau + beta J qd`` overflows, raises ``InputRejected`` before anything
 changes, so the outputs afterwards are those of an observer that never saw
 it.  A finite sample that still overflows further in (e.g. a velocity of
-1e306 rad/s in the friction curve) raises ``ValueError`` too and resets the
+1e306 rad/s in the friction curve) raises ``InputRejected`` too and resets the
 observer to the steady state of the last finite estimate and velocity, with
 a relaxed friction state; the estimate then converges back at the rate beta.
 Bounding the inputs to plausible values is the caller's job (the
@@ -42,7 +42,7 @@ import math
 import numpy as np
 from scipy import signal
 
-from ..exceptions import FrictionJointError
+from ..exceptions import ArgumentError, InputRejected
 from ..models.friction import friction_model
 from ..testbed.sensors import StreamingSOS
 
@@ -73,7 +73,7 @@ class DisturbanceObserver:
     def __init__(self, gear, beta=60.0, dt=1.0 / 3000.0, friction='lugre', gravity=False,
                  method='bilinear'):
         if not beta > 0:
-            raise FrictionJointError(f'observer cut-off beta must be > 0, got {beta}')
+            raise ArgumentError(f'observer cut-off beta must be > 0, got {beta}')
         self.J = gear.inertia
         self.mgl = gear.mgl if gravity else 0.0
         self.lever_offset = gear.lever_offset
@@ -89,8 +89,8 @@ class DisturbanceObserver:
     def reset(self, tau_ext=0.0, qd=0.0, tau=0.0):
         """Start at a steady state with estimate tau_ext (finite) at velocity qd."""
         if not (math.isfinite(tau_ext) and math.isfinite(qd)):
-            raise ValueError(f'observer reset to a non-finite state (tau_ext {tau_ext}, '
-                             f'qd {qd})')
+            raise InputRejected(f'observer reset to a non-finite state (tau_ext {tau_ext}, '
+                                f'qd {qd})')
         self.friction.reset()
         self.q_filter.reset(tau_ext + self.beta * self.J * qd)
         self.estimate = tau_ext
@@ -101,30 +101,31 @@ class DisturbanceObserver:
         """
         Return tau_ext^ for one sample of drive torque, position, velocity and temperature.
 
-        Raises ``ValueError`` for a sample it cannot turn into a finite
+        Raises ``InputRejected`` (a ``ValueError``) for a sample it cannot turn into a finite
         estimate (see the module docstring); the state stays finite.
         """
         for name, value in (('drive torque', tau), ('position', q), ('velocity', qd),
                             ('temperature', xi)):
             if not math.isfinite(value):
-                raise ValueError(f'observer input {name} is {value}: sample refused')
+                raise InputRejected(f'observer input {name} is {value}: sample refused')
         tau_g = self.mgl * math.sin(q - self.lever_offset)
         bjq = self.beta * self.J * qd
         u = tau + bjq - tau_g
         if not math.isfinite(u):
-            raise ValueError(f'observer input overflows (drive torque {tau} Nm, velocity '
-                             f'{qd} rad/s): sample refused')
+            raise InputRejected(f'observer input overflows (drive torque {tau} Nm, velocity '
+                                f'{qd} rad/s): sample refused')
         tau_f = self.friction.step(qd, xi, abs(self.estimate), self.dt, q)
         try:
             if not math.isfinite(tau_f):
-                raise ValueError(f'the friction model gives {tau_f} Nm')
+                raise InputRejected(f'the friction model gives {tau_f} Nm')
             estimate = self.q_filter(u - tau_f) - bjq
             if not math.isfinite(estimate):
-                raise ValueError(f'the estimate overflows ({estimate} Nm)')
+                raise InputRejected(f'the estimate overflows ({estimate} Nm)')
         except ValueError as exc:
             self.reset(self.estimate, self._qd)
-            raise ValueError(f'observer sample (drive torque {tau} Nm, velocity {qd} rad/s) '
-                             f'refused: {exc}; observer reset to {self.estimate:.6g} Nm') from None
+            raise InputRejected(f'observer sample (drive torque {tau} Nm, velocity {qd} '
+                                f'rad/s) refused: {exc}; observer reset to '
+                                f'{self.estimate:.6g} Nm') from None
         self.tau_friction = tau_f
         self.estimate = estimate
         self._qd = qd

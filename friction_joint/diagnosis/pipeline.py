@@ -108,7 +108,7 @@ from .gravity import gravity_untestable, linear_device
 from .scan import residual_scan
 from .testability import inertia_noise_gain, untestable
 from .velocity import fold_gears, simulate_windows, WINDOW
-from ..exceptions import ExcitationError, GearConfigError
+from ..exceptions import ArgumentError, ExcitationError, GearConfigError
 from ..output import json_clean
 
 __all__ = ['EFFECTS', 'UNREPRESENTABLE', 'ALPHA', 'MIN_GAIN', 'MIN_EXPLAINED', 'WINDOW',
@@ -183,7 +183,7 @@ def extend(s, effect):
         return None if s.drift else (s.with_(drift=dm.DRIFT_ORDER), None)
     if effect == 'gravity':
         return None if s.gravity else (s.with_(gravity=True), None)
-    raise ValueError(f'unknown effect {effect!r}')
+    raise ArgumentError(f'unknown effect {effect!r}; effects: {", ".join(EFFECTS)}')
 
 
 def _nl_params(s):

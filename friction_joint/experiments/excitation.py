@@ -96,7 +96,7 @@ import math
 import numpy as np
 
 from ._common import check_steps
-from ..exceptions import FrictionJointError
+from ..exceptions import ArgumentError
 from ..testbed.plant import Plant
 
 __all__ = ['EXCITATION', 'BlockPlan', 'plan_block', 'block_temperatures', 'speeds',
@@ -404,13 +404,13 @@ def simulate_identification(truth, duration_scale=1.0, seed=None, cfg=None, pres
     if cfg:
         unknown = sorted(set(cfg) - set(EXCITATION))
         if unknown:
-            raise FrictionJointError(f'unknown excitation option(s) {", ".join(unknown)}; '
-                                     f'known: {", ".join(EXCITATION)}')
+            raise ArgumentError(f'unknown excitation option(s) {", ".join(unknown)}; '
+                                f'known: {", ".join(EXCITATION)}')
         conf.update(cfg)
     scale = float(duration_scale)
     if not (math.isfinite(scale) and scale > 0):
-        raise FrictionJointError(f'duration scale must be a finite number > 0, '
-                                 f'got {duration_scale}')
+        raise ArgumentError(f'duration scale must be a finite number > 0, '
+                            f'got {duration_scale}')
     sim = truth.section('simulation')
     rate = sim['rate']
     dt = 1.0 / rate

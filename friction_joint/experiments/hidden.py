@@ -114,7 +114,7 @@ from .excitation import record_segment
 from .hidden_plant import add_sweep, plan_kind, RUN_KINDS, speed_bands, sweep_oneway
 from ..bag import write_recording
 from ..control.controller import Controller, pd_gains
-from ..exceptions import FrictionJointError, GearConfigWarning
+from ..exceptions import ArgumentError, GearConfigWarning
 from ..testbed.plant import Plant
 
 __all__ = ['EFFECTS', 'EFFECT_RANGES', 'MAGNITUDE', 'apply_effect', 'apply_effects',
@@ -199,9 +199,9 @@ def draw_effect(rng, effect, *, strength=None):
     parameters (sign, phase, model, vs) are drawn as usual.
     """
     if effect not in EFFECT_RANGES:
-        raise FrictionJointError(f'unknown effect {effect!r}; effects: {", ".join(EFFECTS)}')
+        raise ArgumentError(f'unknown effect {effect!r}; effects: {", ".join(EFFECTS)}')
     if strength is not None and not strength <= 1.0:
-        raise FrictionJointError(f'strength must be <= 1, got {strength}')
+        raise ArgumentError(f'strength must be <= 1, got {strength}')
     out = {}
     for key, rng_ in EFFECT_RANGES[effect].items():
         if strength is not None and key in MAGNITUDE:
@@ -234,8 +234,8 @@ def _size(effect, size):
         size = {next(iter(ranges)): size}
     unknown = set(size) - set(ranges)
     if unknown:
-        raise FrictionJointError(f'{effect}: unknown size parameter(s) '
-                                 f'{", ".join(sorted(unknown))} (known: {", ".join(ranges)})')
+        raise ArgumentError(f'{effect}: unknown size parameter(s) '
+                            f'{", ".join(sorted(unknown))} (known: {", ".join(ranges)})')
     full.update(size)
     return full
 
@@ -263,7 +263,7 @@ def apply_effect(base_gear, effect, size=None, temperatures=None):
 
     """
     if effect not in EFFECTS:
-        raise FrictionJointError(f'unknown effect {effect!r}; effects: {", ".join(EFFECTS)}')
+        raise ArgumentError(f'unknown effect {effect!r}; effects: {", ".join(EFFECTS)}')
     with warnings.catch_warnings():
         # a truth with a Stribeck hump may break the LuGre passivity bound of the base's
         # friction.lugre section; the simulated hardware does not care
@@ -298,19 +298,19 @@ def _apply(base_gear, effect, s, temperatures):
         if model == 'lugre':
             lg = fr.lugre
             if lg is None:
-                raise FrictionJointError('presliding: the base has no friction.lugre section')
+                raise ArgumentError('presliding: the base has no friction.lugre section')
             return base_gear.replace({'friction': {'model': 'lugre', 'lugre': {
                 'sigma0': lg.sigma0 * k, 'sigma1': lg.sigma1}}})
         gm = fr.gms
         if gm is None:
-            raise FrictionJointError('presliding: the base has no friction.gms section')
+            raise ArgumentError('presliding: the base has no friction.gms section')
         return base_gear.replace({'friction': {'model': 'gms', 'gms': {
             'k': [x * k for x in gm.k], 'alpha': list(gm.alpha), 'c': gm.c}}})
     if effect == 'inertia':
         return base_gear.replace({'inertia': base_gear.inertia * (1.0 + s['sign'] * s['change'])})
     if effect == 'gravity':
         if not base_gear.mgl > 0.0:
-            raise FrictionJointError('gravity: the base has no lever (lever.mass or length 0)')
+            raise ArgumentError('gravity: the base has no lever (lever.mass or length 0)')
         lever = base_gear.section('lever')
         return base_gear.replace({'lever': {
             'mass': lever['mass'] * (1.0 + s['sign'] * s['change']),
@@ -465,17 +465,17 @@ def simulate_recording(truth_gear, path=None, *, duration=90.0, seed=0, base_gea
     if cfg:
         unknown = sorted(set(cfg) - set(SEGMENT))
         if unknown:
-            raise FrictionJointError(f'unknown excitation option(s) {", ".join(unknown)}')
+            raise ArgumentError(f'unknown excitation option(s) {", ".join(unknown)}')
         conf.update(cfg)
     if not (math.isfinite(duration) and duration > 0):
-        raise FrictionJointError(f'duration must be > 0 s, got {duration}')
+        raise ArgumentError(f'duration must be > 0 s, got {duration}')
     base = truth_gear if base_gear is None else base_gear
     truth_gear = _vary_sensors(truth_gear, noise_scale, current_bandwidth_scale,
                                temperature_lag_scale)
     kinds = ['rich'] if kinds is None else [str(k) for k in kinds]
     bad = [k for k in kinds if k not in RUN_KINDS]
     if bad or not kinds:
-        raise FrictionJointError(f'unknown run kind(s) {bad}; kinds: {", ".join(RUN_KINDS)}')
+        raise ArgumentError(f'unknown run kind(s) {bad}; kinds: {", ".join(RUN_KINDS)}')
     rng = np.random.default_rng(seed)
     nseg = int(conf['n_segments'] if n_segments is None else n_segments)
     temps = segment_temperatures(base, nseg, conf)
@@ -562,7 +562,7 @@ def _vary_sensors(gear, noise_scale, bandwidth_scale, lag_scale, encoder_bits=No
     for name, x in (('noise_scale', noise_scale), ('current_bandwidth_scale', bandwidth_scale),
                     ('temperature_lag_scale', lag_scale)):
         if not (math.isfinite(x) and x > 0):
-            raise FrictionJointError(f'{name} must be > 0, got {x}')
+            raise ArgumentError(f'{name} must be > 0, got {x}')
     sens = gear.section('sensors')
     new = {k: sens[k] * noise_scale for k in ('torque_noise', 'effort_noise',
                                               'link_torque_noise', 'temperature_noise')}
@@ -570,7 +570,7 @@ def _vary_sensors(gear, noise_scale, bandwidth_scale, lag_scale, encoder_bits=No
     new['temperature_time_constant'] = sens['temperature_time_constant'] * lag_scale
     if encoder_bits:
         if int(encoder_bits) != encoder_bits or not 1 <= encoder_bits <= 52:
-            raise FrictionJointError(f'encoder_bits must be an integer 1..52, got {encoder_bits}')
+            raise ArgumentError(f'encoder_bits must be an integer 1..52, got {encoder_bits}')
         new['encoder_bits'] = int(encoder_bits)
     with warnings.catch_warnings():
         warnings.simplefilter('ignore', GearConfigWarning)
@@ -592,7 +592,7 @@ def _write_compressed(path, topics, joint_name):
 
     path = os.fspath(path)
     if path.endswith('.mcap'):
-        raise FrictionJointError('compress=True needs a rosbag2 directory path, not .mcap')
+        raise ArgumentError('compress=True needs a rosbag2 directory path, not .mcap')
     write_recording(path, topics, joint_name=joint_name)     # sealed: zstd chunks, CRCs
     seal_rosbag2(path, ros_distro='jazzy')
     return path

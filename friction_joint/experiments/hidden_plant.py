@@ -47,7 +47,7 @@ import numpy as np
 
 from ._common import check_steps
 from .excitation import BlockPlan
-from ..exceptions import FrictionJointError
+from ..exceptions import ArgumentError
 
 __all__ = ['RUN_KINDS', 'PLANT_RANGES', 'PLANT_ODDS', 'SWEEP_ONEWAY', 'add_sweep',
            'speed_bands', 'sweep_oneway', 'plan_kind', 'draw_plant', 'relative_size']
@@ -246,7 +246,7 @@ def plan_kind(plan, rng, kind, duration, cfg):
     elif kind == 'oneway':
         _oneway(plan, rng, duration, cfg)
     else:
-        raise FrictionJointError(f'unknown run kind {kind!r}; kinds: {", ".join(RUN_KINDS)}')
+        raise ArgumentError(f'unknown run kind {kind!r}; kinds: {", ".join(RUN_KINDS)}')
     plan.hold(0.1)
 
 
