@@ -123,3 +123,13 @@ def test_report_puts_the_papers_numbers_beside_ours(paper_regime):
         assert f'{paper_regime[kind]["estimation"]["max_error"][kind]:.2f}' in text
         assert f'testbed/{kind}/compensation/compensation_bars.png' in text
     assert '/tmp' not in text and '/work' not in text                  # relative paths only
+    # like with like: the paper's number for a model beside that model on its own hardware
+    head = text[text.index('### Headline'):text.index('### ', text.index('### Headline') + 4)]
+    for m, name in (('lugre', 'LuGre'), ('gms', 'GMS')):
+        row = next(ln for ln in head.splitlines()
+                   if f'| {PAPER["compensated"][m]:g} % |' in ln)
+        assert f'{name} feed-forward on {name} hardware' in row, row
+        mx = [t['0.4'] for t in paper_regime[m]['compensation']['max_error_pct'][m].values()]
+        assert row.endswith(f'| {min(mx):.1f}-{max(mx):.1f} % |'), row
+    mismatched = [ln for ln in head.splitlines() if 'mismatched' in ln and ln.startswith('| Fig.')]
+    assert mismatched and all(ln.split('|')[2].strip() == '–' for ln in mismatched)
