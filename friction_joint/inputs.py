@@ -37,7 +37,7 @@ import contextlib
 import os
 import stat
 
-from .exceptions import FrictionJointError
+from .exceptions import InputFileError
 
 __all__ = ['LIMITS', 'MEMORY_BUDGET', 'check_input', 'check_input_dir', 'open_input',
            'read_input']
@@ -99,7 +99,7 @@ def _check_stat(path, st, what, limit, error):
                     f'of {what} file')
 
 
-def check_input(path, *, kind='text', what=None, limit=None, error=FrictionJointError):
+def check_input(path, *, kind='text', what=None, limit=None, error=InputFileError):
     """
     Check that ``path`` is a readable regular file within the size limit of its kind.
 
@@ -140,7 +140,7 @@ def check_input(path, *, kind='text', what=None, limit=None, error=FrictionJoint
     return st
 
 
-def check_input_dir(path, *, what='a recording', error=FrictionJointError):
+def check_input_dir(path, *, what='a recording', error=InputFileError):
     """
     Check that ``path`` is a directory that can be listed and entered.
 
@@ -168,7 +168,7 @@ def check_input_dir(path, *, what='a recording', error=FrictionJointError):
 
 
 @contextlib.contextmanager
-def open_input(path, *, kind='text', what=None, limit=None, error=FrictionJointError):
+def open_input(path, *, kind='text', what=None, limit=None, error=InputFileError):
     """
     Open an input file for binary reading after :func:`check_input`.
 
@@ -205,7 +205,7 @@ def open_input(path, *, kind='text', what=None, limit=None, error=FrictionJointE
         yield fh
 
 
-def read_input(path, *, kind='text', what=None, limit=None, error=FrictionJointError):
+def read_input(path, *, kind='text', what=None, limit=None, error=InputFileError):
     """
     Read a whole input file (at most its kind's limit) after :func:`check_input`.
 

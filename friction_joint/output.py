@@ -40,7 +40,7 @@ removes those of dead owners (killed runs; others, e.g. a recorder's, are
 left), putting back an old output moved into one (``NAME.old``) if the
 output is missing.  Files are written with mode
 ``0o666`` and directories with ``0o777``, less the umask.  Errors are one-line
-``error`` exceptions (default :class:`~friction_joint.exceptions.FrictionJointError`)
+``error`` exceptions (default :class:`~friction_joint.exceptions.OutputError`)
 naming the path.
 """
 import contextlib
@@ -56,7 +56,7 @@ import tempfile
 import numpy as np
 
 from ._staging import owner_record, remove_path, signals_held, stale_stage
-from .exceptions import FrictionJointError
+from .exceptions import OutputError
 
 __all__ = ['json_clean', 'json_bytes', 'render_png', 'ExperimentResult', 'result_files',
            'OutputSet', 'publish_outputs']
@@ -246,7 +246,7 @@ class OutputSet:
 
     """
 
-    def __init__(self, *, force=False, inputs=(), error=FrictionJointError):
+    def __init__(self, *, force=False, inputs=(), error=OutputError):
         self.force = bool(force)
         self.error = error
         self.inputs = []
@@ -509,7 +509,7 @@ class OutputSet:
             self._made = []
 
 
-def publish_outputs(targets, *, force=False, inputs=(), error=FrictionJointError):
+def publish_outputs(targets, *, force=False, inputs=(), error=OutputError):
     """
     Write a set of outputs together or not at all (see :class:`OutputSet`).
 

@@ -85,6 +85,12 @@ def interrupts_between_imports():
             signal.setitimer(signal.ITIMER_REAL, _RECHECK)
             return
         signal.setitimer(signal.ITIMER_REAL, 0)
+        current = signal.getsignal(signal.SIGINT)
+        if signum == signal.SIGALRM and current is not on_sigint and callable(current):
+            # a held interrupt, and the command has installed its own Ctrl-C handling since
+            # (the recorder stops and finalises): the interrupt is its to handle
+            current(signal.SIGINT, frame)
+            return
         raise KeyboardInterrupt
 
     old = {s: signal.signal(s, on_sigint) for s in (signal.SIGINT, signal.SIGALRM)}

@@ -48,7 +48,7 @@ import time
 
 from .nodes.ranges import DURATION_BOUNDS
 from .qos import dds_environ
-from ..exceptions import FrictionJointError
+from ..exceptions import ArgumentError, NodeError, OutputError
 from ..gear import load_gear
 from ..gear.files import format_ros_params, read_ros_params_file
 
@@ -157,8 +157,8 @@ def _check_alive(procs, sim, log_dir, kept):
             log = os.path.join(log_dir, p.name + '.log')
             last = _last_line(log)
             where = f'; see {log}' if kept else ''
-            raise FrictionJointError(f'{p.name} ended early (exit {p.proc.returncode})'
-                                     + (f': {last}' if last else '') + where)
+            raise NodeError(f'{p.name} ended early (exit {p.proc.returncode})'
+                            + (f': {last}' if last else '') + where)
 
 
 class _Stop(Exception):
@@ -207,14 +207,14 @@ def bringup(model, truth, duration, *, record=None, mode='lockstep', friction='l
         load_gear(path)                       # fail early, with the file's own error
     env = dds_environ(env)
     if mode not in ('lockstep', 'realtime'):
-        raise FrictionJointError(f"mode must be 'lockstep' or 'realtime', got {mode!r}")
+        raise ArgumentError(f"mode must be 'lockstep' or 'realtime', got {mode!r}")
     if composed and mode != 'lockstep':
-        raise FrictionJointError('the composed loop runs in lockstep only')
+        raise ArgumentError('the composed loop runs in lockstep only')
     if not 0 < duration <= DURATION_BOUNDS[1]:
-        raise FrictionJointError(f'duration must be in (0, {DURATION_BOUNDS[1]:g}] s '
-                                 f'({DURATION_BOUNDS[2]}), got {duration}')
+        raise ArgumentError(f'duration must be in (0, {DURATION_BOUNDS[1]:g}] s '
+                            f'({DURATION_BOUNDS[2]}), got {duration}')
     if record and os.path.exists(record):
-        raise FrictionJointError(f'{record} exists already; choose a new recording path')
+        raise OutputError(f'{record} exists already; choose a new recording path')
     if log_dir:
         os.makedirs(log_dir, exist_ok=True)
     say = (lambda *a: None) if quiet else (lambda *a: print(*a, flush=True))
@@ -261,12 +261,12 @@ def bringup(model, truth, duration, *, record=None, mode='lockstep', friction='l
             _check_alive(procs, sim, log_dir, kept)
             time.sleep(0.1)
         if sim.alive():
-            raise FrictionJointError(f'the simulator did not finish within {limit:.0f} s')
+            raise NodeError(f'the simulator did not finish within {limit:.0f} s')
         if sim.proc.returncode != 0:
             last = _last_line(os.path.join(log_dir, 'joint_sim.log'))
-            raise FrictionJointError(f'the simulator failed (exit {sim.proc.returncode})'
-                                     + (f': {last}' if last else '')
-                                     + (f'; see {log_dir}' if kept else ''))
+            raise NodeError(f'the simulator failed (exit {sim.proc.returncode})'
+                            + (f': {last}' if last else '')
+                            + (f'; see {log_dir}' if kept else ''))
         time.sleep(0.5)                       # let the last messages arrive
     except _Stop as stop:
         say(f'bringup: signal {stop.args[0]}: stopping the nodes')
