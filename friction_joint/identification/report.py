@@ -23,7 +23,9 @@ Figures of an identification, after the seed paper's Fig. 3 and Fig. 4.
   the static curve fitted to that group alone (lines), Fig. 3 (a).
 * ``fig3b_parameters.png`` -- each curve parameter against temperature:
   per-group fits (markers with standard errors) and the identified
-  polynomial (line) over the recorded range, Fig. 3 (b).
+  polynomial (line) over the recorded range, Fig. 3 (b); the caption says
+  why they differ by more than the error bars (each group's order-0 fit
+  ignores the temperature drift within the group, the polynomial does not).
 * ``fig3c_model.png`` -- the temperature-dependent model (eq. 6-7, one
   set of coefficients) at each group's temperature against the same data,
   Fig. 3 (c).
@@ -36,15 +38,28 @@ Figures of an identification, after the seed paper's Fig. 3 and Fig. 4.
   detected plateau windows shaded (check of the detection).
 """
 import os
+import re
+import textwrap
 
 import numpy as np
 
 from ..models.static import StaticFriction
 
-__all__ = ['identification_figures']
+__all__ = ['against_truth_markdown', 'identification_figures']
 
 LABELS = {'fc': r'$F_c$ (Nm)', 'fs': r'$F_s$ (Nm)', 'fv': r'$F_v$ (Nm/(rad/s)$^{\delta_v}$)',
           'vs': r'$v_s$ (rad/s, $\kappa\dot q$)', 'delta_v': r'$\delta_v$'}
+
+
+#: caption of Fig. 3 (b): why the polynomials and the single-temperature fits differ
+_FIG3B_NOTE = (
+    'Markers: each temperature block fitted alone with constant parameters, error bars its '
+    'statistical standard errors only. The gear warms by up to {drift:.2f} K within a block '
+    'while the velocity plateaus run, so a constant-parameter fit takes the drift for part of '
+    'the velocity dependence and trades the correlated curve parameters against each '
+    'other: a systematic offset, not noise, so it can lie outside the error bars. Lines: the '
+    'polynomials, fitted jointly to all plateaus at their own temperatures (with the load '
+    'terms), do not have that bias.')
 
 
 def _grid(ax):
@@ -166,7 +181,9 @@ def identification_figures(ident, recordings=(), presliding=None):
     def draw3b(fig):
         names = [n for n in ('fc', 'fs', 'fv', 'vs', 'delta_v')
                  if n in ident.structure.orders or n in ident.structure.fixed]
-        axes = fig.subplots(1, len(names), squeeze=False)[0]
+        caption = 0.2 if ident.group_fits else 0.01
+        grid = fig.add_gridspec(2, len(names), height_ratios=(1.0, caption))
+        axes = [fig.add_subplot(grid[0, i]) for i in range(len(names))]
         lo, hi = ident.gear.friction.temperature_range
         xs = np.linspace(lo, hi, 100)
         pars = sf.parameters(xs, 0.0)
@@ -187,6 +204,12 @@ def identification_figures(ident, recordings=(), presliding=None):
             _grid(ax)
         fig.suptitle('(b) curve parameters against temperature (velocities in units of '
                      f'{kappa:g} x output rad/s)')
+        note = fig.add_subplot(grid[1, :])
+        note.axis('off')
+        if ident.group_fits:
+            drift = max(g['xi_max'] - g['xi_min'] for g in ident.group_fits)
+            note.text(0.5, 0.5, textwrap.fill(_FIG3B_NOTE.format(drift=drift), 190),
+                      ha='center', va='center', fontsize='small', transform=note.transAxes)
 
     def draw4(fig):
         a0, a1 = fig.subplots(1, 2)
@@ -254,7 +277,7 @@ def identification_figures(ident, recordings=(), presliding=None):
 
     figures = {
         'fig3a_temperature_curves.png': (draw3a, (10, 6.5)),
-        'fig3b_parameters.png': (draw3b, (16, 4.2)),
+        'fig3b_parameters.png': (draw3b, (16, 5.4)),
         'fig3c_model.png': (draw3c, (10, 6.5)),
         'fig4_load.png': (draw4, (14, 5.5)),
         'residuals.png': (draw_res, (14, 4.5)),
@@ -282,3 +305,95 @@ def identification_figures(ident, recordings=(), presliding=None):
 
         figures['plateaus.png'] = (draw_plateaus, (16, 5))
     return figures
+
+
+#: static-curve parameters compared with the truth: name, symbol, unit
+CURVE = (('fc', 'F_c', 'Nm'), ('fs', 'F_s', 'Nm'), ('fv', 'F_v', 'Nm/(rad/s)^δv'),
+         ('vs', 'v_s', 'rad/s (motor side)'), ('delta_v', 'δ_v', '–'))
+
+
+def _err(found, true):
+    return '–' if not true else f'{100.0 * (found / true - 1.0):+.1f} %'
+
+
+def _num(x):
+    """``x`` to 4 significant digits; whole and with spaced thousands from 1000 on."""
+    if abs(x) >= 1000.0:
+        return f'{x:,.0f}'.replace(',', '\u2009')
+    return f'{x:.4g}'
+
+
+def against_truth_markdown(ident, truth, header=(), temperatures=()):
+    """
+    Return Markdown lines: the identified parameters against the truth gear of the recording.
+
+    Parameters
+    ----------
+    ident, truth : GearParams
+        The identified gear and the simulated hardware the recording came from.
+    header : sequence of str
+        The identified file's comment lines (a parameter "written, kept from the
+        structure" there has no error: the data did not determine it).
+    temperatures : sequence of float
+        Where the temperature polynomials are compared (those inside the
+        identified temperature range; its middle if none is).
+
+    Returns
+    -------
+    list of str
+        A sentence and a table with units: the static-curve parameters at
+        each temperature, the load coefficients, the static friction torque
+        at a few velocities, the pre-sliding parameters; relative errors
+        identified / truth - 1.
+
+    """
+    lo, hi = ident.friction.temperature_range
+    temps = [x for x in temperatures if lo <= x <= hi] or [0.5 * (lo + hi)]
+    xs = np.array(temps, dtype=float)
+    found, true = (StaticFriction(g.friction).parameters(xs, 0.0) for g in (ident, truth))
+    rows = []
+    for key, sym, unit in CURVE:
+        constant = max(len(getattr(g.friction, key) or ()) for g in (ident, truth)) <= 1
+        for i, x in enumerate(xs[:1] if constant else xs):
+            where = 'every temperature' if constant else f'{x:g} °C'
+            f, t = float(found[key][i]), float(true[key][i])
+            rows.append(f'| {sym}, {where} | {unit} | {_num(f)} | {_num(t)} | {_err(f, t)} |')
+    for key, sym in (('fc_load', 'F_c'), ('fv_load', 'F_v')):
+        fl, tl = (tuple(getattr(g.friction, key) or ()) for g in (ident, truth))
+        for j in range(max(len(fl), len(tl))):
+            f = fl[j] if j < len(fl) else 0.0
+            t = tl[j] if j < len(tl) else 0.0
+            power, unit = ('', 'Nm per Nm of load') if j == 0 else (f'^{j + 1}', f'Nm/Nm^{j + 1}')
+            rows.append(f'| {sym} load coefficient of τ_L{power} | {unit} | {_num(f)} | '
+                        f'{_num(t)} | {_err(f, t)} |')
+    xm = float(xs[len(xs) // 2])
+    for qd, load in ((0.01, 0.0), (0.1, 0.0), (1.0, 0.0), (1.0, truth.mgl)):
+        f, t = (float(np.ravel(StaticFriction(g.friction).torque(qd, xm, load))[0])
+                for g in (ident, truth))
+        rows.append(f'| static friction torque at {qd:g} rad/s (output), {xm:g} °C, load '
+                    f'{load:.3g} Nm | Nm | {_num(f)} | {_num(t)} | {_err(f, t)} |')
+    kept = ' '.join(ln for ln in header if 'kept from the structure' in ln)
+    lugre_hw = truth.friction.model == 'lugre'
+    for model, key, sym, unit in (('lugre', 'sigma0', 'σ0', 'Nm/rad'),
+                                  ('lugre', 'sigma1', 'σ1', 'Nm s/rad'),
+                                  ('gms', 'k', 'GMS Σk_i', 'Nm/rad'), ('gms', 'c', 'GMS C',
+                                                                       'Nm/s')):
+        a, b = getattr(ident.friction, model), getattr(truth.friction, model)
+        if a is None or b is None:
+            continue
+        f, t = (float(np.sum(getattr(p, key))) for p in (a, b))
+        if model != truth.friction.model:
+            err = (f'– (the hardware has {"LuGre" if lugre_hw else "GMS"} friction: these '
+                   'are fitted to it, not to this truth)')
+        elif re.search(rf'\b{key} = \S+ written, kept from the structure', kept):
+            err = '– (undetermined by the data: the structure file’s value is written)'
+        else:
+            err = _err(f, t)
+        rows.append(f'| {sym} | {unit} | {_num(f)} | {_num(t)} | {err} |')
+    return ['The identified parameters against the simulated truth '
+            f'(`{os.path.basename(truth.source or "truth")}`) that produced the recording; the '
+            'temperature polynomials are compared by their values at '
+            + ', '.join(f'{x:g} °C' for x in xs) + ', and the static curve itself at a few '
+            'velocities (error: identified / truth − 1):', '',
+            '| parameter | unit | identified | truth | error |', '|---|---|---|---|---|'] \
+        + rows + ['']

@@ -13,11 +13,15 @@
 # limitations under the License.
 
 """The paper's evaluation experiments through the command line, shortened with --duration-scale."""
+import inspect
 import json
 import os
 
 from friction_joint.cli import main
+from friction_joint.experiments import runner
 from friction_joint.experiments._common import reversal_peak_window
+from friction_joint.experiments.compensation import compensation
+from friction_joint.output import ExperimentResult
 import numpy as np
 import pytest
 
@@ -157,6 +161,24 @@ def test_reversal_peak_window_holds_a_maximum_away_from_reversals():
     # a larger error in the settling interval does not count
     t0, t1 = reversal_peak_window(t, [err + 5.0 * (t < 1.0)], [0.5, 7.0], 1.0, 0.1, 0.3)
     assert t0 <= 7.35 <= t1
+
+
+def test_progress_reaches_the_experiments_that_take_it(tmp_path, monkeypatch):
+    assert 'progress' in inspect.signature(compensation).parameters
+
+    def stub(model, truth, duration_scale=1.0, *, gains=None, progress=None):
+        progress('warm-up to 27 degC by self-heating')
+        return ExperimentResult({'experiment': 'compensation'}, {})
+    monkeypatch.setitem(runner.EXPERIMENTS, 'compensation',
+                        runner.EXPERIMENTS['compensation']._replace(func=stub))
+    said = []
+    runner.run_experiment('compensation', MODEL, TRUTH, tmp_path / 'out', progress=said.append)
+    assert said == ['warm-up to 27 degC by self-heating']
+    # an experiment without the parameter runs as before
+    monkeypatch.setitem(runner.EXPERIMENTS, 'compensation', runner.EXPERIMENTS[
+        'compensation']._replace(func=lambda model, truth, scale: ExperimentResult({}, {})))
+    runner.run_experiment('compensation', MODEL, TRUTH, tmp_path / 'out2', progress=said.append)
+    assert len(said) == 1
 
 
 def test_missing_model_file_exits_2_without_output(tmp_path, capsys):
