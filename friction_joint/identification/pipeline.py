@@ -38,7 +38,12 @@ The ``identify`` command: recordings -> identified gear file + report (seed Sect
    structure's value, and so does a whole model whose fit misses the measured
    friction torque by more than :data:`MAX_PRESLIDING_ERROR` (10 %) RMS (no
    pre-sliding experiment in the data, or a model that cannot describe the
-   gear); the header and report say so.
+   gear); the header and report say so.  A failed or rejected step 3 also says
+   why in plain words, from the recordings (``why``: e.g. no reversal within
+   the pre-sliding range, the smallest swing seen, small commanded reversals
+   the joint did not follow) and what to record (``advice``: swings within the
+   range the gear gives), on the console, in ``identification.json`` and the
+   header (:func:`~friction_joint.identification.presliding.presliding_excitation`).
 4. Writes the report directory (default ``GEAR_report/`` next to GEAR.yaml:
    figures after Fig. 3 and 4, ``identification.json``) and GEAR.yaml
    (:func:`~friction_joint.gear.save_gear`): the structure file with the
@@ -225,6 +230,7 @@ def _step3(gear, recordings, mode, progress):
     from .presliding import fit_presliding
     from .presliding_data import EXPERIMENT_ADVICE, presliding_segments
     result = {'status': 'done', 'models': {}}
+    pieces = []
     try:
         pieces = [p for r in recordings for p in _presliding_pieces(r, gear)]
         for model in models:
@@ -269,8 +275,10 @@ def _step3(gear, recordings, mode, progress):
                               f'{100 * MAX_PRESLIDING_ERROR:.0f} %): kept from the structure',
                     'time_s': time.perf_counter() - t0}
                 if mode == 'require':
+                    why = _explain(result, pieces, recordings, gear, models)
                     raise ExcitationError(f'step 3: {result["models"][model]["reason"]}; '
-                                          + EXPERIMENT_ADVICE)
+                                          + (f'why: {why["why"]}; to fit it, {why["advice"]}'
+                                             if why else EXPERIMENT_ADVICE))
                 if progress:
                     progress(f'step 3 ({model}): {result["models"][model]["reason"]}')
                 continue
@@ -306,10 +314,47 @@ def _step3(gear, recordings, mode, progress):
     except FrictionJointError as exc:
         if mode == 'require':
             raise
-        return gear, {'status': 'failed', 'reason': str(exc),
-                      'note': 'the pre-sliding parameters are kept from the structure file',
-                      'models': result['models']}
+        failed = {'status': 'failed', 'reason': str(exc),
+                  'note': 'the pre-sliding parameters are kept from the structure file',
+                  'models': result['models']}
+        _explain(failed, pieces, recordings, gear, models)
+        return gear, failed
+    if any(r['status'] == 'rejected' for r in result['models'].values()):
+        _explain(result, pieces, recordings, gear, models)
+        if progress and result.get('why'):
+            progress(f'step 3: why: {result["why"]}')
+            progress(f'step 3: to fit it, {result["advice"]}')
     return gear, result
+
+
+def _explain(result, pieces, recordings, gear, models):
+    """
+    Add to a failed or rejected step 3 why, in plain words, and what to record.
+
+    Sets ``result['excitation']`` (:func:`~friction_joint.identification.presliding.
+    presliding_excitation`), ``result['why']`` and ``result['advice']``; returns
+    ``{'why', 'advice'}`` or None when there is nothing to say (no data).
+    """
+    from .presliding import presliding_excitation
+    if not pieces:
+        return None
+    commands = [(r.joint_command.t, r.joint_command.q_d, r.joint_states.t, r.joint_states.q)
+                for r in recordings if r.joint_command is not None]
+    note = presliding_excitation(pieces, gear, models, commands=commands)
+    why = note['why']
+    if why is None:
+        rejected = {m: r for m, r in result.get('models', {}).items()
+                    if r.get('status') == 'rejected'}
+        bound = sorted({p for r in rejected.values() for p in r['report'].get('at_bound', [])})
+        why = (f'the recordings hold {note["small_reversals"]} reversals within the '
+               'pre-sliding range, yet the model does not describe the torque there')
+        if bound:
+            why += (f' with {", ".join(bound)} anywhere within the search bounds (a factor of '
+                    "10 or more around the structure's values, where the fit ended): the "
+                    "structure's pre-sliding values may be far off, or the gear's behaviour "
+                    'lies outside the model')
+    result.update(excitation=note, why=why, advice=note['advice'])
+    return {'why': why, 'advice': note['advice']}
 
 
 def identify_recordings(paths, structure, *, orders=None, joint_name=None, detection=None,
@@ -386,6 +431,9 @@ def identify_recordings(paths, structure, *, orders=None, joint_name=None, detec
     timings['time_step_3_s'] = time.perf_counter() - t0
     if progress and step3['status'] != 'done':
         progress(f'step 3 {step3["status"]}: {step3["reason"]}')
+        if step3.get('why'):
+            progress(f'step 3: why: {step3["why"]}')
+            progress(f'step 3: to fit it, {step3["advice"]}')
     return IdentificationRun(ident, gear, recordings, plateaus, step3, timings, gaps=gaps)
 
 
@@ -438,6 +486,8 @@ def _header(run, paths, structure_path):
     else:
         lines.append(f'step 3 (pre-sliding) {s3["status"]}: {s3["reason"]}; pre-sliding '
                      'parameters kept from the structure')
+    if s3.get('why'):
+        lines += [f'step 3: why: {s3["why"]}', f'step 3: to fit it, {s3["advice"]}']
     return '\n'.join(lines)
 
 

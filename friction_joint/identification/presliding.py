@@ -110,6 +110,19 @@ error when the parameter is moved an e-fold (x e and / e) from the optimum.
 An effect below ``EFFECT_FLOOR`` (1 % of the residual) marks the parameter
 undetermined whatever its standard error says (the data's own residual is
 the scale, so the rule holds for any gear and noise level).
+
+What the data lack
+------------------
+When a fit fails or is rejected, :func:`presliding_excitation` says why in
+plain words from the recordings themselves: the *pre-sliding range* is the
+travel after a reversal within which the friction state still remembers the
+reversal (:func:`~friction_joint.identification.presliding_data.default_settle`
+of the gear: 10 F_s / sigma0 for LuGre, 3 x the largest alpha_i F_s / k_i for
+GMS, F_s from the fitted static curve), and the recordings are searched for
+reversals whose swing (travel between two turning points of the measured
+position) is shorter than that.  A commanded position (``/joint_command``)
+with such swings that the measured one does not show means the joint did not
+follow them (it stuck).  The advice gives swings in that range.
 """
 import dataclasses
 import math
@@ -120,16 +133,18 @@ import numpy as np
 
 from .pattern_search import pattern_search
 from .presliding_data import (batch_frictions, BatchData, check_presliding_excitation,
-                              EXPERIMENT_ADVICE, gear_with, initial_params, PARAMETERS,
-                              prepare_batch)
+                              default_settle, EXPERIMENT_ADVICE, gear_with, initial_params,
+                              PARAMETERS, prepare_batch)
 from ..exceptions import ExcitationError, FrictionJointError, GearConfigWarning
+from ..models.static import StaticFriction
 from ..output import json_clean
 
 #: relative rise of the RMS error over an e-fold change below which a parameter
 #: counts as undetermined (its effect hides in the residual)
 EFFECT_FLOOR = 0.01
 
-__all__ = ['PreslidingFit', 'fit_presliding', 'presliding_rmse', 'DEFAULT_BOUNDS', 'ZERO_START']
+__all__ = ['PreslidingFit', 'fit_presliding', 'presliding_rmse', 'reversal_swings',
+           'presliding_excitation', 'DEFAULT_BOUNDS', 'ZERO_START']
 
 #: relative search bounds around the starting value (factor down, factor up)
 DEFAULT_BOUNDS = {'sigma0': (10.0, 10.0), 'sigma1': (1e3, 1e2),
@@ -445,3 +460,127 @@ def presliding_rmse(gear, t, qd, tau_r, xi, tau_l, *, model='lugre', segments=No
     prepared, dt, _ = prepare_batch(t, qd, tau_r, xi, tau_l, segments, init=init, gear=gear, q=q)
     data = BatchData(prepared, dt, burn_in)
     return float(np.sqrt(data.mse([gear.friction], model)[0]))
+
+
+# ------------------------------------------------------------ what the data lack
+
+def reversal_swings(q, hysteresis):
+    """
+    Return the swings of ``q``: the travel between successive turning points (rad).
+
+    A turning point counts once ``q`` has come back from it by more than
+    ``hysteresis`` (rad), so noise and encoder counts below it make no swings.
+    Returns ``(swings, turns)``: the swings and the indices of the turning points.
+    """
+    q = np.asarray(q, dtype=float)
+    turns, direction = [], 0
+    hi = lo = q[0] if q.size else 0.0
+    i_hi = i_lo = 0
+    for i, x in enumerate(q):
+        if x > hi:
+            hi, i_hi = x, i
+        if x < lo:
+            lo, i_lo = x, i
+        if direction >= 0 and x < hi - hysteresis:
+            turns.append(i_hi)
+            direction, lo, i_lo = -1, x, i
+        elif direction <= 0 and x > lo + hysteresis:
+            turns.append(i_lo)
+            direction, hi, i_hi = 1, x, i
+    turns = np.asarray(turns[1:], dtype=int)       # the first is where the motion starts
+    return np.abs(np.diff(q[turns])), turns
+
+
+def _travel(x):
+    return f'{1e3 * x:.3g} mrad' if x < 0.1 else f'{x:.3g} rad'
+
+
+def _commanded_small(commands, length, hysteresis):
+    """Commanded swings shorter than ``length`` and how far the measured position went."""
+    swings, moved = [], []
+    for t_cmd, q_cmd, t_js, q_js in commands:
+        q_cmd = np.asarray(q_cmd, dtype=float)
+        if q_cmd.size < 3 or not np.all(np.isfinite(q_cmd)):
+            continue
+        sw, turns = reversal_swings(q_cmd, hysteresis)
+        for k in np.flatnonzero(sw < length):
+            a, b = t_cmd[turns[k]], t_cmd[turns[k + 1]]
+            sel = (t_js >= a) & (t_js <= b)
+            swings.append(float(sw[k]))
+            moved.append(float(np.ptp(q_js[sel])) if np.any(sel) else 0.0)
+    return swings, moved
+
+
+def presliding_excitation(pieces, gear, models, *, commands=()):
+    """
+    Say in plain words whether the recordings can show the pre-sliding parameters.
+
+    Parameters
+    ----------
+    pieces : list of dict
+        Contiguous pieces of the recordings with ``q`` (measured position, rad) and
+        ``xi`` (degC).
+    gear : GearParams
+        The gear of steps 1-2 (its static curve gives F_s) with the structure's
+        pre-sliding sections (their stiffness gives the range).
+    models : sequence of str
+        ``'lugre'``, ``'gms'``.
+    commands : sequence of (t_cmd, q_cmd, t, q)
+        Commanded position (``/joint_command`` q_d) with the measured one, per recording.
+
+    Returns
+    -------
+    dict
+        ``range_rad`` (per model: the pre-sliding range, see the module docstring),
+        ``reversals``, ``smallest_swing_rad``, ``small_reversals`` (swings shorter
+        than the largest range), ``commanded_small`` (commanded such swings),
+        ``commanded_followed_rad`` (largest measured travel during them), ``why``
+        (a sentence, or None when small reversals are there) and ``advice``.
+
+    """
+    xi = [float(np.mean(p['xi'])) for p in pieces if len(p['xi'])]
+    xi_mid = 0.5 * (min(xi) + max(xi)) if xi else 0.5 * sum(gear.friction.temperature_range)
+    ranges = {m: float(default_settle(gear, m, xi_mid)) for m in models}
+    length, shortest = max(ranges.values()), min(ranges.values())
+    hysteresis = 0.1 * shortest
+    swings = [reversal_swings(p['q'], hysteresis)[0] for p in pieces]
+    swings = np.concatenate(swings) if swings else np.zeros(0)
+    small = int(np.count_nonzero(swings < length))
+    cmd, moved = _commanded_small(commands, length, hysteresis)
+    out = {'range_rad': ranges, 'reversals': int(swings.size),
+           'smallest_swing_rad': float(swings.min()) if swings.size else None,
+           'small_reversals': small, 'commanded_small': len(cmd),
+           'commanded_followed_rad': max(moved) if moved else None}
+    how = {'lugre': '10 F_s / sigma0', 'gms': '3 x the largest alpha_i F_s / k_i'}
+    span = ' to '.join(f'{_travel(v)} ({m}: {how[m]})' for m, v in sorted(
+        ranges.items(), key=lambda kv: kv[1]))
+    if small:
+        out['why'] = None
+    else:
+        seen = (f'the smallest swing between two reversals is {_travel(swings.min())}'
+                if swings.size else 'the joint never reverses')
+        out['why'] = (f'the recordings hold no velocity reversal within the pre-sliding range: '
+                      f'{seen}, but the friction remembers a reversal only over the first '
+                      f'{span} of travel after it (F_s = {_curve_at_fs(gear, xi_mid):.3g} Nm '
+                      'from steps 1-2, stiffness from the structure); every reversal is '
+                      'followed by a full slide, and the small back-and-forth motions that '
+                      'determine the pre-sliding parameters are missing')
+        if cmd:
+            went = (f'moved less than {_travel(hysteresis)}' if max(moved) < hysteresis
+                    else f'moved at most {_travel(max(moved))}')
+            out['why'] += (f'; /joint_command asked for {len(cmd)} such small reversals (swings '
+                           f'{_travel(min(cmd))} to {_travel(max(cmd))}), but the joint did not '
+                           f'follow them: the measured position {went} during them (it stuck: '
+                           'the controller did not push hard enough to overcome the friction '
+                           'at these amplitudes)')
+    out['advice'] = (f'record, after a slide of at least {_travel(length)} in one direction, '
+                     f'small sinusoids or triangles about standstill with swings from '
+                     f'{_travel(0.1 * shortest)} to {_travel(length)}, and check that the '
+                     'measured position follows them (not only the command): a stiffer '
+                     'position loop, integral action or a torque excitation makes the joint '
+                     'move against the friction')
+    return out
+
+
+def _curve_at_fs(gear, xi):
+    return float(np.ravel(StaticFriction(gear.friction).parameters(float(xi))['fs'])[0])
