@@ -50,14 +50,14 @@ sys.path.insert(0, ROOT)
 
 import friction_joint  # noqa: E402
 from friction_joint.experiments.hidden import (  # noqa: E402
-    apply_effect, EFFECTS, simulate_recording)
+    apply_effect, HIDEABLE, simulate_recording)
 
 BASE = os.path.join(ROOT, 'config', 'csd25_base.yaml')
 
 
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.strip().splitlines()[0])
-    ap.add_argument('--effect', default='thermal', choices=list(EFFECTS) + ['none'])
+    ap.add_argument('--effect', default='thermal', choices=list(HIDEABLE) + ['none'])
     ap.add_argument('--seconds', type=float, default=90.0)
     ap.add_argument('--seed', type=int, default=5)
     args = ap.parse_args(argv)

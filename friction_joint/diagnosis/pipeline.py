@@ -108,19 +108,13 @@ from .gravity import gravity_untestable, linear_device
 from .scan import residual_scan
 from .testability import inertia_noise_gain, untestable
 from .velocity import fold_gears, simulate_windows, WINDOW
-from ..exceptions import ArgumentError, ExcitationError, GearConfigError
+from ..effects import effect as _effect, EFFECTS, UNREPRESENTABLE
+from ..exceptions import ExcitationError, GearConfigError
 from ..output import json_clean
 
 __all__ = ['EFFECTS', 'UNREPRESENTABLE', 'ALPHA', 'MIN_GAIN', 'MIN_EXPLAINED', 'WINDOW',
            'Diagnosis', 'diagnose', 'base_structure', 'extend']
 
-#: candidate effects (docs/interfaces.md, diagnose outputs), in the order they are reported
-EFFECTS = ('thermal', 'load', 'position_ripple', 'nonlinear_viscous', 'stribeck',
-           'presliding', 'inertia', 'asymmetry', 'drift', 'gravity')
-#: effects the gear file has no key for: named and measured, not in ``extended.yaml``
-UNREPRESENTABLE = {'drift': 'not representable in the gear file (it has no key for friction '
-                            'that changes with accumulated travel): extended.yaml has the '
-                            'Coulomb level averaged over the data'}
 #: family-wise significance level (Holm over the candidates of a round)
 ALPHA = 0.05
 #: minimum relative reduction of the held-out torque RMSE to name a cause
@@ -183,7 +177,8 @@ def extend(s, effect):
         return None if s.drift else (s.with_(drift=dm.DRIFT_ORDER), None)
     if effect == 'gravity':
         return None if s.gravity else (s.with_(gravity=True), None)
-    raise ArgumentError(f'unknown effect {effect!r}; effects: {", ".join(EFFECTS)}')
+    _effect(effect)                     # an unknown name: ArgumentError naming the known ones
+    raise AssertionError(f'effect {effect!r} of the registry has no extension')
 
 
 def _nl_params(s):

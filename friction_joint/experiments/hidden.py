@@ -114,15 +114,12 @@ from .excitation import record_segment
 from .hidden_plant import add_sweep, plan_kind, RUN_KINDS, speed_bands, sweep_oneway
 from ..bag import write_recording
 from ..control.controller import Controller, pd_gains
+from ..effects import HIDEABLE
 from ..exceptions import ArgumentError, GearConfigWarning
 from ..testbed.plant import Plant
 
-__all__ = ['EFFECTS', 'EFFECT_RANGES', 'MAGNITUDE', 'apply_effect', 'apply_effects',
+__all__ = ['HIDEABLE', 'EFFECT_RANGES', 'MAGNITUDE', 'apply_effect', 'apply_effects',
            'draw_effect', 'segment_temperatures', 'plan_segment', 'simulate_recording']
-
-#: effect names of docs/interfaces.md, diagnose outputs
-EFFECTS = ('thermal', 'load', 'position_ripple', 'nonlinear_viscous', 'stribeck',
-           'presliding', 'inertia', 'asymmetry', 'gravity')
 
 #: realistic size ranges drawn by :func:`draw_effect` (uniform; see the module docstring)
 EFFECT_RANGES = {
@@ -199,7 +196,7 @@ def draw_effect(rng, effect, *, strength=None):
     parameters (sign, phase, model, vs) are drawn as usual.
     """
     if effect not in EFFECT_RANGES:
-        raise ArgumentError(f'unknown effect {effect!r}; effects: {", ".join(EFFECTS)}')
+        raise ArgumentError(f'unknown effect {effect!r}; effects: {", ".join(HIDEABLE)}')
     if strength is not None and not strength <= 1.0:
         raise ArgumentError(f'strength must be <= 1, got {strength}')
     out = {}
@@ -249,7 +246,7 @@ def apply_effect(base_gear, effect, size=None, temperatures=None):
     base_gear : GearParams
         The base gear the effect is added to.
     effect : str
-        One of :data:`EFFECTS`.
+        One of :data:`HIDEABLE` (:mod:`friction_joint.effects`).
     size : dict or float, optional
         Parameters as drawn by :func:`draw_effect`; a number sets the first parameter
         of :data:`EFFECT_RANGES` (the others at mid range); default mid range.
@@ -262,8 +259,8 @@ def apply_effect(base_gear, effect, size=None, temperatures=None):
     GearParams
 
     """
-    if effect not in EFFECTS:
-        raise ArgumentError(f'unknown effect {effect!r}; effects: {", ".join(EFFECTS)}')
+    if effect not in HIDEABLE:
+        raise ArgumentError(f'unknown effect {effect!r}; effects: {", ".join(HIDEABLE)}')
     with warnings.catch_warnings():
         # a truth with a Stribeck hump may break the LuGre passivity bound of the base's
         # friction.lugre section; the simulated hardware does not care

@@ -35,8 +35,9 @@ import warnings
 
 import friction_joint
 from friction_joint.bag import write_recording
+from friction_joint.effects import EFFECTS
 from friction_joint.exceptions import GearConfigWarning
-from friction_joint.experiments.hidden import (apply_effects, draw_effect, EFFECTS,
+from friction_joint.experiments.hidden import (apply_effects, draw_effect, HIDEABLE,
                                                simulate_recording)
 import numpy as np
 import pytest
@@ -57,7 +58,7 @@ def _diagnose(recordings, model, out):
 def _draws():
     """Per case: effects {name: size} and the recording seed (all from the master seed)."""
     rng = np.random.default_rng(MASTER_SEED)
-    order = [str(e) for e in rng.permutation(list(EFFECTS))]
+    order = [str(e) for e in rng.permutation(list(HIDEABLE))]
     cases = {'case0': order[:1], 'case1': order[1:2], 'case2': order[2:4], 'case3': []}
     out = {}
     for i, (case, effects) in enumerate(cases.items()):

@@ -24,7 +24,7 @@ import os
 
 import friction_joint
 from friction_joint.experiments.hidden import (apply_effect, draw_effect, EFFECT_RANGES,
-                                               EFFECTS, simulate_recording)
+                                               HIDEABLE, simulate_recording)
 from friction_joint.experiments.hidden_plant import relative_size
 import numpy as np
 import pytest
@@ -94,7 +94,7 @@ def test_gravity_truth_without_link_torque_shows_the_lever_error(seed):
 
 
 def test_gravity_sizes_are_drawn_in_their_ranges():
-    assert 'gravity' in EFFECTS
+    assert 'gravity' in HIDEABLE
     base = friction_joint.load_gear(BASE)
     rng = np.random.default_rng(5)
     lo_c, hi_c = EFFECT_RANGES['gravity']['change']
