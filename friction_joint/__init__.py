@@ -23,6 +23,8 @@ The subpackages, one concept each (the tree is the architecture):
 * :mod:`~friction_joint.control`: the eq. 17 controller and the eq. 4/15 observer;
 * :mod:`~friction_joint.identification`: the paper's three identification steps;
 * :mod:`~friction_joint.diagnosis`: what a model gets wrong on measured data;
+* :mod:`~friction_joint.fleet`: fleet friction monitoring, wear told apart from
+  temperature and load (per-recording tasks on Dask);
 * :mod:`~friction_joint.experiments`: the paper's experiments, the classic LuGre
   experiments, excitations and hidden-effect recordings;
 * :mod:`~friction_joint.bag`: recordings (rosbag2 / MCAP) without ROS;

@@ -48,7 +48,7 @@ __all__ = ['main', 'build_parser', 'SUBCOMMANDS']
 
 #: subcommand modules of this package, in the order ``--help`` lists them
 SUBCOMMANDS = ('classic', 'experiment', 'identify', 'demo', 'record', 'replay', 'bringup',
-               'diagnose', 'import_', 'recover')
+               'diagnose', 'import_', 'recover', 'fleet')
 
 
 def build_parser():

@@ -1,0 +1,78 @@
+# Copyright 2026 friction_joint maintainers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""
+``friction_joint fleet --manifest FLEET.csv --model GEAR.yaml --out DIR``.
+
+Which joints of a fleet wear, since when, how fast (docs/fleet.md; method:
+:mod:`friction_joint.fleet`).  Writes ``DIR/fleet.json``, ``DIR/recordings.csv``,
+``DIR/report.html`` and ``DIR/cache.json`` as one output set; an existing DIR is
+an error unless ``--force``, which replaces it and reuses its cached
+per-recording results.
+"""
+
+__all__ = ['NAME', 'HELP', 'DESCRIPTION', 'add_arguments', 'run']
+
+NAME = 'fleet'
+HELP = 'flag wearing joints of a fleet from its recordings (on a Dask cluster)'
+DESCRIPTION = ('Identify the static friction curve of every recording of a fleet manifest in '
+               "GEAR.yaml's structure, evaluate it at a reference temperature, speed and no "
+               'load, and test every joint for wear over time and travel (one Dask task per '
+               'recording, an embedded LocalCluster or --scheduler).  Writes DIR/fleet.json, '
+               'DIR/recordings.csv and DIR/report.html.')
+
+
+def add_arguments(parser):
+    """Add the ``fleet`` arguments to ``parser``."""
+    parser.add_argument('--manifest', required=True, metavar='FLEET.csv',
+                        help='CSV with columns recording (relative to the manifest), joint, '
+                             'time (ISO 8601), optional travel (rad); others kept')
+    parser.add_argument('--model', required=True, metavar='GEAR.yaml',
+                        help='model gear file (structure, temperature and load dependence)')
+    parser.add_argument('--out', required=True, metavar='DIR', help='result directory')
+    parser.add_argument('--scheduler', default=None, metavar='ADDRESS',
+                        help='Dask scheduler, e.g. tcp://HOST:8786 (default: an embedded '
+                             'LocalCluster)')
+    parser.add_argument('--workers', type=int, default=None, metavar='N',
+                        help='worker processes of the embedded cluster (default: the cores)')
+    parser.add_argument('--force', action='store_true',
+                        help='replace an existing DIR, reusing its cached per-recording results')
+    parser.add_argument('--quiet', action='store_true', help='no progress lines')
+    return parser
+
+
+def run(args):
+    """Monitor the fleet; prints the wearing joints."""
+    from ._console import progress_printer
+    from ..exceptions import ArgumentError
+    from ..fleet import run_fleet
+
+    if args.workers is not None and args.workers < 1:
+        raise ArgumentError(f'--workers must be >= 1, got {args.workers}')
+    if args.workers is not None and args.scheduler:
+        raise ArgumentError('--workers is for the embedded cluster: not with --scheduler')
+    res = run_fleet(args.manifest, args.model, args.out, scheduler=args.scheduler,
+                    workers=args.workers, force=args.force,
+                    progress=progress_printer(args.quiet))
+    for joint, d in sorted(res.assessment.joints.items()):
+        if d['wear']:
+            r = d['rate']
+            print(f'{joint}: wear since {d["onset"]}, {r["per_day"]:.3g} +- '
+                  f'{r["per_day_se"]:.2g} N m/day (p = {d["evidence"]["p_value"]:.3g})')
+    failed = sum(r['status'] != 'ok' for r in res.assessment.recordings)
+    flagged = sum(d['wear'] for d in res.assessment.joints.values())
+    print(f'{len(res.assessment.joints)} joints, {flagged} wearing; '
+          f'{len(res.assessment.recordings)} recordings ({failed} failed, {res.computed} '
+          f'analysed, {res.cached} cached); wrote {args.out}')
+    return 0

@@ -1,0 +1,41 @@
+# Copyright 2026 friction_joint maintainers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""
+Fleet friction monitoring: which joints wear, since when, how fast (docs/fleet.md).
+
+* :mod:`~friction_joint.fleet.manifest`: the manifest (recording, joint, time);
+* :mod:`~friction_joint.fleet.recording`: the per-recording task (static curve
+  around the model gear file, friction at the reference point);
+* :mod:`~friction_joint.fleet.trend`: the per-joint wear test (hinge vs no
+  wear, bootstrap-calibrated);
+* :mod:`~friction_joint.fleet.assess`: reference point, trends, verdict;
+* :mod:`~friction_joint.fleet.cluster`: the tasks on Dask distributed (the only
+  module that imports Dask, lazily);
+* :mod:`~friction_joint.fleet.monitor`: the ``fleet`` command's work
+  (:func:`run_fleet`, the cache);
+* :mod:`~friction_joint.fleet.plots`, :mod:`~friction_joint.fleet.report`: the
+  trend plots and the output files.
+"""
+from .assess import assess_fleet, FleetAssessment, reference_point
+from .cluster import default_workers, map_recordings
+from .manifest import ManifestEntry, read_manifest
+from .monitor import content_hash, FleetRun, run_fleet
+from .recording import analyse_recording, reference_friction
+from .trend import extra_variance, trend_test, TrendResult
+
+__all__ = ['run_fleet', 'FleetRun', 'content_hash', 'read_manifest', 'ManifestEntry',
+           'analyse_recording', 'reference_friction', 'assess_fleet', 'FleetAssessment',
+           'reference_point', 'trend_test', 'TrendResult', 'extra_variance', 'map_recordings',
+           'default_workers']

@@ -1,0 +1,215 @@
+# Copyright 2026 friction_joint maintainers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""
+From per-recording results to the fleet's verdict: reference point, trends, wear.
+
+:func:`assess_fleet` takes the manifest entries and the per-recording
+results (:func:`~friction_joint.fleet.recording.analyse_recording`) and
+
+1. fixes the fleet's **reference operating point** from the data: xi_ref is
+   the median over the analysed recordings of their mean plateau temperature
+   (clipped to the model gear file's ``temperature_range``), v_ref the median
+   of their median plateau speed; tau_L = 0;
+2. evaluates every recording there
+   (:func:`~friction_joint.fleet.recording.reference_friction`): the
+   *reference friction* (the friction torque at +-v_ref, xi_ref, no load) and
+   F_c at xi_ref, each with its standard error;
+3. runs the wear test per joint (:func:`~friction_joint.fleet.trend.trend_test`)
+   on the reference friction, and, for comparison, the same test on the raw
+   mean friction of the plateaus (no temperature or load compensation: what
+   a naive monitor sees).  The extra variance is estimated over the fleet, per
+   quantity.
+
+Travel: the manifest's ``travel`` column when every recording of the joint
+has it, else the running sum of the recordings' own travel.
+"""
+import dataclasses
+import datetime
+import statistics
+
+import numpy as np
+
+from .recording import reference_friction
+from .trend import ALPHA, BOOTSTRAP, extra_variance, trend_test
+
+__all__ = ['QUANTITIES', 'FleetAssessment', 'assess_fleet', 'reference_point']
+
+#: trend quantities: the compensated reference friction and the naive raw mean
+QUANTITIES = ('reference', 'raw')
+_DAY = 86400.0
+
+
+@dataclasses.dataclass
+class FleetAssessment:
+    """
+    The fleet's verdict.
+
+    Attributes
+    ----------
+    xi_ref, v_ref : float
+        The reference point (degC, rad/s; tau_L = 0).
+    joints : dict
+        Joint id -> ``wear``, ``onset`` (ISO time or None), ``rate`` (dict), ``evidence``
+        (dict), ``series`` (per recording of the joint: time, days, travel, values).
+    recordings : list of dict
+        One row per manifest entry (status, reason, reference friction, ranges).
+    extra_sd : dict
+        Quantity -> the fleet's extra standard deviation.
+
+    """
+
+    xi_ref: float
+    v_ref: float
+    joints: dict
+    recordings: list
+    extra_sd: dict
+
+    def to_dict(self):
+        """Return plain JSON types (``fleet.json``)."""
+        return {'reference_point': {'xi_ref': self.xi_ref, 'v_ref': self.v_ref, 'tau_l': 0.0},
+                'extra_sd': dict(self.extra_sd),
+                'joints': {j: {k: v for k, v in d.items() if k != 'series'}
+                           for j, d in self.joints.items()},
+                'recordings': list(self.recordings)}
+
+
+def reference_point(results, gear):
+    """Return ``(xi_ref, v_ref)`` of the analysed recordings (module docstring)."""
+    ok = [r for r in results if r and r.get('status') == 'ok']
+    lo, hi = gear.friction.temperature_range
+    if not ok:
+        return 0.5 * (lo + hi), None
+    xi = statistics.median(r['xi_mean'] for r in ok)
+    return float(min(max(xi, lo), hi)), float(statistics.median(r['speed'] for r in ok))
+
+
+def _row(entry, res, ref):
+    row = {'joint': entry.joint, 'time': entry.time.isoformat(), 'recording': entry.recording,
+           'status': res.get('status', 'failed'), 'reason': res.get('reason', ''),
+           'cached': bool(res.get('cached', False))}
+    for key in ('raw_friction', 'raw_friction_se', 'travel', 'plateaus', 'xi_mean', 'speed'):
+        row[key] = res.get(key)
+    row['xi_range'] = res.get('xi_range')
+    row['load_range'] = res.get('load_range')
+    row['terms'] = ['%s[%d]' % (n, i) for n, i in res.get('terms', [])]
+    if ref:
+        row.update({'reference_friction': ref['torque'], 'reference_friction_se': ref['torque_se'],
+                    'fc_ref': ref['fc'], 'fc_ref_se': ref['fc_se']})
+    else:
+        row.update(dict.fromkeys(('reference_friction', 'reference_friction_se', 'fc_ref',
+                                  'fc_ref_se')))
+    row['odometer'] = entry.travel
+    row['metadata'] = dict(entry.metadata)
+    return row
+
+
+def _series(entries, rows):
+    """Per joint: the analysed recordings in time order with days and travel."""
+    by_joint = {}
+    for e, r in zip(entries, rows):
+        by_joint.setdefault(e.joint, []).append((e, r))
+    out = {}
+    for joint, items in by_joint.items():
+        items.sort(key=lambda it: it[0].time)
+        t0 = items[0][0].time
+        odometer = all(e.travel is not None for e, _ in items)
+        acc, pts = 0.0, []
+        for e, r in items:
+            if r['status'] == 'ok':
+                acc += r['travel'] or 0.0
+            if r['status'] != 'ok':
+                continue
+            pts.append({'time': e.time.isoformat(), 'days': (e.time - t0).total_seconds() / _DAY,
+                        'travel': e.travel if odometer else acc,
+                        'reference': r['reference_friction'], 'reference_se':
+                        r['reference_friction_se'], 'raw': r['raw_friction'],
+                        'raw_se': r['raw_friction_se'], 'xi': r['xi_mean'],
+                        'xi_range': r['xi_range'], 'fc': r['fc_ref'], 'fc_se': r['fc_ref_se']})
+        out[joint] = {'start': t0, 'points': pts, 'count': len(items),
+                      'failed': sum(r['status'] != 'ok' for _, r in items),
+                      'travel_source': 'manifest' if odometer else 'recordings'}
+    return out
+
+
+def _verdict(s, q, extra, alpha, n_boot, seed):
+    pts = s['points']
+    if len(pts) < 2:
+        return None
+    col = (lambda k: np.array([p[k] for p in pts], float))
+    return trend_test(col('days'), col('travel'), col(q), col(q + '_se'), extra_var=extra,
+                      alpha=alpha, n_boot=n_boot, seed=seed)
+
+
+def assess_fleet(entries, results, gear, *, alpha=ALPHA, n_boot=BOOTSTRAP, seed=0):
+    """
+    Assess a fleet (module docstring).
+
+    Parameters
+    ----------
+    entries : list of ManifestEntry
+    results : list of dict
+        Per entry, :func:`~friction_joint.fleet.recording.analyse_recording`'s result.
+    gear : GearParams
+        The model gear file.
+    alpha, n_boot, seed
+        Of the wear test.
+
+    Returns
+    -------
+    FleetAssessment
+
+    """
+    xi_ref, v_ref = reference_point(results, gear)
+    rows = []
+    for e, res in zip(entries, results):
+        ref = reference_friction(res, gear, xi_ref, v_ref) if res.get('status') == 'ok' else None
+        rows.append(_row(e, res, ref))
+    series = _series(entries, rows)
+    extra = {}
+    for q in QUANTITIES:
+        extra[q] = extra_variance(([p['travel'] for p in s['points']], [p[q] for p in s['points']],
+                                   [p[q + '_se'] for p in s['points']]) for s in series.values())
+    joints = {}
+    for k, (joint, s) in enumerate(sorted(series.items())):
+        tests = {q: _verdict(s, q, extra[q], alpha, n_boot, seed + k) for q in QUANTITIES}
+        main = tests['reference']
+        entry = {'wear': bool(main and main.wear), 'onset': None, 'rate': None,
+                 'recordings': s['count'], 'failed': s['failed'], 'series': s,
+                 'evidence': {'test': 'hinge vs no wear, parametric bootstrap',
+                              'alpha': alpha, 'travel_source': s['travel_source']}}
+        if main is None:
+            entry['evidence']['note'] = (f'{len(s["points"])} analysed recordings: too few '
+                                         'for the wear test')
+        else:
+            level = max(abs(main.level), 1e-12)
+            entry['rate'] = {'per_day': main.rate_per_day, 'per_day_se': main.rate_per_day_se,
+                             'per_travel': main.rate_per_travel,
+                             'per_travel_se': main.rate_per_travel_se,
+                             'relative_per_day': main.rate_per_day / level,
+                             'unit': 'N m per day, N m per rad of travel'}
+            if main.wear:
+                entry['onset'] = (s['start'] + datetime.timedelta(days=main.onset_day)).isoformat(
+                    timespec='seconds')
+            entry['evidence'].update(main.to_dict())
+            entry['evidence']['onset_time_range'] = [
+                (s['start'] + datetime.timedelta(days=d)).isoformat(timespec='seconds')
+                for d in main.onset_range]
+        raw = tests['raw']
+        entry['evidence']['raw_mean_friction'] = (
+            None if raw is None else {'wear': raw.wear, 'p_value': raw.p_value,
+                                      'onset_day': raw.onset_day, 'axis': raw.axis})
+        joints[joint] = entry
+    return FleetAssessment(xi_ref, v_ref, joints, rows,
+                           {q: float(np.sqrt(v)) for q, v in extra.items()})

@@ -1,0 +1,149 @@
+# Copyright 2026 friction_joint maintainers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""
+Running per-recording tasks on Dask distributed (the only module that imports Dask).
+
+:func:`map_recordings` submits one task per recording: the task gets the
+recording's *path* (and small arguments), never its data, so a worker reads
+the recording itself and the client's memory does not grow with the fleet.
+Results are handed to a callback as they complete
+(``distributed.as_completed``).  The cluster is
+
+* an embedded :class:`distributed.LocalCluster` by default: ``workers``
+  worker processes (default the machine's cores), one thread each (the
+  analysis is numpy-bound and holds the GIL in places), a memory limit per
+  worker (:data:`MEMORY_LIMIT`, enforced by the worker's nanny: a worker
+  above it is restarted and its task reported failed);
+* or an existing cluster: ``scheduler='tcp://HOST:PORT'`` (started with
+  ``dask scheduler`` and ``dask worker tcp://HOST:PORT``, docs/fleet.md); its
+  workers need friction_joint installed and the recordings at the same paths.
+
+The client (and an embedded cluster) is closed at the end, also on an error
+or Ctrl-C (pending tasks are cancelled).  Dask is imported lazily, inside
+:func:`map_recordings`.
+"""
+import logging
+import os
+import uuid
+
+from ..exceptions import FrictionJointError
+
+__all__ = ['MEMORY_LIMIT', 'CONNECT_TIMEOUT', 'map_recordings', 'default_workers']
+
+#: memory limit per worker of the embedded cluster
+MEMORY_LIMIT = '2GiB'
+#: seconds to wait for a scheduler given by address
+CONNECT_TIMEOUT = 20
+
+
+def default_workers():
+    """Return the number of cores this process may use."""
+    try:
+        return max(1, len(os.sched_getaffinity(0)))
+    except AttributeError:                           # not on Linux
+        return max(1, os.cpu_count() or 1)
+
+
+def _connect(scheduler, workers, memory_limit):
+    from distributed import Client, LocalCluster
+    if scheduler:
+        try:
+            return Client(scheduler, timeout=CONNECT_TIMEOUT), None
+        except (OSError, TimeoutError) as exc:
+            msg = ' '.join(str(exc).split()) or type(exc).__name__
+            raise FrictionJointError(f'cannot connect to the Dask scheduler {scheduler}: '
+                                     f'{msg}') from None
+    n = int(workers or default_workers())
+    if n < 1:
+        raise FrictionJointError(f'--workers must be >= 1, got {n}')
+    cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
+                           memory_limit=memory_limit, dashboard_address=None,
+                           silence_logs=logging.ERROR)
+    try:
+        return Client(cluster), cluster
+    except BaseException:
+        cluster.close()
+        raise
+
+
+def map_recordings(func, paths, *, args=(), kwargs=None, scheduler=None, workers=None,
+                   memory_limit=MEMORY_LIMIT, on_result=None):
+    """
+    Run ``func(path, *args, **kwargs)`` for every path on a Dask cluster.
+
+    Parameters
+    ----------
+    func : callable
+        Module-level function (workers import it by name); returns plain data.
+    paths : sequence of str
+    args, kwargs
+        Further arguments of every task (small: they are sent with each task).
+    scheduler : str, optional
+        Address of an existing scheduler; default an embedded LocalCluster.
+    workers : int, optional
+        Worker processes of the embedded cluster (default the cores).
+    memory_limit : str or int
+        Per worker of the embedded cluster.
+    on_result : callable, optional
+        ``on_result(index, result)`` as each task completes (in completion order).
+
+    Returns
+    -------
+    dict
+        ``results`` (list in ``paths`` order), ``workers`` (how many the cluster had),
+        ``scheduler`` (its address), ``tasks`` (submitted).  A task that raised, or
+        whose worker died, gives ``{'status': 'failed', 'reason': ...}``.
+
+    """
+    import distributed
+    from distributed import as_completed
+
+    results = [None] * len(paths)
+    client, cluster = _connect(scheduler, workers, memory_limit)
+    futures = []
+    try:
+        info = client.scheduler_info()
+        nworkers = len(info.get('workers', {}))
+        tag = uuid.uuid4().hex[:8]
+        index = {}
+        for i, path in enumerate(paths):
+            fut = client.submit(func, path, *args, key=f'fleet-{tag}-{i}', pure=False,
+                                retries=0, **(kwargs or {}))
+            index[fut.key] = i
+            futures.append(fut)
+        for fut in as_completed(futures):
+            i = index[fut.key]
+            try:
+                res = fut.result()
+            except distributed.KilledWorker:
+                res = {'path': paths[i], 'status': 'failed',
+                       'reason': 'its worker died (over the memory limit, or killed)'}
+            except Exception as exc:                 # noqa: B902 - one recording, not the run
+                res = {'path': paths[i], 'status': 'failed',
+                       'reason': ' '.join(f'{type(exc).__name__}: {exc}'.split())}
+            results[i] = res
+            if on_result:
+                on_result(i, res)
+            fut.release()
+        return {'results': results, 'workers': nworkers, 'tasks': len(paths),
+                'scheduler': 'embedded LocalCluster' if cluster is not None else scheduler}
+    finally:
+        try:
+            if futures:
+                client.cancel([f for f in futures if not f.done()])
+        finally:
+            client.close()
+            if cluster is not None:
+                cluster.close()

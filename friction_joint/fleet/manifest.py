@@ -1,0 +1,181 @@
+# Copyright 2026 friction_joint maintainers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""
+The fleet manifest: which recording belongs to which joint, and when (docs/fleet.md).
+
+A CSV file (UTF-8, comma-separated, a header line) with the columns
+
+``recording``
+    path of the recording (rosbag2 directory or ``.mcap`` file), relative to the
+    manifest's directory (or absolute);
+``joint``
+    the joint's id in the fleet (any non-empty text, e.g. ``robot07/j3``);
+``time``
+    when the recording was made, ISO 8601 (``2026-03-02T14:05:00+00:00``; a time
+    without a zone is taken as UTC);
+
+and optionally ``travel``: the joint's odometer at the recording (rad of
+output travel since a fixed start, non-decreasing per joint), as a robot
+controller counts it.  Further columns are kept as metadata.  A manifest that
+breaks a rule is a one-line :class:`~friction_joint.exceptions.InputFileError`
+naming the file and the row (header = row 1); the recordings themselves are
+not opened here (a missing or broken recording is reported per recording by
+the run, which goes on).
+"""
+import csv
+import dataclasses
+import datetime
+import io
+import math
+import os
+
+from ..exceptions import InputFileError
+from ..inputs import open_input
+
+__all__ = ['REQUIRED_COLUMNS', 'ManifestEntry', 'read_manifest']
+
+REQUIRED_COLUMNS = ('recording', 'joint', 'time')
+
+
+@dataclasses.dataclass(frozen=True)
+class ManifestEntry:
+    """
+    One row of the manifest.
+
+    Attributes
+    ----------
+    row : int
+        Row number in the file (header = 1).
+    recording : str
+        As written in the manifest.
+    path : str
+        The recording's absolute path.
+    joint : str
+    time : datetime.datetime
+        Timezone-aware (UTC when the manifest gives no zone).
+    travel : float or None
+        The ``travel`` column (rad), if the manifest has one.
+    metadata : dict
+        The further columns (name -> text).
+
+    """
+
+    row: int
+    recording: str
+    path: str
+    joint: str
+    time: datetime.datetime
+    travel: float = None
+    metadata: dict = dataclasses.field(default_factory=dict)
+
+    def to_dict(self):
+        """Return plain JSON types."""
+        return {'row': self.row, 'recording': self.recording, 'path': self.path,
+                'joint': self.joint, 'time': self.time.isoformat(), 'travel': self.travel,
+                'metadata': dict(self.metadata)}
+
+
+def _parse_time(text):
+    t = datetime.datetime.fromisoformat(text.strip().replace('Z', '+00:00'))
+    if t.tzinfo is None:
+        t = t.replace(tzinfo=datetime.timezone.utc)
+    return t
+
+
+def read_manifest(path):
+    """
+    Read and check a fleet manifest.
+
+    Returns
+    -------
+    list of ManifestEntry
+        In the file's order.
+
+    Raises
+    ------
+    InputFileError
+        Unreadable, not CSV with the required header, an empty field, a bad time or
+        travel, a travel that decreases for a joint, a recording listed twice, no rows.
+
+    """
+    path = os.fspath(path)
+    with open_input(path, kind='table', what='a fleet manifest') as fh:
+        raw = fh.read()
+    try:
+        text = raw.decode('utf-8-sig')
+    except UnicodeDecodeError as exc:
+        raise InputFileError(f'{path}: the fleet manifest is not UTF-8 text ({exc.reason} at '
+                             f'byte {exc.start})') from None
+    try:
+        rows = list(csv.reader(io.StringIO(text, newline='')))
+    except csv.Error as exc:
+        raise InputFileError(f'{path}: not a CSV file: {exc}') from None
+    if not rows:
+        raise InputFileError(f'{path}: the fleet manifest is empty: it needs a header with the '
+                             f'columns {", ".join(REQUIRED_COLUMNS)}')
+    header = [h.strip() for h in rows[0]]
+    missing = [c for c in REQUIRED_COLUMNS if c not in header]
+    if missing:
+        raise InputFileError(f'{path}: row 1 (header): no column {", ".join(missing)} '
+                             f'(a fleet manifest needs {", ".join(REQUIRED_COLUMNS)}; found '
+                             f'{", ".join(header) or "nothing"})')
+    dup = sorted({h for h in header if header.count(h) > 1})
+    if dup:
+        raise InputFileError(f'{path}: row 1 (header): column {", ".join(dup)} appears twice')
+    base = os.path.dirname(os.path.abspath(path))
+    entries, seen, last_travel = [], {}, {}
+    for k, row in enumerate(rows[1:], start=2):
+        if not any(cell.strip() for cell in row):
+            continue                                          # blank line
+        if len(row) != len(header):
+            raise InputFileError(f'{path}: row {k}: {len(row)} fields, the header has '
+                                 f'{len(header)}')
+        rec = dict(zip(header, (c.strip() for c in row)))
+        for col in REQUIRED_COLUMNS:
+            if not rec[col]:
+                raise InputFileError(f'{path}: row {k}: empty {col}')
+        try:
+            when = _parse_time(rec['time'])
+        except ValueError:
+            raise InputFileError(f'{path}: row {k}: time {rec["time"]!r} is not an ISO 8601 '
+                                 'date and time (e.g. 2026-03-02T14:05:00+00:00)') from None
+        travel = None
+        if 'travel' in rec:
+            try:
+                travel = float(rec['travel'])
+            except ValueError:
+                travel = math.nan
+            if not math.isfinite(travel) or travel < 0:
+                raise InputFileError(f'{path}: row {k}: travel {rec["travel"]!r} is not a '
+                                     'finite number >= 0 (rad)')
+        full = os.path.normpath(os.path.join(base, rec['recording']))
+        if full in seen:
+            raise InputFileError(f'{path}: row {k}: recording {rec["recording"]} is already '
+                                 f'listed in row {seen[full]}')
+        seen[full] = k
+        meta = {h: v for h, v in rec.items() if h not in REQUIRED_COLUMNS + ('travel',)}
+        entries.append(ManifestEntry(k, rec['recording'], full, rec['joint'], when, travel,
+                                     meta))
+    if not entries:
+        raise InputFileError(f'{path}: the fleet manifest has a header but no recordings')
+    if any(e.travel is not None for e in entries):
+        for e in sorted(entries, key=lambda e: (e.joint, e.time)):
+            prev = last_travel.get(e.joint)
+            if prev is not None and e.travel < prev[0]:
+                raise InputFileError(f'{path}: row {e.row}: travel {e.travel:g} rad of joint '
+                                     f'{e.joint} is less than {prev[0]:g} rad at an earlier '
+                                     f'time (row {prev[1]}): the odometer never decreases')
+            last_travel[e.joint] = (e.travel, e.row)
+    return entries

@@ -1,0 +1,94 @@
+# Copyright 2026 friction_joint maintainers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""
+Figures of the fleet report (drawn from a :class:`~friction_joint.fleet.assess.FleetAssessment`).
+
+:func:`trend_figure` returns ``draw(fig)`` for one joint: the reference
+friction with its standard errors (left axis) beside the raw mean friction
+of the plateaus (same axis, what an uncompensated monitor sees), the
+recording's temperature on a second axis, the fitted hinge and the onset
+marked when the joint is flagged.
+"""
+import datetime
+
+import numpy as np
+
+__all__ = ['TREND_SIZE', 'trend_figure']
+
+#: figure size (inches) of a trend plot
+TREND_SIZE = (8.0, 3.6)
+
+
+def _dates(start, days):
+    return [start + datetime.timedelta(days=float(d)) for d in days]
+
+
+def trend_figure(joint, verdict, xi_ref, v_ref):
+    """
+    Return ``draw(fig)`` of one joint's trend plot.
+
+    Parameters
+    ----------
+    joint : str
+    verdict : dict
+        The joint's entry of :attr:`FleetAssessment.joints` (with ``series``).
+    xi_ref, v_ref : float
+        The reference point, named in the legend.
+
+    """
+    s = verdict['series']
+    pts = s['points']
+
+    def draw(fig):
+        ax = fig.add_subplot(111)
+        if not pts:
+            ax.text(0.5, 0.5, f'{joint}: no analysed recording', ha='center',
+                    transform=ax.transAxes)
+            return
+        days = np.array([p['days'] for p in pts])
+        when = _dates(s['start'], days)
+        ref = np.array([p['reference'] for p in pts])
+        se = np.array([p['reference_se'] for p in pts])
+        raw = np.array([p['raw'] for p in pts])
+        ax.errorbar(when, ref, yerr=se, fmt='o-', ms=3, lw=1, capsize=2, color='C0',
+                    label=f'reference friction ({v_ref:.2g} rad/s, {xi_ref:.1f} degC, '
+                          'no load)')
+        ax.plot(when, raw, 's--', ms=3, lw=0.8, color='C1',
+                label='raw mean friction (uncompensated)')
+        ev = verdict.get('evidence', {})
+        if verdict.get('wear') and ev.get('onset_day') is not None:
+            onset = s['start'] + datetime.timedelta(days=ev['onset_day'])
+            ax.axvline(onset, color='C3', lw=1.2, label=f'wear onset {onset:%Y-%m-%d %H:%M}')
+            lo, hi = ev.get('onset_range', (ev['onset_day'], ev['onset_day']))
+            ax.axvspan(s['start'] + datetime.timedelta(days=lo),
+                       s['start'] + datetime.timedelta(days=hi), color='C3', alpha=0.12)
+            if ev.get('axis') == 'time':
+                h = np.clip(days - ev['onset_day'], 0.0, None)
+                ax.plot(when, ev['level'] + ev['rate_per_day'] * h, '-', color='C3', lw=1,
+                        label='hinge fit')
+        ax.set_ylabel('friction torque (N m)')
+        title = f'{joint}: ' + ('WEAR' if verdict.get('wear') else 'no wear')
+        if ev.get('p_value') is not None:
+            title += f' (p = {ev["p_value"]:.3g})'
+        ax.set_title(title)
+        ax2 = ax.twinx()
+        xi = [p['xi'] for p in pts]
+        ax2.plot(when, xi, '^:', ms=3, lw=0.6, color='C2', label='temperature')
+        ax2.set_ylabel('housing temperature (degC)', color='C2')
+        lines = ax.get_legend_handles_labels()
+        lines2 = ax2.get_legend_handles_labels()
+        ax.legend(lines[0] + lines2[0], lines[1] + lines2[1], fontsize=7, loc='upper left')
+        fig.autofmt_xdate()
+    return draw

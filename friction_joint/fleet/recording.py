@@ -1,0 +1,248 @@
+# Copyright 2026 friction_joint maintainers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""
+One recording of a fleet: its static curve, and the friction at a reference point.
+
+:func:`analyse_recording` is the task the fleet runner sends to a worker with
+the recording's *path* (the worker reads it): it finds the constant-velocity
+plateaus (:func:`~friction_joint.identification.find_plateaus`) and identifies
+the static curve (seed eq. 6-7, steps 1-2) **in the model gear file's
+structure, around the model's coefficients**:
+
+* F_c and F_v are always fitted (their constant coefficients);
+* their temperature coefficients (powers 1..n of the gear file) are fitted
+  only when the recording's plateaus can tell them
+  (:func:`~friction_joint.identification.check_excitation`: plateaus at
+  enough distinct temperatures), their load coefficients likewise (distinct
+  loads); otherwise they keep the gear file's values: the gear file's
+  temperature and load dependence carries the recording to the reference
+  point;
+* F_s, v_s and delta_v keep the gear file's values (a daily recording has
+  no slow plateaus to tell them).
+
+With F_s, v_s and delta_v fixed the static curve is linear in the F_c and
+F_v coefficients, so the fit is a weighted linear least-squares problem
+(weights from the plateaus' standard errors, the covariance scaled by the
+residual variance): exact, fast, no start values.  A recording that cannot
+be analysed (unreadable, corrupt, too little motion) gives ``status:
+failed`` and a one-line ``reason``; nothing is raised.
+
+:func:`reference_friction` evaluates a fit at the fleet's reference operating
+point: F_c at (xi_ref, tau_L = 0) and the friction torque at the reference
+speed (the mean of +v_ref and -v_ref), each with its standard error.
+"""
+import math
+import time
+import warnings
+
+import numpy as np
+
+from ..bag import read_recording
+from ..exceptions import FrictionJointError
+from ..gear import parse_gear
+from ..identification import check_excitation, find_plateaus, StaticStructure
+from ..models.static import pack_static, PackedStatic, StaticFriction
+
+__all__ = ['FIT_VERSION', 'analyse_recording', 'reference_friction', 'fitted_terms']
+
+#: bumped when the per-recording analysis changes (old cached results are recomputed)
+FIT_VERSION = 1
+_ROWS = {'fc': 0, 'fs': 1, 'fv': 2}
+
+
+def _terms_for(gear, temp_orders, load_orders):
+    """Free coefficients ``[(name, index)]`` for the given told orders."""
+    terms = []
+    for p in ('fc', 'fv'):
+        terms += [(p, i) for i in range(temp_orders[p] + 1)]
+    for p in ('fc', 'fv'):
+        terms += [(p + '_load', j) for j in range(load_orders[p])]
+    return terms
+
+
+def fitted_terms(gear, plateaus):
+    """
+    Return the coefficients a recording's plateaus can tell, ``[(name, index), ...]``.
+
+    Starts from the gear file's structure for F_c and F_v and lowers the
+    temperature orders, then drops the load terms, until
+    :func:`~friction_joint.identification.check_excitation` accepts; the
+    constant terms must be told (else its :class:`ExcitationError` is raised).
+    """
+    f = gear.friction
+    top = {'fc': len(f.fc) - 1, 'fv': len(f.fv) - 1}
+    loads = {'fc': len(f.fc_load), 'fv': len(f.fv_load)}
+
+    def ok(temp, load):
+        try:
+            check_excitation(plateaus, StaticStructure(temp, load, {}, False))
+        except FrictionJointError:
+            return False
+        return True
+
+    base_t, base_l = {'fc': 0, 'fv': 0}, {'fc': 0, 'fv': 0}
+    check_excitation(plateaus, StaticStructure(base_t, base_l, {}, False))   # raises
+    temp = dict(base_t)
+    for k in range(max(top.values()), 0, -1):
+        cand = {p: min(k, top[p]) for p in top}
+        if ok(cand, base_l):
+            temp = cand
+            break
+    load = dict(base_l)
+    for p in ('fc', 'fv'):
+        if loads[p] and ok(temp, dict(load, **{p: loads[p]})):
+            load[p] = loads[p]
+    return _terms_for(gear, temp, load)
+
+
+def _batch(gear, terms):
+    """Packed static curves: the gear's, then one per term with that coefficient + 1."""
+    base = pack_static(gear.friction)
+    nb = 1 + len(terms)
+    temp = np.repeat(base.temp, nb, axis=0)
+    load = np.repeat(base.load, nb, axis=0)
+    mirror = gear.friction.fs is None                # no Stribeck: F_s is F_c
+    for b, (name, i) in enumerate(terms, start=1):
+        p = name[:-5] if name.endswith('_load') else name
+        arr = load if name.endswith('_load') else temp
+        arr[b, _ROWS[p], i] += 1.0
+        if mirror and p == 'fc':
+            arr[b, _ROWS['fs'], i] += 1.0
+    rep = (lambda a: np.repeat(a, nb))
+    return StaticFriction.from_packed(PackedStatic(
+        temp, load, rep(base.delta_s), rep(base.velocity_scale), rep(base.t_lo),
+        rep(base.t_hi), offset=rep(base.offset)))
+
+
+def _failed(path, reason, started, **extra):
+    out = {'path': path, 'status': 'failed', 'reason': ' '.join(str(reason).split()),
+           'version': FIT_VERSION, 'time_s': time.perf_counter() - started}
+    out.update(extra)
+    return out
+
+
+def analyse_recording(path, gear_text, *, gear_name='the model gear file', joint_name=None):
+    """
+    Analyse one recording (the fleet's per-recording task; module docstring).
+
+    Parameters
+    ----------
+    path : str
+        The recording (rosbag2 directory or ``.mcap`` file), read here.
+    gear_text : str
+        The model gear file's text (parsed here, small to ship).
+    gear_name : str
+        Its name in messages.
+    joint_name : str, optional
+        Joint to read (default the recording's first).
+
+    Returns
+    -------
+    dict
+        Plain JSON types: ``status`` (``ok``/``failed``), ``reason``; when ok:
+        ``terms`` (``[name, index]`` fitted), ``delta`` (change of those coefficients
+        from the gear file's), ``cov``, ``rms``, ``plateaus``, ``speed`` (median plateau
+        speed, rad/s), ``raw_friction``/``raw_friction_se`` (mean |tau_r| over the
+        plateaus), ``xi_range``, ``load_range``, ``xi_mean``, ``travel`` (rad moved),
+        ``duration``, ``time_s``.
+
+    """
+    started = time.perf_counter()
+    path = str(path)
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter('ignore')
+            gear = parse_gear(gear_text, gear_name)
+            rec = read_recording(path, joint_name=joint_name)
+            plat = find_plateaus(rec, gear)
+        info = _recording_info(rec, plat)
+        terms = fitted_terms(gear, plat)
+    except FrictionJointError as exc:
+        return _failed(path, exc, started)
+    except Exception as exc:                          # noqa: B902 - a broken file, any error
+        return _failed(path, f'cannot be analysed: {type(exc).__name__}: {exc}', started)
+    model = _batch(gear, terms)
+    tq = model.torque(plat.qd, plat.xi, plat.load)
+    x = (tq[1:] - tq[0]).T
+    y = plat.tau_r - tq[0]
+    w = 1.0 / np.maximum(plat.tau_r_se, 1e-4) ** 2
+    sw = np.sqrt(w)
+    a = x * sw[:, None]
+    delta, *_ = np.linalg.lstsq(a, y * sw, rcond=None)
+    r = y - x @ delta
+    dof = max(len(y) - len(terms), 1)
+    s2 = float((w * r * r).sum() / dof)
+    try:
+        cov = np.linalg.inv(a.T @ a) * max(s2, 1e-12)
+    except np.linalg.LinAlgError:
+        return _failed(path, 'the plateaus cannot separate F_c from F_v (singular fit): '
+                       'record plateaus at more distinct speeds', started)
+    info.update({
+        'path': path, 'status': 'ok', 'reason': '', 'version': FIT_VERSION,
+        'terms': [[n, int(i)] for n, i in terms], 'delta': delta.tolist(),
+        'cov': cov.tolist(), 'rms': float(math.sqrt(np.mean(r * r))),
+        'time_s': time.perf_counter() - started})
+    return info
+
+
+def _recording_info(rec, plat):
+    js = rec.joint_states
+    tau = np.abs(plat.tau_r)
+    n = len(plat)
+    xi = rec.temperature.xi if rec.temperature is not None else plat.xi
+    return {
+        'plateaus': n, 'speed': float(np.median(np.abs(plat.qd))) if n else None,
+        'raw_friction': float(tau.mean()) if n else None,
+        'raw_friction_se': float(tau.std(ddof=1) / math.sqrt(n)) if n > 1 else None,
+        'xi_range': [float(np.min(xi)), float(np.max(xi))] if len(xi) else None,
+        'xi_mean': float(np.mean(plat.xi)) if n else None,
+        'load_range': [float(plat.load.min()), float(plat.load.max())] if n else None,
+        'travel': float(np.abs(np.diff(js.q)).sum()) if len(js.q) > 1 else 0.0,
+        'duration': float(rec.duration)}
+
+
+def reference_friction(fit, gear, xi_ref, v_ref):
+    """
+    Return the fitted friction at the reference point with standard errors.
+
+    Parameters
+    ----------
+    fit : dict
+        An ``ok`` result of :func:`analyse_recording`.
+    gear : GearParams
+        The model gear file the fit was made around.
+    xi_ref, v_ref : float
+        Reference temperature (degC) and speed (rad/s); tau_L = 0.
+
+    Returns
+    -------
+    dict
+        ``fc``, ``fc_se`` (F_c at xi_ref, N m), ``torque``, ``torque_se`` (friction
+        torque at +-v_ref, mean of both directions, N m).
+
+    """
+    terms = [(n, int(i)) for n, i in fit['terms']]
+    model = _batch(gear, terms)
+    delta = np.asarray(fit['delta'], dtype=float)
+    cov = np.asarray(fit['cov'], dtype=float)
+    fc = model.parameters(xi_ref, 0.0)['fc'][:, 0]
+    g_fc = fc[1:] - fc[0]
+    tq = model.torque(np.array([v_ref, -v_ref]), xi_ref, 0.0)
+    both = 0.5 * (tq[:, 0] - tq[:, 1])
+    g_tq = both[1:] - both[0]
+    return {'fc': float(fc[0] + g_fc @ delta),
+            'fc_se': float(math.sqrt(max(g_fc @ cov @ g_fc, 0.0))),
+            'torque': float(both[0] + g_tq @ delta),
+            'torque_se': float(math.sqrt(max(g_tq @ cov @ g_tq, 0.0)))}

@@ -1,0 +1,147 @@
+# Copyright 2026 friction_joint maintainers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""
+The files of ``friction_joint fleet``: ``fleet.json``, ``recordings.csv``, ``report.html``.
+
+``report.html`` is one self-contained page (Markdown rendered by
+:func:`~friction_joint.report_html.markdown_to_html`, figures embedded as
+``data:`` URIs): the reference point, the fleet summary table (one row per
+joint: verdict, onset, rate, p-value, the naive monitor's verdict, failed
+recordings), a trend plot per joint (:mod:`~friction_joint.fleet.plots`) and
+the failed recordings with their reasons.
+"""
+import base64
+import csv
+import io
+
+from .plots import trend_figure, TREND_SIZE
+from ..output import json_bytes, render_png
+
+__all__ = ['CSV_COLUMNS', 'fleet_files', 'recordings_csv', 'report_markdown']
+
+CSV_COLUMNS = ('joint', 'time', 'recording', 'status', 'reason', 'reference_friction',
+               'reference_friction_se', 'fc_ref', 'fc_ref_se', 'raw_friction',
+               'raw_friction_se', 'xi_min', 'xi_max', 'load_min', 'load_max', 'travel',
+               'odometer', 'plateaus', 'fitted_terms', 'cached')
+
+
+def _num(v, fmt='.5g'):
+    return '' if v is None else format(v, fmt)
+
+
+def recordings_csv(assessment):
+    """Return ``recordings.csv`` (text): one row per manifest entry, metadata columns last."""
+    meta = []
+    for r in assessment.recordings:
+        meta += [k for k in r['metadata'] if k not in meta and k not in CSV_COLUMNS]
+    buf = io.StringIO()
+    w = csv.writer(buf, lineterminator='\n')
+    w.writerow(list(CSV_COLUMNS) + meta)
+    for r in assessment.recordings:
+        xi = r['xi_range'] or (None, None)
+        load = r['load_range'] or (None, None)
+        vals = {'xi_min': xi[0], 'xi_max': xi[1], 'load_min': load[0], 'load_max': load[1],
+                'fitted_terms': ' '.join(r['terms'])}
+        row = []
+        for c in CSV_COLUMNS:
+            v = vals[c] if c in vals else r.get(c)
+            row.append(_num(v) if isinstance(v, float) else ('' if v is None else str(v)))
+        w.writerow(row + [r['metadata'].get(k, '') for k in meta])
+    return buf.getvalue()
+
+
+def _cell(text):
+    return str(text).replace('|', '\\|').replace('\n', ' ')
+
+
+def report_markdown(assessment, run_info, figures):
+    """
+    Return the report's Markdown.
+
+    Parameters
+    ----------
+    assessment : FleetAssessment
+    run_info : dict
+        ``manifest``, ``model``, ``computed``, ``cached``, ``workers``, ``scheduler``.
+    figures : dict
+        Joint -> PNG bytes.
+
+    """
+    a = assessment
+    n_rec = len(a.recordings)
+    failed = [r for r in a.recordings if r['status'] != 'ok']
+    flagged = sorted(j for j, d in a.joints.items() if d['wear'])
+    lines = [
+        '# Fleet friction report', '',
+        f'Manifest `{run_info["manifest"]}`, model `{run_info["model"]}`: {len(a.joints)} '
+        f'joints, {n_rec} recordings ({n_rec - len(failed)} analysed, {len(failed)} failed; '
+        f'{run_info["computed"]} computed on {run_info["workers"]} workers '
+        f'({run_info["scheduler"]}), {run_info["cached"]} from the cache).', '',
+        f'Reference point: temperature {a.xi_ref:.2f} degC, speed {a.v_ref:.3g} rad/s, '
+        'no load (the fleet medians). *Reference friction* is the identified static curve '
+        'there; the *raw mean friction* is the mean |friction torque| of the plateaus, '
+        'uncompensated. Extra standard deviation over the fleet: '
+        f'{a.extra_sd["reference"]:.3g} N m (reference), {a.extra_sd["raw"]:.3g} N m (raw).',
+        '', f'**Wearing joints: {", ".join(flagged) if flagged else "none"}.**', '',
+        '## Summary', '',
+        '| joint | wear | onset | rate (N m/day) | rate (N m/krad) | p-value | naive monitor '
+        '| recordings | failed |',
+        '|---|---|---|---|---|---|---|---|---|']
+    for j in sorted(a.joints):
+        d = a.joints[j]
+        ev = d['evidence']
+        rate = d['rate'] or {}
+        naive = ev.get('raw_mean_friction')
+        lines.append('| ' + ' | '.join(_cell(c) for c in (
+            j, 'yes' if d['wear'] else 'no', d['onset'] or '',
+            f'{rate["per_day"]:.3g} ± {rate["per_day_se"]:.2g}' if rate else '',
+            f'{1e3 * rate["per_travel"]:.3g} ± {1e3 * rate["per_travel_se"]:.2g}'
+            if rate else '',
+            f'{ev["p_value"]:.3g}' if 'p_value' in ev else ev.get('note', ''),
+            '' if naive is None else ('wear' if naive['wear'] else 'no wear')
+            + f' (p = {naive["p_value"]:.3g})',
+            d['recordings'], d['failed'])) + ' |')
+    lines += ['', '## Trends', '']
+    for j in sorted(a.joints):
+        uri = 'data:image/png;base64,' + base64.b64encode(figures[j]).decode('ascii')
+        lines += [f'### {j}', '', f'![{j} trend]({uri})', '']
+    if failed:
+        lines += ['## Failed recordings', '', '| joint | time | recording | reason |',
+                  '|---|---|---|---|']
+        for r in failed:
+            lines.append(f'| {_cell(r["joint"])} | {r["time"]} | {_cell(r["recording"])} | '
+                         f'{_cell(r["reason"])} |')
+        lines.append('')
+    return '\n'.join(lines) + '\n'
+
+
+def fleet_files(assessment, run_info, base_dir):
+    """
+    Return ``[(name, bytes)]`` of the output directory.
+
+    ``fleet.json`` (:meth:`FleetAssessment.to_dict` plus ``run``), ``recordings.csv``,
+    ``report.html``; ``base_dir`` is where the report's relative images would be
+    looked up (it has none: every figure is embedded).
+    """
+    from ..report_html import markdown_to_html
+    figures = {j: render_png(trend_figure(j, d, assessment.xi_ref, assessment.v_ref),
+                             TREND_SIZE) for j, d in assessment.joints.items()}
+    md = report_markdown(assessment, run_info, figures)
+    doc = assessment.to_dict()
+    doc['run'] = dict(run_info)
+    return [('fleet.json', json_bytes(doc)),
+            ('recordings.csv', recordings_csv(assessment).encode('utf-8')),
+            ('report.html', markdown_to_html(md, base_dir=base_dir,
+                                             title='Fleet friction report').encode('utf-8'))]
