@@ -39,11 +39,13 @@ __all__ = ['PARAMETERS', 'EXPERIMENT_ADVICE', 'Segment', 'presliding_segments', 
 PARAMETERS = {'lugre': ('sigma0', 'sigma1'), 'gms': ('k_total', 'c')}
 
 #: the experiment that determines the pre-sliding parameters (used in error messages)
-EXPERIMENT_ADVICE = ('run slow motions with velocity reversals: a slow slide of a few mrad in '
-                     'one direction, then small sinusoidal or triangular motions around '
-                     'standstill (amplitude below and around the pre-sliding range, a fraction '
-                     'of a mrad to a few mrad), or a slow position sine of a few mrad so that '
-                     'each reversal passes through pre-sliding')
+EXPERIMENT_ADVICE = ('run slow motions with velocity reversals: a slow slide in one direction '
+                     'longer than the pre-sliding range (the travel after a reversal over which '
+                     'the friction builds up, several times F_s / stiffness), then small '
+                     'sinusoidal or triangular motions around standstill with swings from a '
+                     'tenth of that range up to it, or a slow position sine within it so that '
+                     'each reversal passes through pre-sliding; check that the measured '
+                     'position follows them, not only the command')
 
 
 def _check_series(name, a, n=None):
