@@ -66,9 +66,10 @@ from ..control.controller import Controller, pd_gains
 from ..exceptions import ExperimentError, GearConfigWarning
 from ..gear import load_gear
 from ..models.static import StaticFriction
+from ..output import OutputSet
 from ..testbed.plant import Plant
 
-__all__ = ['FLEET', 'simulate_fleet', 'fleet_recording', 'draw_fleet']
+__all__ = ['FLEET', 'simulate_fleet', 'fleet_recording', 'draw_fleet', 'default_gear']
 
 #: simulator settings (keyword ``cfg`` of :func:`simulate_fleet` overrides them)
 FLEET = {
@@ -291,7 +292,19 @@ def _one(args):
     return path
 
 
-def simulate_fleet(out, *, joints, days, seed=0, gear='config/csd25.yaml', cfg=None, jobs=1,
+def default_gear():
+    """Return the path of ``config/csd25.yaml`` (source tree or installed share directory)."""
+    here = os.path.dirname(os.path.abspath(__file__))
+    for base in (os.path.join(here, '..', '..', 'config'),
+                 os.path.join(here, '..', '..', '..', '..', '..', 'share', 'friction_joint',
+                              'config')):
+        path = os.path.normpath(os.path.join(base, 'csd25.yaml'))
+        if os.path.exists(path):
+            return path
+    raise ExperimentError('cannot find config/csd25.yaml next to the package: give the gear')
+
+
+def simulate_fleet(out, *, joints, days, seed=0, gear=None, cfg=None, jobs=1, force=False,
                    progress=None):
     """
     Simulate a fleet and write ``out/manifest.csv``, the recordings and ``out/truth.json``.
@@ -299,40 +312,57 @@ def simulate_fleet(out, *, joints, days, seed=0, gear='config/csd25.yaml', cfg=N
     Parameters
     ----------
     out : str or os.PathLike
-        Directory to create (must not exist).
+        Directory to write, one output (:class:`~friction_joint.output.OutputSet`: built
+        beside it and renamed into place; an existing one is an error unless ``force``).
     joints, days : int
         Fleet size: one recording per joint and day.
     seed : int
         Draws everything (conditions, wear, noise).
-    gear : str
-        The joints' nominal gear file.
+    gear : str, optional
+        The joints' nominal gear file (default :func:`default_gear`).
     cfg : dict, optional
         Overrides of :data:`FLEET`.
     jobs : int
         Processes simulating recordings in parallel.
+    force : bool
+        Replace an existing ``out`` as a whole.
     progress : callable, optional
         Called with a message per joint.
 
     Returns
     -------
     dict
-        The truth (as written to ``truth.json``), with ``manifest`` (its path).
+        The truth (as written to ``truth.json``), with ``manifest`` (its final path).
 
     """
     out = os.fspath(out)
-    if os.path.lexists(out):
-        raise ExperimentError(f'{out} exists: the fleet directory must be new')
-    base = load_gear(gear)
-    plan = draw_fleet(base, joints, days, seed, cfg)
-    os.makedirs(os.path.join(out, 'recordings'))
+    gear = os.fspath(gear) if gear is not None else default_gear()
+    with OutputSet(force=force, inputs=[('--truth', gear)], error=ExperimentError) as outputs:
+        outputs.add_directory(out)
+        outputs.check()
+        base = load_gear(gear)
+        plan = draw_fleet(base, joints, days, seed, cfg)
+        stage = outputs.staging_path(out)
+        truth = _write_fleet(stage, gear, base, plan, jobs, progress)
+        truth['seed'] = int(seed)
+        with open(os.path.join(stage, 'truth.json'), 'w', encoding='utf-8') as fh:
+            json.dump(truth, fh, indent=2)
+        outputs.publish()
+    truth['manifest'] = os.path.join(out, 'manifest.csv')
+    return truth
+
+
+def _write_fleet(stage, gear, base, plan, jobs, progress):
+    os.makedirs(os.path.join(stage, 'recordings'))
     work, rows = [], []
     for rec in plan['recordings']:
         rel = f'recordings/{rec["joint"]}_{rec["time"][:10]}.mcap'
         rec['recording'] = rel
         rows.append({'recording': rel, 'joint': rec['joint'], 'time': rec['time'],
                      'travel': f'{rec["travel"]:.1f}'})
-        work.append((os.fspath(gear), plan['joints'][rec['joint']], rec,
-                     os.path.join(out, rel), plan['cfg']))
+        work.append((gear, plan['joints'][rec['joint']], rec, os.path.join(stage, rel),
+                     plan['cfg']))
+    days = len(plan['recordings']) // max(len(plan['joints']), 1)
     if jobs > 1:
         from concurrent.futures import ProcessPoolExecutor
         with ProcessPoolExecutor(int(jobs)) as pool:
@@ -348,13 +378,8 @@ def simulate_fleet(out, *, joints, days, seed=0, gear='config/csd25.yaml', cfg=N
     writer = csv.DictWriter(buf, ['recording', 'joint', 'time', 'travel'], lineterminator='\n')
     writer.writeheader()
     writer.writerows(rows)
-    manifest = os.path.join(out, 'manifest.csv')
-    with open(manifest, 'w', encoding='utf-8') as fh:
+    with open(os.path.join(stage, 'manifest.csv'), 'w', encoding='utf-8') as fh:
         fh.write(buf.getvalue())
-    truth = {'joints': plan['joints'], 'recordings': plan['recordings'], 'season': plan['season'],
-             'mean_ambient': plan['mean_ambient'], 'seed': int(seed), 'gear': os.fspath(gear),
-             'cfg': {k: list(v) if isinstance(v, tuple) else v for k, v in plan['cfg'].items()}}
-    with open(os.path.join(out, 'truth.json'), 'w', encoding='utf-8') as fh:
-        json.dump(truth, fh, indent=2)
-    truth['manifest'] = manifest
-    return truth
+    return {'joints': plan['joints'], 'recordings': plan['recordings'], 'season': plan['season'],
+            'mean_ambient': plan['mean_ambient'], 'gear': gear,
+            'cfg': {k: list(v) if isinstance(v, tuple) else v for k, v in plan['cfg'].items()}}
