@@ -187,8 +187,9 @@ def _run_all(out, model, truths, duration_scale, relocate, *, stages=None):
 CLASSIC_TEXT = {
     'presliding': 'A force below the break-away force gives a spring-like displacement: the '
                   'slope at zero force is the bristle stiffness sigma0.',
-    'lag': 'A sinusoidal velocity through zero gives a friction-velocity loop (frictional '
-           'lag): friction is larger for increasing than for decreasing velocity.',
+    'lag': 'A velocity oscillating in the Stribeck region (without reversing) gives a '
+           'friction-velocity loop (frictional lag): friction is larger for increasing than '
+           'for decreasing velocity, and the loop widens with the frequency.',
     'breakaway': 'A ramped force: the break-away force depends on the rate at which the '
                  'force is applied.',
     'stick-slip': 'A spring pulled at constant velocity: stick-slip cycles between the '
@@ -304,11 +305,11 @@ def _ros_run(out, model, truth, duration):
     ax[2].set_ylabel('torque (Nm)')
     ax[2].set_xlabel('time (s)')
     ax[2].legend()
-    fig.suptitle(f'ROS 2 nodes in lockstep: $q_d$ = {ROS_AMPLITUDE:g} sin({ROS_OMEGA:g} t) rad, '
-                 'LuGre feed-forward and estimator, recorded\n'
-                 f'full-inertia gains: k_p = {kp:.0f} Nm/rad, k_d = {kd:.1f} Nm s/rad, designed '
-                 f'for {model_gear.inertia:g} kg m² (not the test bed’s paper preset)',
-                 fontsize='medium')
+    fig.suptitle(f'ROS 2 nodes in lockstep, recorded: $q_d$ = {ROS_AMPLITUDE:g} '
+                 f'sin({ROS_OMEGA:g} t) rad, LuGre feed-forward\n'
+                 f'full-inertia gains $k_p$ = {kp:.0f} Nm/rad, $k_d$ = {kd:.1f} Nm s/rad, '
+                 f'designed for {model_gear.inertia:g} kg m²\n'
+                 '(not the paper preset of the test-bed experiments)', fontsize='medium')
     fig.tight_layout()
     fig.savefig(os.path.join(out, 'ros_run.png'), dpi=110)
     plt.close(fig)
@@ -330,8 +331,9 @@ def _ros_run(out, model, truth, duration):
             f'above use the `paper` preset instead (designed for {paper.design_inertia:g} '
             f'kg m²: k_p = {kp_paper:.1f} Nm/rad, k_d = {kd_paper:.2f} Nm s/rad), only to put '
             'the uncompensated error into the paper’s band (see the sweep of the design '
-            'inertia); here the stiff loop keeps the tracking error small with or without a '
-            'good friction model, and the run checks the nodes, not the paper’s numbers.', '',
+            'inertia); the stiff loop here leaves a few % of tracking error even without '
+            'compensation (the same sweep), so this run checks the nodes working together, '
+            'not the paper’s numbers.', '',
             '![ros run](ros_run.png)', '',
             'Estimator vs link torque sensor after 0.5 s: '
             f'RMS {np.sqrt(np.mean(err ** 2)):.3f} Nm, '
