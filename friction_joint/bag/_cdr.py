@@ -28,12 +28,12 @@ from .topics import NS
 from ..exceptions import RecordingError
 
 __all__ = ['MessageLayout', 'Cdr', 'WALKERS', 'f64_columns', 'stamps_ns', 'layout_groups',
-           'walk_joint_state', 'MAX_LAYOUTS', 'BLOCK']
+           'walk_joint_state', 'MAX_LAYOUTS', 'DECODE_BLOCK']
 
 #: beyond this many layouts per block, decode message by message
 MAX_LAYOUTS = 64
 #: messages decoded per numpy block (bounds memory)
-BLOCK = 200_000
+DECODE_BLOCK = 200_000
 
 
 class MessageLayout:
@@ -225,8 +225,8 @@ def layout_groups(raws, msgtype, topic):
     linear in the number of messages however many layouts there are.
     """
     walk = WALKERS[msgtype]
-    for start in range(0, len(raws), BLOCK):
-        part = raws[start:start + BLOCK]
+    for start in range(0, len(raws), DECODE_BLOCK):
+        part = raws[start:start + DECODE_BLOCK]
         lengths = np.fromiter(map(len, part), dtype=np.int64, count=len(part))
         pending = np.arange(len(part))
         groups = 0

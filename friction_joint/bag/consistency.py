@@ -75,10 +75,11 @@ import numpy as np
 
 from .stamps import GAP
 from ..exceptions import RecordingError
+from ..gear.schema import ABSOLUTE_ZERO
 
 __all__ = ['CLOCK_TOLERANCE', 'CLOCK_COVER', 'CLOCK_OUTSIDE', 'MISMATCH', 'MIN_WINDOWS',
            'COHERENT', 'NOISE',
-           'ABSOLUTE_ZERO', 'MAX_TEMPERATURE', 'check_clocks', 'check_negative_stamps',
+           'MAX_TEMPERATURE', 'check_clocks', 'check_negative_stamps',
            'velocity_mismatch', 'check_position_velocity', 'check_ranges', 'check_recording']
 
 #: fraction of the joint states' span a topic may lie beside it (with 2 sample times)
@@ -92,7 +93,6 @@ MISMATCH = 0.25
 #: judged windows needed before the position/velocity mismatch is judged
 MIN_WINDOWS = 10
 #: lowest temperature (°C)
-ABSOLUTE_ZERO = -273.15
 #: highest plausible housing temperature (°C): above the decomposition of any lubricant
 MAX_TEMPERATURE = 1000.0
 #: noise floors are this many spreads of the noise

@@ -39,7 +39,7 @@ index) and converted to SI and the joint convention of docs/interfaces.md
   interval by linear interpolation (stamps already on the grid are kept), so
   nothing is interpolated across a gap.
 * **Pieces**: the first file starts at t = 0; every further file starts
-  :func:`file_gap` (at least :data:`GAP` = 10 s) after the previous one ends,
+  :func:`file_gap` (at least :data:`FILE_GAP` = 10 s) after the previous one ends,
   so no derivative or fit of a reader bridges two runs.
 * **Velocity**: when not logged, the centred difference of the position within
   each piece (one-sided at its ends; ``/joint_states`` must carry a velocity).
@@ -77,12 +77,12 @@ from .units import (check_radius, convert, header_unit, mapping_text, parse_colu
 from ..exceptions import RecordingError
 from ..inputs import read_input
 
-__all__ = ['QUANTITIES', 'UNITS', 'GAP', 'SPLIT', 'IMPORT_BUDGET', 'ROW_BYTES', 'WRITE_BYTES',
+__all__ = ['QUANTITIES', 'UNITS', 'FILE_GAP', 'SPLIT', 'IMPORT_BUDGET', 'ROW_BYTES', 'WRITE_BYTES',
            'ImportedLog',
            'parse_column', 'load_mapping', 'file_gap', 'import_logs']
 
 #: smallest time gap (s) between the runs of two files
-GAP = 10.0
+FILE_GAP = 10.0
 #: a step of the stamps longer than this many median intervals splits a run into pieces
 SPLIT = 5.0
 #: memory (bytes) the rows of the logs of one import may take (:data:`ROW_BYTES` and the
@@ -258,8 +258,8 @@ def _resample(path, rows, t, picked, ranges, dt):
 
 
 def file_gap(dts):
-    """Return the time gap (s) put between two files: max(GAP, 10 x the largest interval)."""
-    return max(GAP, 10.0 * max(dts, default=0.0))
+    """Return the time gap (s) put between two files: max(FILE_GAP, 10 x the largest interval)."""
+    return max(FILE_GAP, 10.0 * max(dts, default=0.0))
 
 
 class ImportedLog:

@@ -29,7 +29,7 @@ and allows a tighter factor: a velocity sample is absurd when
     |qd - m| > VELOCITY_FACTOR * max(S, R)      (VELOCITY_FACTOR = 1e3)
 
 with ``R`` the largest ``|dq/dt|`` of the position's differences within
-:data:`WINDOW` samples of it.  A quick move of a joint that is otherwise at
+:data:`RATE_WINDOW` samples of it.  A quick move of a joint that is otherwise at
 rest is plausible where the position moves with it (``R`` large), a velocity
 orders of magnitude beyond both the position's rate and its own spread is
 not (a velocity on the motor side of a 1:160 gear is still accepted).
@@ -44,9 +44,10 @@ import math
 
 import numpy as np
 
+from .blockwise import BLOCK
 from ..exceptions import RecordingError
 
-__all__ = ['FACTOR', 'VELOCITY_FACTOR', 'WINDOW', 'BLOCK', 'implausible', 'check_values',
+__all__ = ['FACTOR', 'VELOCITY_FACTOR', 'RATE_WINDOW', 'implausible', 'check_values',
            'check_samples']
 
 #: a sample further than this many robust spreads from the median is absurd
@@ -54,10 +55,9 @@ FACTOR = 1e6
 #: a velocity further than this many times max(its spread, the position's rate) is absurd
 VELOCITY_FACTOR = 1e3
 #: samples either side over which a velocity is compared with the position's differences
-WINDOW = 5
+RATE_WINDOW = 5
 #: samples judged at a time (the temporaries of a check are this long, but for one scratch
 #: copy of the signal)
-BLOCK = 1 << 18
 _FRACTION = 1e-3
 _MIN_K = 3
 _REL_FLOOR = 1e-3
@@ -68,13 +68,13 @@ _UNITS = {'q': 'rad', 'qd': 'rad/s', 'effort': 'N m', 'xi': 'degC', 'tau': 'N m'
 
 def _rate(t, q, a, b, origin=0.0):
     """
-    Return the largest |dq/dt| within WINDOW samples of samples ``a:b`` (of ``t - origin``).
+    Return the largest |dq/dt| within RATE_WINDOW samples of samples ``a:b`` (of ``t - origin``).
 
-    Computed from the samples ``a - WINDOW - 1 .. b + WINDOW`` only, value for value as
+    Computed from the samples ``a - RATE_WINDOW - 1 .. b + RATE_WINDOW`` only, value for value as
     over the whole signal (a window of the position's differences either side of each sample).
     """
     n = len(q)
-    lo, hi = max(0, a - WINDOW), min(n, b + WINDOW)
+    lo, hi = max(0, a - RATE_WINDOW), min(n, b + RATE_WINDOW)
     k0, k1 = max(0, lo - 1), min(n - 1, hi)         # the differences needed: [k0, k1)
     tt = t[k0:k1 + 1] - origin
     dt = np.diff(tt)
@@ -84,8 +84,8 @@ def _rate(t, q, a, b, origin=0.0):
     ext = np.zeros(hi - lo + 1)                     # differences lo - 1 .. hi - 1, 0 outside
     ext[k0 - lo + 1:k1 - lo + 1] = fd
     both = np.maximum(ext[:-1], ext[1:])            # steps either side of a sample
-    padded = np.pad(both, WINDOW, mode='edge')
-    rate = np.lib.stride_tricks.sliding_window_view(padded, 2 * WINDOW + 1).max(axis=1)
+    padded = np.pad(both, RATE_WINDOW, mode='edge')
+    rate = np.lib.stride_tricks.sliding_window_view(padded, 2 * RATE_WINDOW + 1).max(axis=1)
     return rate[a - lo:b - lo]
 
 
@@ -216,7 +216,7 @@ def check_samples(label, t, fields, position=None, *, origin=0.0):
         also = ''
         if name == velocity:
             also = (f" and from the position's rate of change around then "
-                    f'({rate(i, i + 1)[0]:.3g} {unit} at most over {2 * WINDOW + 1} samples)')
+                    f'({rate(i, i + 1)[0]:.3g} {unit} at most over {2 * RATE_WINDOW + 1} samples)')
         raise RecordingError(
             f'{label}: implausible {name} {value:.6g} {unit} at t = {t[i] - origin:.6f} s '
             f'(sample {i}{f", {len(bad)} such samples" if len(bad) > 1 else ""}): more than '

@@ -18,7 +18,7 @@ Writing recordings from numpy arrays (tests, offline simulator runs, experiments
 See :mod:`friction_joint.bag.topics` for the topics and fields.
 
 The recording is written in one pass with memory bounded by a block, whatever its
-length: the topics are merged by receive time (then topic) :data:`BLOCK` messages at
+length: the topics are merged by receive time (then topic) :data:`WRITE_BLOCK` messages at
 a time (a k-way merge over windows of each topic's stamps), each block is encoded
 (a template message with stamps and float64 fields replaced, numpy) and appended to
 the MCAP file by :class:`~friction_joint.bag.mcap_stream.McapStream` (zstd chunks
@@ -39,10 +39,10 @@ from .mcap_stream import McapStream, MESSAGE_HEADER
 from .topics import CONTRACT_TYPES, NS, Recording
 from ..exceptions import RecordingError
 
-__all__ = ['write_recording', 'BLOCK', 'BLOCK_BYTES']
+__all__ = ['write_recording', 'WRITE_BLOCK', 'BLOCK_BYTES']
 
 #: at most this many messages are merged and encoded at a time
-BLOCK = 65536
+WRITE_BLOCK = 65536
 #: and at most this many bytes of message records (large JointStates)
 BLOCK_BYTES = 16 << 20
 #: stamps checked this many at a time
@@ -261,7 +261,7 @@ def _write_mcap(fh, typestore, topics, info):
     channels = [out.register_channel(tp.topic, 'cdr', schemas[tp.msgtype],
                                      {'offered_qos_profiles': qos}) for tp in topics]
     width = max((MESSAGE_HEADER + len(tp.raw) for tp in topics), default=1)
-    block = max(1, min(BLOCK, BLOCK_BYTES // width))
+    block = max(1, min(WRITE_BLOCK, BLOCK_BYTES // width))
     pos = [0] * len(topics)
     lo, hi = 2**63 - 1, 0
     for recvs, which in _merged(topics, block):
@@ -346,7 +346,7 @@ def write_recording(path, topics, joint_name=None, *, custom_data=None):
     -----
     The bag is written into a temporary directory next to ``path`` and renamed at the
     end, so a failure leaves nothing at ``path``.  Messages are written in order of
-    ``t_recv`` (then topic), :data:`BLOCK` at a time, into zstd-compressed chunks with
+    ``t_recv`` (then topic), :data:`WRITE_BLOCK` at a time, into zstd-compressed chunks with
     CRCs, a data-section and a summary CRC (as
     :func:`~friction_joint.bag.checksums.seal_recording` seals a file), so a flipped bit
     is found on reading.  Memory beyond the arrays given stays at a few blocks, whatever

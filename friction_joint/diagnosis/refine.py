@@ -48,24 +48,24 @@ import math
 import numpy as np
 from scipy import optimize
 
-__all__ = ['LATTICE', 'PARAMS', 'active_params', 'varying_params', 'Refiner']
+__all__ = ['LATTICE', 'NONLINEAR', 'active_params', 'varying_params', 'Refiner']
 
 #: lattice points per step of a parameter (the resolution of the refinement)
 LATTICE = 64
 #: nonlinear parameters, in the order a coordinate sweep refines them
-PARAMS = ('vs', 'dv', 'cyc', 'ps')
+NONLINEAR = ('vs', 'dv', 'cyc', 'ps')
 
 
 def active_params(s):
-    """Nonlinear parameters structure ``s`` has (a subset of :data:`PARAMS`, in order)."""
+    """Nonlinear parameters structure ``s`` has (a subset of :data:`NONLINEAR`, in order)."""
     flags = {'vs': bool(s.nfs), 'dv': bool(s.dv_free), 'cyc': bool(s.ripple),
              'ps': bool(s.presliding)}
-    return [p for p in PARAMS if flags[p]]
+    return [p for p in NONLINEAR if flags[p]]
 
 
 def varying_params(structures):
     """Nonlinear parameters whose values differ among ``structures`` (a grid's)."""
-    return [p for p in PARAMS if len({getattr(s, p) for s in structures}) > 1]
+    return [p for p in NONLINEAR if len({getattr(s, p) for s in structures}) > 1]
 
 
 def _t(s, p):

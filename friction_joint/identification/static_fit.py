@@ -69,11 +69,11 @@ import numpy as np
 from .static_problem import (block_folds, CoefficientLayout, covariance, fit_structure,
                              load_reference, Problem, single_init, temperature_range,
                              theta_from_values)
-from .static_structure import (check_excitation, distinct_levels, group_table, PARAMS,
-                               StaticStructure, UNITS)
+from .static_structure import (check_excitation, distinct_levels, group_table, PARAMETER_UNITS,
+                               StaticStructure)
 from ..exceptions import ExcitationError, GearConfigError
 from ..gear.schema import TEMPERATURE_BOUNDS
-from ..models.static import StaticFriction
+from ..models.static import PARAMETERS, StaticFriction
 
 __all__ = ['StaticIdentifier', 'cross_validate_orders', 'select_orders']
 
@@ -133,7 +133,7 @@ def select_orders(plateaus, structure, *, max_order=2, max_load_order=2, thresho
 
     """
     cur = structure.with_orders(dict.fromkeys(structure.params, 0),
-                                dict.fromkeys(PARAMS, 0))
+                                dict.fromkeys(PARAMETERS, 0))
     check_excitation(plateaus, cur)
     t_range, load_ref = temperature_range(plateaus), load_reference(plateaus)
     _, th, _, _ = fit_structure(cur, plateaus, t_range, load_ref, stepwise=False)
@@ -253,7 +253,7 @@ class StaticIdentifier:
             temp = {k: int(v) for k, v in self.orders.items() if not k.endswith('_load')}
             load = {k[:-5]: int(v) for k, v in self.orders.items() if k.endswith('_load')}
             bad = [k for k in temp if k not in self.base.orders] + \
-                  [k for k in load if k not in PARAMS]
+                  [k for k in load if k not in PARAMETERS]
             if bad:
                 raise GearConfigError(f'orders: unknown or absent parameter(s) {", ".join(bad)}')
             return self.base.with_orders(temp, load)
@@ -276,7 +276,7 @@ class StaticIdentifier:
         t0 = time.perf_counter()
         if self.orders == 'auto':
             check_excitation(plateaus, self.base.with_orders(dict.fromkeys(self.base.params, 0),
-                                                             dict.fromkeys(PARAMS, 0)))
+                                                             dict.fromkeys(PARAMETERS, 0)))
         s = self._structure(plateaus)
         self.info['time_order_selection_s'] = time.perf_counter() - t0
         check_excitation(plateaus, s)
@@ -325,7 +325,7 @@ class StaticIdentifier:
         pooled = single_init(s, plateaus)
         labels, groups = group_table(plateaus)
         vals = []
-        single = s.with_orders(dict.fromkeys(s.params, 0), dict.fromkeys(PARAMS, 0))
+        single = s.with_orders(dict.fromkeys(s.params, 0), dict.fromkeys(PARAMETERS, 0))
         for g in range(labels.max() + 1):
             m = labels == g
             sub = plateaus.select(m)
@@ -437,8 +437,8 @@ class StaticIdentifier:
             for i, (v, e) in enumerate(zip(vals, self.standard_errors[name])):
                 power = i + 1 if load else i
                 var = 'tau_L' if load else 'xi'
-                unit = UNITS[base] + (f'/Nm^{power}' if load else
-                                      (f'/degC^{power}' if power else ''))
+                unit = PARAMETER_UNITS[base] + (f'/Nm^{power}' if load else
+                                                (f'/degC^{power}' if power else ''))
                 rows.append({'parameter': name, 'power': f'{var}^{power}', 'value': v,
                              'se': e, 'unit': unit})
         for name, vals in self.structure.fixed.items():

@@ -28,8 +28,8 @@ import time
 import numpy as np
 from scipy.optimize import least_squares, nnls
 
-from .static_structure import LOWER, PARAMS, UPPER
-from ..models.static import PackedStatic, StaticFriction
+from .static_structure import LOWER, UPPER
+from ..models.static import PackedStatic, PARAMETERS, StaticFriction
 
 __all__ = ['CoefficientLayout', 'Problem', 'single_init', 'theta_from_values', 'fit_structure',
            'covariance', 'temperature_range', 'load_reference', 'block_folds']
@@ -62,7 +62,7 @@ class CoefficientLayout:
         self.size = i
         self.nt = max([structure.orders[p] + 1 for p in structure.params]
                       + [len(c) for c in structure.fixed.values()] + [1])
-        self.nl = max([structure.load_orders.get(p, 0) for p in PARAMS] + [1])
+        self.nl = max([structure.load_orders.get(p, 0) for p in PARAMETERS] + [1])
 
     def _nodes(self, n):
         lo, hi = self.t_range
@@ -103,7 +103,7 @@ class CoefficientLayout:
         b = thetas.shape[0]
         temp = np.zeros((b, 5, self.nt))
         load = np.zeros((b, 5, self.nl))
-        idx = {p: i for i, p in enumerate(PARAMS)}
+        idx = {p: i for i, p in enumerate(PARAMETERS)}
         for p, c in self.s.fixed.items():
             temp[:, idx[p], :len(c)] = c
         for name, kind, sl in self.blocks:

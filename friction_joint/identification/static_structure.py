@@ -26,15 +26,14 @@ import numpy as np
 from ..exceptions import ExcitationError, GearConfigError
 from ..models.static import PARAMETERS
 
-__all__ = ['PARAMS', 'LOWER', 'UPPER', 'UNITS', 'GROUP_WIDTH', 'MIN_GROUP', 'SPEED_TOL',
+__all__ = ['LOWER', 'UPPER', 'PARAMETER_UNITS', 'GROUP_WIDTH', 'MIN_GROUP', 'SPEED_TOL',
            'StaticStructure', 'temperature_groups', 'distinct_levels', 'group_table',
            'check_excitation']
 
 #: temperature-polynomial parameters, in the order of the packed arrays of :mod:`static`
-PARAMS = PARAMETERS                      # ('fc', 'fs', 'fv', 'vs', 'delta_v')
 LOWER = {'fc': 0.0, 'fs': 0.0, 'fv': 0.0, 'vs': 1e-6, 'delta_v': 0.05}
 UPPER = {'fc': np.inf, 'fs': np.inf, 'fv': np.inf, 'vs': np.inf, 'delta_v': 3.0}
-UNITS = {'fc': 'Nm', 'fs': 'Nm', 'fv': 'Nm/(rad/s)^dv', 'vs': 'rad/s', 'delta_v': '1'}
+PARAMETER_UNITS = {'fc': 'Nm', 'fs': 'Nm', 'fv': 'Nm/(rad/s)^dv', 'vs': 'rad/s', 'delta_v': '1'}
 
 #: temperature-group width (degC): plateaus within this span count as one temperature
 GROUP_WIDTH = 1.0
@@ -57,7 +56,7 @@ class StaticStructure:
     ----------
     orders : dict
         Parameter -> temperature polynomial order (list length - 1) of every fitted
-        parameter of :data:`PARAMS`.
+        parameter of :data:`PARAMETERS`.
     load_orders : dict
         Parameter -> load polynomial order m (powers 1..m; 0 = no load term).
     fixed : dict
@@ -87,14 +86,14 @@ class StaticStructure:
         gear : GearParams
             The gear file (loaded).
         fixed : iterable of str
-            Parameters of :data:`PARAMS` kept at the file's values (e.g. ``delta_v``
+            Parameters of :data:`PARAMETERS` kept at the file's values (e.g. ``delta_v``
             when the file has no ``delta_v`` key: linear viscous friction).
 
         """
         f = gear.friction
         stribeck = f.fs is not None
         orders, fix, load = {}, {}, {}
-        for p in PARAMS:
+        for p in PARAMETERS:
             coef = getattr(f, p)
             if coef is None:
                 continue
@@ -103,10 +102,10 @@ class StaticStructure:
             else:
                 orders[p] = len(coef) - 1
             load[p] = len(getattr(f, p + '_load'))
-        unknown = set(fixed) - set(PARAMS)
+        unknown = set(fixed) - set(PARAMETERS)
         if unknown:
             raise GearConfigError(f'cannot fix {", ".join(sorted(unknown))}: not a static '
-                                  f'curve parameter ({", ".join(PARAMS)})')
+                                  f'curve parameter ({", ".join(PARAMETERS)})')
         return cls(orders, load, fix, stribeck, f.delta_s, f.velocity_scale)
 
     def with_orders(self, orders=None, load_orders=None):
@@ -119,12 +118,12 @@ class StaticStructure:
 
     @property
     def params(self):
-        """Fitted temperature parameters, in :data:`PARAMS` order."""
-        return [p for p in PARAMS if p in self.orders]
+        """Fitted temperature parameters, in :data:`PARAMETERS` order."""
+        return [p for p in PARAMETERS if p in self.orders]
 
     @property
     def load_params(self):
-        return [p for p in PARAMS if self.load_orders.get(p, 0) > 0]
+        return [p for p in PARAMETERS if self.load_orders.get(p, 0) > 0]
 
     def describe(self):
         """

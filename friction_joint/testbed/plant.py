@@ -30,6 +30,7 @@ import numpy as np
 from .sensors import CurrentLoop, Encoder, TemperatureSensor, VelocityEstimator
 from .thermal import ThermalModel
 from ..exceptions import SimulationError
+from ..gear.schema import ABSOLUTE_ZERO
 from ..models.joint import Joint
 from ..models.static import StaticFriction
 
@@ -43,7 +44,6 @@ MAX_INPUT_SPEED = 10_000.0 * 2.0 * math.pi / 60.0
 #: time in which the drive is assumed able to bring the joint from rest to its speed scale, s
 ACCELERATION_TIME = 0.1
 #: absolute zero, degC
-ABSOLUTE_ZERO = -273.15
 UNITS = {'position': 'rad', 'velocity': 'rad/s', 'torque': 'Nm', 'temperature': 'degC'}
 
 

@@ -209,7 +209,7 @@ def test_varying_layouts_skipped_messages_and_order(tmp_path):
 
 def test_many_layouts_decode_one_by_one(tmp_path, monkeypatch):
     monkeypatch.setattr(bagmod, 'MAX_LAYOUTS', 3)
-    monkeypatch.setattr(bagmod, 'BLOCK', 7)
+    monkeypatch.setattr(bagmod, 'DECODE_BLOCK', 7)
     js = 'sensor_msgs/msg/JointState'
     msgs = [('/joint_states', js, i, _js(['joint'], [float(i)], i, 'f' * (i % 5)))
             for i in range(1, 40)]

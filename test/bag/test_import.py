@@ -20,7 +20,7 @@ from pathlib import Path
 import shutil
 
 from friction_joint.bag import read_recording, recording_topics
-from friction_joint.bag.importer import GAP
+from friction_joint.bag.importer import FILE_GAP
 from friction_joint.cli import main
 import numpy as np
 import pytest
@@ -128,7 +128,7 @@ def test_two_files_are_separate_pieces(tmp_path, capsys):
     js = read_recording(rec).joint_states
     d = np.diff(js.t)
     gaps = np.flatnonzero(d > 5 * np.median(d))
-    assert len(gaps) == 1 and d[gaps[0]] >= GAP
+    assert len(gaps) == 1 and d[gaps[0]] >= FILE_GAP
     k = gaps[0]
     assert len(js) == 2 * 7126 and k == 7125
     dt = js.t[k] - js.t[k - 1]
@@ -137,7 +137,7 @@ def test_two_files_are_separate_pieces(tmp_path, capsys):
     assert js.qd[k + 1] == pytest.approx((js.q[k + 2] - js.q[k + 1]) / dt, rel=1e-9)
     pieces = _custom(rec)['files']
     assert [len(f['pieces']) for f in pieces] == [1, 1]
-    assert pieces[1]['pieces'][0][0] - pieces[0]['pieces'][0][1] >= GAP
+    assert pieces[1]['pieces'][0][0] - pieces[0]['pieces'][0][1] >= FILE_GAP
 
 
 # ------------------------------------------------------------------- synthetic round trips ---

@@ -148,9 +148,9 @@ def _old_position_rate(t, q):
     ok = dt > 0
     fd[ok] = np.abs(np.diff(q)[ok] / dt[ok])
     both = np.maximum(np.r_[0.0, fd], np.r_[fd, 0.0])
-    padded = np.pad(both, plausible.WINDOW, mode='edge')
+    padded = np.pad(both, plausible.RATE_WINDOW, mode='edge')
     return np.lib.stride_tricks.sliding_window_view(
-        padded, 2 * plausible.WINDOW + 1).max(axis=1)
+        padded, 2 * plausible.RATE_WINDOW + 1).max(axis=1)
 
 
 def _old_implausible(x, reference, factor):

@@ -16,7 +16,7 @@
 The streaming recording writer (bag/writer.py, bag/mcap_stream.py).
 
 Memory bounded by a block, whatever the length (the encoder and the MCAP stream never
-see more than :data:`~friction_joint.bag.writer.BLOCK` messages at a time), the same
+see more than :data:`~friction_joint.bag.writer.WRITE_BLOCK` messages at a time), the same
 messages in the same order as the writer before it (rosbags' Writer followed by
 ``seal_recording``: a digest computed with that code), and the same file, byte for
 byte, as that path gives for the same messages.
@@ -109,9 +109,9 @@ def _old_path(src, dst, topics, custom_data=None):
     return bagdir
 
 
-@pytest.mark.parametrize('block', [writer.BLOCK, 97])
+@pytest.mark.parametrize('block', [writer.WRITE_BLOCK, 97])
 def test_messages_and_order_are_those_of_the_old_writer(tmp_path, monkeypatch, block):
-    monkeypatch.setattr(writer, 'BLOCK', block)
+    monkeypatch.setattr(writer, 'WRITE_BLOCK', block)
     write_recording(tmp_path / 'rec', _data(), joint_name='j', custom_data={'k': 'v'})
     assert _digest(tmp_path / 'rec') == OLD_DIGEST
 
@@ -125,7 +125,7 @@ def test_messages_and_order_are_those_of_the_old_writer(tmp_path, monkeypatch, b
 ])
 def test_the_file_is_byte_for_byte_what_rosbags_and_seal_recording_wrote(
         tmp_path, monkeypatch, name, topics, custom):
-    monkeypatch.setattr(writer, 'BLOCK', 5000)
+    monkeypatch.setattr(writer, 'WRITE_BLOCK', 5000)
     data = topics()
     (tmp_path / 'new').mkdir()
     (tmp_path / 'old').mkdir()
@@ -137,7 +137,7 @@ def test_the_file_is_byte_for_byte_what_rosbags_and_seal_recording_wrote(
 
 
 def test_memory_is_a_block_whatever_the_length(tmp_path, monkeypatch):
-    """The encoder and the MCAP stream get at most BLOCK messages a call (the default BLOCK)."""
+    """The encoder and the MCAP stream get at most WRITE_BLOCK messages a call (its default)."""
     encoded, added = [], []
     encode, add = writer._encode, McapStream.add_messages
 
@@ -151,13 +151,13 @@ def test_memory_is_a_block_whatever_the_length(tmp_path, monkeypatch):
 
     monkeypatch.setattr(writer, '_encode', counting_encode)
     monkeypatch.setattr(McapStream, 'add_messages', counting_add)
-    n = 2 * writer.BLOCK + 123
+    n = 2 * writer.WRITE_BLOCK + 123
     write_recording(tmp_path / 'rec', _long(n))
     total = 2 * n + len(range(0, n, 3)) + len(range(0, n, 7))
     assert sum(encoded) == total and sum(a for a, _ in added) == total
-    assert max(encoded) <= writer.BLOCK
-    assert all(a == b <= writer.BLOCK for a, b in added)
-    assert len(added) >= total // writer.BLOCK
+    assert max(encoded) <= writer.WRITE_BLOCK
+    assert all(a == b <= writer.WRITE_BLOCK for a, b in added)
+    assert len(added) >= total // writer.WRITE_BLOCK
     rec = read_recording(tmp_path / 'rec')
     assert len(rec.joint_states) == n and len(rec.link_torque) == n
 
@@ -192,7 +192,7 @@ def test_a_failure_half_way_leaves_nothing(tmp_path, monkeypatch):
         return add(self, groups, which)
 
     monkeypatch.setattr(McapStream, 'add_messages', failing_add)
-    monkeypatch.setattr(writer, 'BLOCK', 1000)
+    monkeypatch.setattr(writer, 'WRITE_BLOCK', 1000)
     with pytest.raises(OSError, match='disk full'):
         write_recording(tmp_path / 'rec', _long(3000))
     with pytest.raises(OSError, match='disk full'):
@@ -202,7 +202,7 @@ def test_a_failure_half_way_leaves_nothing(tmp_path, monkeypatch):
 
 @pytest.mark.skipif(not MCAP_CLI.exists(), reason='mcap CLI not available')
 def test_mcap_doctor_is_clean(tmp_path, monkeypatch):
-    monkeypatch.setattr(writer, 'BLOCK', 3000)
+    monkeypatch.setattr(writer, 'WRITE_BLOCK', 3000)
     path = write_recording(tmp_path / 'rec.mcap', _long(20_000))
     res = subprocess.run([str(MCAP_CLI), 'doctor', '--strict-message-order', path],
                          capture_output=True, text=True, timeout=120)
