@@ -108,8 +108,12 @@ def draw_fleet(gear, joints, days, seed=0, cfg=None):
     ----------
     gear : GearParams
         The joints' nominal gear (friction, lever, thermal sections).
-    joints, days : int
+    joints : int
+        Number of joints.
+    days : int
+        Number of days (one recording per joint and day).
     seed : int
+        Seed of every draw.
     cfg : dict, optional
         Overrides of :data:`FLEET`.
 

@@ -159,6 +159,7 @@ def assess_fleet(entries, results, gear, *, alpha=ALPHA, n_boot=BOOTSTRAP, seed=
     Parameters
     ----------
     entries : list of ManifestEntry
+        The manifest.
     results : list of dict
         Per entry, :func:`~friction_joint.fleet.recording.analyse_recording`'s result.
     gear : GearParams

@@ -88,6 +88,7 @@ def map_recordings(func, paths, *, args=(), kwargs=None, scheduler=None, workers
     func : callable
         Module-level function (workers import it by name); returns plain data.
     paths : sequence of str
+        The recordings, one task each.
     args, kwargs
         Further arguments of every task (small: they are sent with each task).
     scheduler : str, optional

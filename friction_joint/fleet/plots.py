@@ -42,6 +42,7 @@ def trend_figure(joint, verdict, xi_ref, v_ref):
     Parameters
     ----------
     joint : str
+        The joint's id (the title).
     verdict : dict
         The joint's entry of :attr:`FleetAssessment.joints` (with ``series``).
     xi_ref, v_ref : float

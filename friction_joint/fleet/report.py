@@ -73,6 +73,7 @@ def report_markdown(assessment, run_info, figures):
     Parameters
     ----------
     assessment : FleetAssessment
+        The verdict.
     run_info : dict
         ``manifest``, ``model``, ``computed``, ``cached``, ``workers``, ``scheduler``.
     figures : dict

@@ -193,6 +193,7 @@ def trend_test(days, travel, y, se, *, extra_var=0.0, alpha=ALPHA, n_boot=BOOTST
     n_boot : int
         Bootstrap series.
     seed : int
+        Of the bootstrap draws.
 
     Returns
     -------

@@ -1,0 +1,154 @@
+# Copyright 2026 friction_joint maintainers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+"""
+``friction_joint fleet`` on a simulated fleet, on a LocalCluster with 2 worker processes.
+
+One module-scoped fleet (8 joints x 10 days, wear drawn at random: which
+joints, onset, rate; ambient, duty and payload drawn every day) is simulated
+once and monitored twice through the command line: first its first 9 days plus
+a corrupt recording, then all 10 days with ``--force`` into the same DIR (the
+cache: only the 8 new recordings are analysed).  The monitor gets the
+manifest and the model gear file only; the truth file is read by the test.
+"""
+import csv
+import datetime
+import json
+import os
+
+from friction_joint.cli import main
+from friction_joint.exceptions import InputFileError
+from friction_joint.experiments.fleet import simulate_fleet
+from friction_joint.fleet import read_manifest
+import pytest
+
+MODEL = 'config/csd25.yaml'
+JOINTS, DAYS, SEED = 8, 10, 11
+
+
+def _rows(path):
+    with open(path, encoding='utf-8') as fh:
+        return list(csv.DictReader(fh))
+
+
+def _write_manifest(path, rows):
+    with open(path, 'w', encoding='utf-8') as fh:
+        w = csv.DictWriter(fh, ['recording', 'joint', 'time', 'travel'], lineterminator='\n')
+        w.writeheader()
+        w.writerows(rows)
+
+
+@pytest.fixture(scope='module')
+def fleet(tmp_path_factory):
+    root = tmp_path_factory.mktemp('fleet')
+    sim = root / 'sim'
+    truth = simulate_fleet(sim, joints=JOINTS, days=DAYS, seed=SEED, jobs=2)
+    rows = _rows(sim / 'manifest.csv')
+    # a corrupt recording of j01 between its days 3 and 4: the first 4 kB of a real one
+    j01 = [r for r in rows if r['joint'] == 'j01']
+    with open(sim / j01[3]['recording'], 'rb') as fh:
+        head = fh.read(4096)
+    (sim / 'recordings' / 'j01_corrupt.mcap').write_bytes(head)
+    t3 = datetime.datetime.fromisoformat(j01[3]['time'])
+    corrupt = {'recording': 'recordings/j01_corrupt.mcap', 'joint': 'j01',
+               'time': (t3 + datetime.timedelta(hours=1)).isoformat(), 'travel': j01[3]['travel']}
+    last_day = sorted({r['time'][:10] for r in rows})[-1]
+    first = [r for r in rows if r['time'][:10] != last_day] + [corrupt]
+    _write_manifest(sim / 'first.csv', first)
+    _write_manifest(sim / 'full.csv', rows + [corrupt])
+    out = root / 'out'
+    rc1 = main(['fleet', '--manifest', str(sim / 'first.csv'), '--model', MODEL, '--out',
+                str(out), '--workers', '2', '--quiet'])
+    with open(out / 'fleet.json', encoding='utf-8') as fh:
+        first_doc = json.load(fh)
+    rc2 = main(['fleet', '--manifest', str(sim / 'full.csv'), '--model', MODEL, '--out',
+                str(out), '--workers', '2', '--quiet', '--force'])
+    with open(out / 'fleet.json', encoding='utf-8') as fh:
+        doc = json.load(fh)
+    return {'root': root, 'sim': sim, 'truth': truth, 'out': out, 'rc': (rc1, rc2),
+            'first': first_doc, 'doc': doc, 'n_first': len(first), 'n_full': len(rows) + 1}
+
+
+def test_wearing_joints_flagged_exactly_with_their_onset(fleet):
+    assert fleet['rc'] == (0, 0)
+    truth, joints = fleet['truth']['joints'], fleet['doc']['joints']
+    assert set(joints) == set(truth)
+    assert any(t['wear'] for t in truth.values()) and not all(t['wear'] for t in truth.values())
+    for jid, t in truth.items():
+        got = joints[jid]
+        assert got['wear'] == t['wear'], (jid, got['evidence'])
+        if t['wear']:
+            onset = datetime.datetime.fromisoformat(got['onset'])
+            true = datetime.datetime.fromisoformat(t['onset'])
+            assert abs((onset - true).total_seconds()) <= 2 * 86400, (jid, got['onset'], t)
+            assert got['rate']['per_day'] > 2 * got['rate']['per_day_se'] > 0
+            assert got['rate']['per_travel'] > 0
+        else:
+            assert got['onset'] is None
+            assert got['evidence']['p_value'] >= got['evidence']['alpha']
+
+
+def test_corrupt_recording_reported_and_the_run_completes(fleet):
+    rows = _rows(fleet['out'] / 'recordings.csv')
+    assert len(rows) == fleet['n_full']
+    bad = [r for r in rows if r['recording'] == 'recordings/j01_corrupt.mcap']
+    assert len(bad) == 1 and bad[0]['status'] == 'failed'
+    assert bad[0]['reason'] and '\n' not in bad[0]['reason']
+    assert all(r['status'] == 'ok' for r in rows if r is not bad[0])
+    assert all(float(r['reference_friction_se']) > 0 for r in rows if r['status'] == 'ok')
+    assert fleet['doc']['joints']['j01']['failed'] == 1
+    html = (fleet['out'] / 'report.html').read_text(encoding='utf-8')
+    assert html.count('data:image/png;base64,') == JOINTS
+    assert 'j01_corrupt.mcap' in html and 'Failed recordings' in html
+
+
+def test_rerun_with_force_computes_only_the_new_recordings(fleet):
+    first, second = fleet['first']['run'], fleet['doc']['run']
+    assert first['computed'] == fleet['n_first'] and first['cached'] == 0
+    assert second['computed'] == JOINTS                       # the last day's recordings
+    assert second['cached'] == fleet['n_first']
+    rows = _rows(fleet['out'] / 'recordings.csv')
+    assert sum(r['cached'] == 'True' for r in rows) == fleet['n_first']
+    assert sorted(os.listdir(fleet['out'])) == ['cache.json', 'fleet.json', 'recordings.csv',
+                                                'report.html']
+
+
+@pytest.mark.parametrize('text, words', [
+    ('recording,joint\nrecordings/a.mcap,j1\n', ('row 1', 'no column time')),
+    ('recording,joint,time\nrecordings/a.mcap,j1,yesterday\n', ('row 2', 'ISO 8601')),
+    ('recording,joint,time\nrecordings/a.mcap,,2026-03-02T10:00:00\n', ('row 2', 'empty joint')),
+])
+def test_bad_manifest_exit_2_one_line_nothing_written(tmp_path, capsys, text, words):
+    manifest = tmp_path / 'bad.csv'
+    manifest.write_text(text, encoding='utf-8')
+    out = tmp_path / 'out'
+    assert main(['fleet', '--manifest', str(manifest), '--model', MODEL, '--out',
+                 str(out), '--quiet']) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and str(manifest) in err
+    assert all(w in err for w in words), err
+    assert not out.exists() and sorted(os.listdir(tmp_path)) == ['bad.csv']
+
+
+def test_manifest_keeps_extra_columns_and_rejects_a_decreasing_odometer(tmp_path):
+    m = tmp_path / 'm.csv'
+    m.write_text('recording,joint,time,travel,robot\na.mcap,j1,2026-03-02T10:00:00,5,r7\n'
+                 'b.mcap,j1,2026-03-03T10:00:00Z,7,r7\n', encoding='utf-8')
+    entries = read_manifest(m)
+    assert [e.metadata for e in entries] == [{'robot': 'r7'}] * 2
+    assert entries[0].path == str(tmp_path / 'a.mcap') and entries[1].travel == 7.0
+    assert entries[0].time.tzinfo is not None
+    m.write_text('recording,joint,time,travel\na.mcap,j1,2026-03-02T10:00:00,5\n'
+                 'b.mcap,j1,2026-03-03T10:00:00,4\n', encoding='utf-8')
+    with pytest.raises(InputFileError, match='row 3.*never decreases'):
+        read_manifest(m)
