@@ -18,7 +18,8 @@
 Outputs: docs/interfaces.md, ``diagnose`` outputs.
 
 Fits BASE's structure to the recordings, names the missing effects and writes
-``DIR/report.json``, ``DIR/extended.yaml``, ``DIR/report.md`` and figures
+``DIR/report.json``, ``DIR/extended.yaml``, ``DIR/report.md`` (and ``DIR/report.html``,
+the same with the figures embedded) and figures
 (method: :mod:`friction_joint.diagnosis`).  Everything is computed and rendered
 first, then DIR is written as a whole (built next to it and renamed into
 place); an existing non-empty DIR is an error unless ``--force``, which
@@ -38,7 +39,8 @@ NAME = 'diagnose'
 HELP = 'name the effects a friction model misses, extend it'
 DESCRIPTION = ("Fit BASE.yaml's structure to recordings, test every candidate effect ("
                + ', '.join(EFFECTS) + ') on held-out data, name the significant ones and '
-               'write DIR/report.json, DIR/extended.yaml and DIR/report.md with figures.')
+               'write DIR/report.json, DIR/extended.yaml, DIR/report.md with figures and '
+               'DIR/report.html (the report as one page, open it in a browser).')
 
 
 def add_arguments(parser):
@@ -81,6 +83,7 @@ def run(args):
     with open(written[-1], encoding='utf-8') as fh:
         named = json.load(fh)['named_causes']
     out = os.path.normpath(args.out)                 # DIR/ or DIR// named as DIR
+    files = ('report.json', 'extended.yaml', 'report.md', 'report.html')
     print(f'named causes: {", ".join(named) or "none"}; wrote '
-          + ', '.join(os.path.join(out, f) for f in ('report.json', 'extended.yaml', 'report.md')))
+          + ', '.join(os.path.join(out, f) for f in files))
     return 0

@@ -29,6 +29,7 @@ Figures (PNG bytes, rendered with :func:`friction_joint.output.render_png`):
 """
 import math
 import os
+import tempfile
 import time
 
 import numpy as np
@@ -41,6 +42,7 @@ from .scan import markdown_lines, scan_png
 from .structures import accumulated_travel
 from ..gear import gear_from_dict, load_gear
 from ..output import json_bytes, OutputSet, render_png
+from ..report_html import markdown_to_html
 
 __all__ = ['figures', 'markdown', 'CAUSE_VARIABLES', 'run_diagnose']
 
@@ -386,6 +388,15 @@ def _gear_yaml(gear, header):
     return ''.join(f'# {ln}\n' for ln in header.splitlines()) + text
 
 
+def _html(md, figs):
+    """Return ``report.md`` as one self-contained HTML page, the figures embedded."""
+    with tempfile.TemporaryDirectory(prefix='friction_joint-report-') as tmp:
+        for name, data in figs:
+            with open(os.path.join(tmp, name), 'wb') as fh:
+                fh.write(data)
+        return markdown_to_html(md, base_dir=tmp, title='friction_joint diagnose report')
+
+
 def run_diagnose(paths, model_path, out, *, effects=EFFECTS, joint_name=None, progress=None,
                  force=False):
     """
@@ -430,6 +441,7 @@ def _diagnose_into(outputs, paths, model_path, out, start, *, effects, joint_nam
     rep['timing']['total_s'] = time.perf_counter() - start
     md = markdown(diag, [n for n, _ in figs], model_path, out_dir=os.path.normpath(out))
     targets = figs + [('report.md', md.encode('utf-8')),
+                      ('report.html', _html(md, figs).encode('utf-8')),
                       ('extended.yaml', gear_text.encode('utf-8')),
                       ('report.json', json_bytes(rep))]
     outputs.write_directory(out, targets)

@@ -96,3 +96,7 @@ def test_tribometer_is_diagnosed_from_a_coulomb_viscous_base(tribometer):
         assert effect not in named
     assert report['extended']['torque_rmse'] < 0.5 * report['baseline']['torque_rmse']
     assert os.path.exists(out / 'extended.yaml') and os.path.exists(out / 'report.md')
+    # report.html: the report as one page, every figure of the directory embedded
+    html = (out / 'report.html').read_text(encoding='utf-8')
+    pngs = [f for f in os.listdir(out) if f.endswith('.png')]
+    assert pngs and html.count('src="data:image/png;base64,') == len(pngs), pngs
