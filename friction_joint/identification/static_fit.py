@@ -61,6 +61,7 @@ Object API::
     ident.results                       # rows: parameter, power, value, se
     ident.gear                          # GearParams with the identified coefficients
 """
+import dataclasses
 import math
 import time
 
@@ -377,7 +378,14 @@ class StaticIdentifier:
                 'lower its order or record at more temperatures') from None
 
     def _group_fits(self, plateaus, load_ref):
-        """Order-0 fits per temperature group with the identified load terms (Fig. 3 b)."""
+        """
+        Order-0 fits per temperature group with the identified load terms (Fig. 3 b).
+
+        The gear warms while a group's plateaus run (a few tenths of a kelvin,
+        often faster at the faster plateaus): each plateau's torque is first
+        moved to the group's mean temperature with the identified model, so a
+        constant-parameter fit does not take the drift for a velocity dependence.
+        """
         labels, _ = group_table(plateaus)
         out = []
         single = self.structure.with_orders(dict.fromkeys(self.structure.params, 0))
@@ -387,6 +395,9 @@ class StaticIdentifier:
             if m.sum() < 8 or distinct_levels(sub.qd) < 4 or min(np.sum(sub.qd > 0),
                                                                  np.sum(sub.qd < 0)) < 1:
                 continue
+            drift = (self.predict(sub.qd, sub.xi, sub.load)
+                     - self.predict(sub.qd, float(sub.xi.mean()), sub.load))
+            sub = dataclasses.replace(sub, tau_r=sub.tau_r - drift)
             lay = CoefficientLayout(single, temperature_range(sub), load_ref)
             th = np.zeros(lay.size)
             main = {name: sl for name, _, sl in self.layout.blocks}

@@ -408,3 +408,22 @@ def test_malformed_structure_file(tmp_path, capsys, text):
     bag = synthetic_recording(tmp_path / 'bag', BOTH[:4])
     err = _identify_fails(tmp_path, bag, capsys, model=str(structure))
     assert str(structure) in err and len(err.strip().splitlines()) == 1
+
+
+def test_single_temperature_fits_lie_on_the_polynomials(cli_run):
+    """
+    Fig. 3 b: each temperature group's constant-parameter fit agrees with the polynomials.
+
+    The gear warms within a group while its plateaus run; without moving each
+    plateau to the group's mean temperature the constant fit took the drift for
+    a velocity dependence (F_v off by 4-5 standard errors on the demo's run).
+    """
+    model = StaticFriction(load_gear(str(cli_run['out'])).friction)
+    groups = cli_run['report']['temperature_groups']
+    assert groups
+    for g in groups:
+        at = model.parameters(np.atleast_1d(g['xi']), 0.0)
+        for name in ('fc', 'fv', 'fs'):
+            if name in g['values']:
+                off = abs(g['values'][name] - float(at[name][0]))
+                assert off <= 3.0 * g['se'][name] + 1e-3, (name, g, float(at[name][0]))
