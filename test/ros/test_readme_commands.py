@@ -183,6 +183,7 @@ def check_outputs(clone):
     # diagnose names the sample's hidden effect; identify writes a loadable gear file
     with open(clone / 'sample_diagnosis' / 'report.json') as fh:
         assert json.load(fh)['named_causes'] == ['thermal']
+    assert (clone / 'sample_diagnosis' / 'report.html').stat().st_size > 10000
     assert load_gear(str(clone / 'sample_identified.yaml')).friction.fc
     # the imported tribometer log: pre-sliding named, temperature untestable
     with open(clone / 'tribometer_diagnosis' / 'report.json') as fh:
