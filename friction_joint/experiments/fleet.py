@@ -308,8 +308,8 @@ def default_gear():
     raise ExperimentError('cannot find config/csd25.yaml next to the package: give the gear')
 
 
-def simulate_fleet(out, *, joints, days, seed=0, gear=None, cfg=None, jobs=1, force=False,
-                   progress=None):
+def simulate_fleet(out, *, joints, days, seed=0, gear=None, cfg=None, jobs=1, executor=None,
+                   force=False, progress=None):
     """
     Simulate a fleet and write ``out/manifest.csv``, the recordings and ``out/truth.json``.
 
@@ -328,6 +328,9 @@ def simulate_fleet(out, *, joints, days, seed=0, gear=None, cfg=None, jobs=1, fo
         Overrides of :data:`FLEET`.
     jobs : int
         Processes simulating recordings in parallel.
+    executor : concurrent.futures.Executor, optional
+        Runs the recordings' simulations instead (e.g. on a Dask cluster); ``jobs`` is
+        then not used.
     force : bool
         Replace an existing ``out`` as a whole.
     progress : callable, optional
@@ -347,7 +350,7 @@ def simulate_fleet(out, *, joints, days, seed=0, gear=None, cfg=None, jobs=1, fo
         base = load_gear(gear)
         plan = draw_fleet(base, joints, days, seed, cfg)
         stage = outputs.staging_path(out)
-        truth = _write_fleet(stage, gear, base, plan, jobs, progress)
+        truth = _write_fleet(stage, gear, base, plan, (jobs, executor), progress)
         truth['seed'] = int(seed)
         with open(os.path.join(stage, 'truth.json'), 'w', encoding='utf-8') as fh:
             json.dump(truth, fh, indent=2)
@@ -367,7 +370,12 @@ def _write_fleet(stage, gear, base, plan, jobs, progress):
         work.append((gear, plan['joints'][rec['joint']], rec, os.path.join(stage, rel),
                      plan['cfg']))
     days = len(plan['recordings']) // max(len(plan['joints']), 1)
-    if jobs > 1:
+    jobs, executor = jobs
+    if executor is not None:
+        for k, _ in enumerate(executor.map(_one, work)):
+            if progress and (k + 1) % days == 0:
+                progress(f'{k + 1}/{len(work)} recordings')
+    elif jobs > 1:
         from concurrent.futures import ProcessPoolExecutor
         with ProcessPoolExecutor(int(jobs)) as pool:
             for k, _ in enumerate(pool.map(_one, work, chunksize=4)):

@@ -29,7 +29,7 @@ Fleet friction monitoring: which joints wear, since when, how fast (docs/fleet.m
   trend plots and the output files.
 """
 from .assess import assess_fleet, FleetAssessment, reference_point
-from .cluster import default_workers, map_recordings
+from .cluster import default_workers, local_cluster, map_recordings
 from .manifest import ManifestEntry, read_manifest
 from .monitor import content_hash, FleetRun, run_fleet
 from .recording import analyse_recording, reference_friction
@@ -38,4 +38,4 @@ from .trend import extra_variance, trend_test, TrendResult
 __all__ = ['run_fleet', 'FleetRun', 'content_hash', 'read_manifest', 'ManifestEntry',
            'analyse_recording', 'reference_friction', 'assess_fleet', 'FleetAssessment',
            'reference_point', 'trend_test', 'TrendResult', 'extra_variance', 'map_recordings',
-           'default_workers']
+           'default_workers', 'local_cluster']

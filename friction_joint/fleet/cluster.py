@@ -34,13 +34,15 @@ The client (and an embedded cluster) is closed at the end, also on an error
 or Ctrl-C (pending tasks are cancelled).  Dask is imported lazily, inside
 :func:`map_recordings`.
 """
+import contextlib
 import logging
 import os
 import uuid
 
 from ..exceptions import FrictionJointError
 
-__all__ = ['MEMORY_LIMIT', 'CONNECT_TIMEOUT', 'map_recordings', 'default_workers']
+__all__ = ['MEMORY_LIMIT', 'CONNECT_TIMEOUT', 'map_recordings', 'default_workers',
+           'local_cluster']
 
 #: memory limit per worker of the embedded cluster
 MEMORY_LIMIT = '2GiB'
@@ -76,6 +78,29 @@ def _connect(scheduler, workers, memory_limit):
     except BaseException:
         cluster.close()
         raise
+
+
+@contextlib.contextmanager
+def local_cluster(workers=None, memory_limit=MEMORY_LIMIT):
+    """
+    Start an embedded LocalCluster for several runs (benchmarks, tests).
+
+    Yields
+    ------
+    address : str
+        The scheduler's address, for ``scheduler=`` of :func:`map_recordings` and
+        :func:`~friction_joint.fleet.monitor.run_fleet`.
+    executor : concurrent.futures.Executor
+        Runs functions on the cluster's workers (e.g. ``executor=`` of
+        :func:`~friction_joint.experiments.fleet.simulate_fleet`).
+
+    """
+    client, cluster = _connect(None, workers, memory_limit)
+    try:
+        yield cluster.scheduler_address, client.get_executor()
+    finally:
+        client.close()
+        cluster.close()
 
 
 def map_recordings(func, paths, *, args=(), kwargs=None, scheduler=None, workers=None,

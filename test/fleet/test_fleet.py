@@ -16,9 +16,11 @@
 
 One module-scoped fleet (8 joints x 10 days, wear drawn at random: which
 joints, onset, rate; ambient, duty and payload drawn every day) is simulated
-once and monitored twice through the command line: first its first 9 days plus
-a corrupt recording, then all 10 days with ``--force`` into the same DIR (the
-cache: only the 8 new recordings are analysed).  The monitor gets the
+once (on a LocalCluster with 2 worker processes) and monitored twice through
+the command line: first its first 9 days plus a corrupt recording on that
+cluster (``--scheduler``), then all 10 days with ``--force`` into the same DIR
+on an embedded LocalCluster (``--workers 2``; the cache: only the 8 new
+recordings are analysed).  The monitor gets the
 manifest and the model gear file only; the truth file is read by the test.
 """
 import csv
@@ -29,7 +31,7 @@ import os
 from friction_joint.cli import main
 from friction_joint.exceptions import InputFileError
 from friction_joint.experiments.fleet import simulate_fleet
-from friction_joint.fleet import read_manifest
+from friction_joint.fleet import local_cluster, read_manifest
 import pytest
 
 MODEL = 'config/csd25.yaml'
@@ -52,7 +54,24 @@ def _write_manifest(path, rows):
 def fleet(tmp_path_factory):
     root = tmp_path_factory.mktemp('fleet')
     sim = root / 'sim'
-    truth = simulate_fleet(sim, joints=JOINTS, days=DAYS, seed=SEED, jobs=2)
+    with local_cluster(2) as (address, executor):
+        truth = simulate_fleet(sim, joints=JOINTS, days=DAYS, seed=SEED, executor=executor)
+        rows, first = _manifests(sim)
+        rc1 = main(['fleet', '--manifest', str(sim / 'first.csv'), '--model', MODEL, '--out',
+                    str(root / 'out'), '--scheduler', address, '--quiet'])
+    out = root / 'out'
+    with open(out / 'fleet.json', encoding='utf-8') as fh:
+        first_doc = json.load(fh)
+    rc2 = main(['fleet', '--manifest', str(sim / 'full.csv'), '--model', MODEL, '--out',
+                str(out), '--workers', '2', '--quiet', '--force'])
+    with open(out / 'fleet.json', encoding='utf-8') as fh:
+        doc = json.load(fh)
+    return {'root': root, 'sim': sim, 'truth': truth, 'out': out, 'rc': (rc1, rc2),
+            'first': first_doc, 'doc': doc, 'n_first': len(first), 'n_full': len(rows) + 1}
+
+
+def _manifests(sim):
+    """Write first.csv (all days but the last, a corrupt recording) and full.csv."""
     rows = _rows(sim / 'manifest.csv')
     # a corrupt recording of j01 between its days 3 and 4: the first 4 kB of a real one
     j01 = [r for r in rows if r['joint'] == 'j01']
@@ -66,17 +85,7 @@ def fleet(tmp_path_factory):
     first = [r for r in rows if r['time'][:10] != last_day] + [corrupt]
     _write_manifest(sim / 'first.csv', first)
     _write_manifest(sim / 'full.csv', rows + [corrupt])
-    out = root / 'out'
-    rc1 = main(['fleet', '--manifest', str(sim / 'first.csv'), '--model', MODEL, '--out',
-                str(out), '--workers', '2', '--quiet'])
-    with open(out / 'fleet.json', encoding='utf-8') as fh:
-        first_doc = json.load(fh)
-    rc2 = main(['fleet', '--manifest', str(sim / 'full.csv'), '--model', MODEL, '--out',
-                str(out), '--workers', '2', '--quiet', '--force'])
-    with open(out / 'fleet.json', encoding='utf-8') as fh:
-        doc = json.load(fh)
-    return {'root': root, 'sim': sim, 'truth': truth, 'out': out, 'rc': (rc1, rc2),
-            'first': first_doc, 'doc': doc, 'n_first': len(first), 'n_full': len(rows) + 1}
+    return rows, first
 
 
 def test_wearing_joints_flagged_exactly_with_their_onset(fleet):
@@ -115,6 +124,7 @@ def test_corrupt_recording_reported_and_the_run_completes(fleet):
 def test_rerun_with_force_computes_only_the_new_recordings(fleet):
     first, second = fleet['first']['run'], fleet['doc']['run']
     assert first['computed'] == fleet['n_first'] and first['cached'] == 0
+    assert first['workers'] == 2 and second['workers'] == 2
     assert second['computed'] == JOINTS                       # the last day's recordings
     assert second['cached'] == fleet['n_first']
     rows = _rows(fleet['out'] / 'recordings.csv')
