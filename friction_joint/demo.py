@@ -249,12 +249,12 @@ def _identification(out, model, truth, duration_scale, *, relocate=None, progres
              '', '```'] + header[:40] + ['```', '']
     lines += against_truth_markdown(load_gear(gear), load_gear(truth), header,
                                     COMPENSATION['temperatures'])
-    lines += ['In Fig. 3 (b) the single-temperature fits (markers) miss the polynomials by more '
-              'than their error bars: each temperature block is fitted with constant '
-              'parameters although the gear warms during it, which biases the correlated '
-              'parameters; the error bars are statistical only (see the caption). The '
-              'polynomials use every plateau at its own temperature, as the table above '
-              'shows against the truth.', '']
+    lines += ['In Fig. 3 (b) the markers are single-temperature fits: each temperature block '
+              'fitted alone with constant parameters, after every plateau is moved to the '
+              'block’s mean temperature with the identified model (the gear warms during a '
+              'block; without that step the fits took the warming for a velocity dependence '
+              'and missed the polynomials by several standard errors). Their error bars are '
+              'statistical only.', '']
     lines += [f'![{f}](identification/report/{f})' for f in _figures(report)]
     return lines + ['']
 

@@ -24,8 +24,8 @@ Figures of an identification, after the seed paper's Fig. 3 and Fig. 4.
 * ``fig3b_parameters.png`` -- each curve parameter against temperature:
   per-group fits (markers with standard errors) and the identified
   polynomial (line) over the recorded range, Fig. 3 (b); the caption says
-  why they differ by more than the error bars (each group's order-0 fit
-  ignores the temperature drift within the group, the polynomial does not).
+  what the markers are (each group's order-0 fit after moving its plateaus
+  to the group's mean temperature) and that their error bars are statistical.
 * ``fig3c_model.png`` -- the temperature-dependent model (eq. 6-7, one
   set of coefficients) at each group's temperature against the same data,
   Fig. 3 (c).
@@ -51,15 +51,15 @@ LABELS = {'fc': r'$F_c$ (Nm)', 'fs': r'$F_s$ (Nm)', 'fv': r'$F_v$ (Nm/(rad/s)$^{
           'vs': r'$v_s$ (rad/s, $\kappa\dot q$)', 'delta_v': r'$\delta_v$'}
 
 
-#: caption of Fig. 3 (b): why the polynomials and the single-temperature fits differ
+#: caption of Fig. 3 (b): what the markers are and why they may differ from the polynomials
 _FIG3B_NOTE = (
     'Markers: each temperature block fitted alone with constant parameters, error bars its '
     'statistical standard errors only. The gear warms by up to {drift:.2f} K within a block '
-    'while the velocity plateaus run, so a constant-parameter fit takes the drift for part of '
-    'the velocity dependence and trades the correlated curve parameters against each '
-    'other: a systematic offset, not noise, so it can lie outside the error bars. Lines: the '
-    'polynomials, fitted jointly to all plateaus at their own temperatures (with the load '
-    'terms), do not have that bias.')
+    'while the velocity plateaus run; each plateau is first moved to the block’s mean '
+    'temperature with the identified model, else the constant-parameter fit would take the '
+    'drift for a velocity dependence and trade the correlated parameters against each other. '
+    'Lines: the polynomials, fitted jointly to all plateaus at their own temperatures (with the '
+    'load terms).')
 
 
 def _grid(ax):
