@@ -297,11 +297,11 @@ def next_step_lines(rep, out_dir, recordings):
                   f'{", ".join(rep["extended_effects"])} added, fitted on these recordings, and '
                   'loads wherever a gear file does (`--model`, the gear file parameter of '
                   'the nodes).  Check it: diagnosing again with it should name nothing:',
-                  '', f'      friction_joint diagnose {recs} --model {ext} --out '
+                  '', f'        friction_joint diagnose {recs} --model {ext} --out '
                   f'{base_dir}_check', '',
                   '* To identify its coefficients with standard errors and the pre-sliding '
                   'parameters on your own runs, use it as the structure:', '',
-                  f'      friction_joint identify {recs} --model {ext} --out identified.yaml',
+                  f'        friction_joint identify {recs} --model {ext} --out identified.yaml',
                   '']
     elif rep['named_causes']:
         lines += ['* `extended.yaml` is the base model: the named effects cannot be written as '

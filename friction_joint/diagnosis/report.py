@@ -238,7 +238,7 @@ def figures(diag):
             ax.plot(variables[b], variables[a], '.', ms=1.5, color='k')
             ax.set_xlabel(CONFOUND_AXES[b])
             ax.set_ylabel(CONFOUND_AXES[a])
-            ax.set_title(f'{a} and {b} confounded in this recording: rank correlation '
+            ax.set_title(f'{a} and {b} confounded in this recording:\nrank correlation '
                          f'{rho:+.2f} over the sliding bins', fontsize=9)
         out.append((f'confound_{a}_{b}.png', render_png(confound, (6, 4.5))))
     if diag.scan is not None:
@@ -365,7 +365,7 @@ def _adequacy_lines(rep):
     return (['| model adequacy | base | extended |', '|---|---|---|'] +
             [f'| {label} | {_fmt(ad["base"][k], spec)} | {_fmt(ad["extended"][k], spec)} |'
              for label, k, spec in rows] +
-            [f'Friction level (median |measured friction torque|): '
+            ['', f'Friction level (the median of abs(measured friction torque)): '
              f'{ad["base"]["friction_level"]:.4g} Nm.', ''])
 
 
