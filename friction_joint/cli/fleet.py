@@ -73,6 +73,6 @@ def run(args):
     failed = sum(r['status'] != 'ok' for r in res.assessment.recordings)
     flagged = sum(d['wear'] for d in res.assessment.joints.values())
     print(f'{len(res.assessment.joints)} joints, {flagged} wearing; '
-          f'{len(res.assessment.recordings)} recordings ({failed} failed, {res.computed} '
-          f'analysed, {res.cached} cached); wrote {args.out}')
+          f'{len(res.assessment.recordings)} recordings ({failed} failed; {res.computed} '
+          f'computed, {res.cached} from the cache); wrote {args.out}')
     return 0

@@ -59,7 +59,8 @@ class FleetAssessment:
     Attributes
     ----------
     xi_ref, v_ref : float
-        The reference point (degC, rad/s; tau_L = 0).
+        The reference point (degC, rad/s; tau_L = 0); v_ref None when no recording
+        could be analysed.
     joints : dict
         Joint id -> ``wear``, ``onset`` (ISO time or None), ``rate`` (dict), ``evidence``
         (dict), ``series`` (per recording of the joint: time, days, travel, values).

@@ -89,7 +89,7 @@ class FleetRun:
 
 
 def _hash_file(h, path):
-    with open_input(path, kind='recording', what='a recording file') as fh:
+    with open_input(path, kind='recording', what='a recording') as fh:
         while True:
             block = fh.read(_CHUNK)
             if not block:

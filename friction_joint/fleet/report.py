@@ -90,7 +90,8 @@ def report_markdown(assessment, run_info, figures):
         f'joints, {n_rec} recordings ({n_rec - len(failed)} analysed, {len(failed)} failed; '
         f'{run_info["computed"]} computed on {run_info["workers"]} workers '
         f'({run_info["scheduler"]}), {run_info["cached"]} from the cache).', '',
-        f'Reference point: temperature {a.xi_ref:.2f} degC, speed {a.v_ref:.3g} rad/s, '
+        f'Reference point: temperature {a.xi_ref:.2f} degC, speed '
+        + ('none (no recording analysed)' if a.v_ref is None else f'{a.v_ref:.3g} rad/s') + ', '
         'no load (the fleet medians). *Reference friction* is the identified static curve '
         'there; the *raw mean friction* is the mean |friction torque| of the plateaus, '
         'uncompensated. Extra standard deviation over the fleet: '
