@@ -33,13 +33,18 @@ DESCRIPTION = ("Run one of the seed paper's evaluation experiments (Section V B-
 
 def add_arguments(parser):
     """Add the ``experiment`` arguments to ``parser``."""
-    parser.add_argument('name', choices=tuple(EXPERIMENTS), metavar='NAME',
-                        help='; '.join(f'{k}: {v.help}' for k, v in EXPERIMENTS.items()))
+    parser.add_argument('name', choices=tuple(EXPERIMENTS) + ('fleet',), metavar='NAME',
+                        help='; '.join(f'{k}: {v.help}' for k, v in EXPERIMENTS.items())
+                        + '; fleet: a simulated robot fleet, one recording per joint and day, '
+                          'some joints wearing: DIR/manifest.csv, the recordings and '
+                          'DIR/truth.json for "friction_joint fleet" (docs/fleet.md)')
     parser.add_argument('--model', metavar='M.yaml',
                         help='gear file of the identified model (controller, observer, '
                              'simulation); required by every experiment but identification')
-    parser.add_argument('--truth', required=True, metavar='T.yaml',
-                        help='gear file of the simulated hardware (plant)')
+    parser.add_argument('--truth', metavar='T.yaml',
+                        help='gear file of the simulated hardware (plant); required by every '
+                             "experiment but fleet (there: the joints' nominal gear, default "
+                             'config/csd25.yaml)')
     parser.add_argument('--out', required=True, metavar='DIR',
                         help='output directory (created if missing; an existing non-empty one '
                              'is an error without --force); for identification the recording '
@@ -49,9 +54,15 @@ def add_arguments(parser):
                              'quick tests)')
     parser.add_argument('--gains', metavar='DESIGN',
                         help='gain design of the controller (compensation, estimation): a '
-                             'preset, paper (default: designed for 0.016 kg m^2, see README) or '
-                             "full-inertia (the model's joint inertia); J=<kg m^2>; or "
-                             'kp=<Nm/rad>,kd=<Nm s/rad>')
+                             'preset, paper (default: designed for 0.016 kg m^2, see '
+                             "docs/design.md) or full-inertia (the model's joint inertia); "
+                             'J=<kg m^2>; or kp=<Nm/rad>,kd=<Nm s/rad>')
+    parser.add_argument('--joints', type=int, default=8, metavar='J',
+                        help='fleet: number of joints (default 8)')
+    parser.add_argument('--days', type=int, default=30, metavar='D',
+                        help='fleet: days, one recording per joint and day (default 30)')
+    parser.add_argument('--seed', type=int, default=0, metavar='S',
+                        help='fleet: seed of every draw (default 0)')
     parser.add_argument('--force', action='store_true',
                         help='replace an existing --out as a whole (an --out that is or '
                              'contains --model or --truth is an error even then)')
@@ -60,7 +71,19 @@ def add_arguments(parser):
 
 def run(args):
     """Run the experiment and write its results."""
+    from ..exceptions import ArgumentError
     from ..experiments.runner import run_experiment
+    if args.name == 'fleet':
+        from ..experiments.fleet import simulate_fleet
+        truth = simulate_fleet(args.out, joints=args.joints, days=args.days, seed=args.seed,
+                               gear=args.truth, force=args.force, progress=progress_printer())
+        wearing = sorted(j for j, d in truth['joints'].items() if d['wear'])
+        print(f'wrote {os.path.normpath(truth["manifest"])} ({len(truth["recordings"])} '
+              f'recordings of {len(truth["joints"])} joints; the truth, {len(wearing)} '
+              f'wearing, in {os.path.normpath(os.path.join(args.out, "truth.json"))})')
+        return 0
+    if args.truth is None:
+        raise ArgumentError(f'experiment {args.name} needs --truth (the simulated hardware)')
     paths = run_experiment(args.name, args.model, args.truth, args.out,
                            duration_scale=args.duration_scale, progress=progress_printer(),
                            force=args.force, gains=args.gains)
