@@ -171,7 +171,7 @@ class Controller:
             raise InputRejected(f'controller command overflows (position {q} rad, velocity {qd} '
                                 'rad/s): sample refused')
         v = qd if self.ff_velocity == 'measured' else qd_d
-        tau_f = self.friction.step(v, xi, abs(tau_g), h, q)
+        tau_f = self.friction.step(v, xi, abs(tau_g), h, q=q)
         tau = self.J * qdd_d + tau_pd + tau_g + tau_f
         if not math.isfinite(tau):
             self.reset()

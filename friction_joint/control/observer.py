@@ -114,7 +114,7 @@ class DisturbanceObserver:
         if not math.isfinite(u):
             raise InputRejected(f'observer input overflows (drive torque {tau} Nm, velocity '
                                 f'{qd} rad/s): sample refused')
-        tau_f = self.friction.step(qd, xi, abs(self.estimate), self.dt, q)
+        tau_f = self.friction.step(qd, xi, abs(self.estimate), self.dt, q=q)
         try:
             if not math.isfinite(tau_f):
                 raise InputRejected(f'the friction model gives {tau_f} Nm')

@@ -367,7 +367,7 @@ class BatchData:
                 if it['init'] == 'sliding':
                     sim.settle(it['v0'], it['xi0'], it['tl0'])
                 else:
-                    sim.reset(0.0)
+                    sim.reset(z=0.0)
                 out.append(sim.simulate(it['u'], it['xi'], it['tl'], self.dt))
         else:
             sim = GMS(list(frictions))

@@ -25,6 +25,22 @@ Sign convention: docs/interfaces.md.
   ``lugre``, ``gms``, ``none``);
 * :mod:`~friction_joint.models.joint`: the joint ``J q̈ = τ − τ_r − τ_ext``
   integrated together with its friction state.
+
+Argument order of every evaluating or simulating call: the signals first,
+positionally, in the order input (velocity ``qd`` or drive torque ``tau``),
+temperature ``xi``, load ``tau_l``; then the step ``dt`` where the call
+integrates; then options, keyword-only::
+
+    StaticFriction(f).torque(qd, xi, tau_l=0.0)
+    LuGre(f).simulate(qd, xi, tau_l, dt, *, z0=None)
+    GMS(f).simulate(qd, xi, tau_l, dt, *, reset=False)
+    friction_model(gear, kind).step(qd, xi, tau_l, dt, *, q=0.0)
+    Joint(gear).simulate(tau, dt, *, xi=25.0, tau_ext=0.0)
+    Joint(gear).step(tau, dt, *, xi, tau_ext=0.0)
+
+The static curve's load ``tau_l`` defaults to an unloaded gear.  The joint
+takes only its input ``tau`` before ``dt``: its temperature and external
+torque are keyword arguments (defaults 25 degC and 0 Nm in :meth:`Joint.simulate`).
 """
 from .friction import FRICTION_KINDS, friction_model
 from .gms import GMS

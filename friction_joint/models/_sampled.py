@@ -13,7 +13,10 @@
 # limitations under the License.
 
 """Shared driver of the batched, sampled-velocity friction models (LuGre, GMS)."""
+from __future__ import annotations
+
 import numpy as np
+from numpy.typing import ArrayLike
 
 from .static import broadcast_batch, pack_static
 
@@ -48,8 +51,24 @@ class SampledFrictionModel:
         tau += self.packed.offset[:, None]
         return tau[0] if self.single else tau
 
-    def step(self, qd, xi, tau_l, dt):
-        """Advance one sample; returns the friction torque (float, or (B,) for a batch)."""
+    def step(self, qd: ArrayLike, xi: ArrayLike, tau_l: ArrayLike,
+             dt: float) -> float | np.ndarray:
+        """
+        Advance one sample.
+
+        Parameters
+        ----------
+        qd, xi, tau_l : float or array_like (B,)
+            Velocity (rad/s), temperature (degC), load (Nm), held over the step.
+        dt : float
+            Step (s).
+
+        Returns
+        -------
+        float or ndarray (B,)
+            The friction torque (Nm) at the end of the step.
+
+        """
         if not self.single:
             col = [np.reshape(a, (-1, 1)) if np.ndim(a) else a for a in (qd, xi, tau_l)]
             return self._simulate(*col, dt)[:, 0]

@@ -13,7 +13,7 @@
 # limitations under the License.
 
 """
-One friction model instance for a sampled-data loop: ``step(qd, xi, tau_l, dt, q) -> tau_r``.
+One friction model instance for a sampled-data loop: ``step(qd, xi, tau_l, dt, *, q) -> tau_r``.
 
 Used by the controller feed-forward (eq. 17) and the observer (eq. 15), which
 run a *model* gear alongside the plant.  ``kind`` is one of ``'lugre'``,
@@ -21,12 +21,18 @@ run a *model* gear alongside the plant.  ``kind`` is one of ``'lugre'``,
 ``friction.position_ripple`` (a function of q) and ``friction.offset`` are
 included, as in the simulated joint.
 """
+from __future__ import annotations
+
 import math
+from typing import TYPE_CHECKING
 
 from .gms import GMS
 from .lugre import LuGre
 from .static import StaticFriction
 from ..exceptions import GearConfigError
+
+if TYPE_CHECKING:
+    from ..gear import GearParams
 
 __all__ = ['FRICTION_KINDS', 'friction_model']
 
@@ -56,7 +62,7 @@ class _WithRipple:
     def reset(self):
         self.model.reset()
 
-    def step(self, qd, xi, tau_l, dt, q=0.0):
+    def step(self, qd, xi, tau_l, dt, *, q=0.0):
         tau = self.model.step(qd, xi, tau_l, dt)
         for w, a, p in zip(self.terms, self.amp, self.phase):
             tau += a * math.sin(w * q + p)
@@ -67,11 +73,11 @@ class _NoFriction:
     def reset(self):
         pass
 
-    def step(self, qd, xi, tau_l, dt, q=0.0):
+    def step(self, qd, xi, tau_l, dt, *, q=0.0):
         return 0.0
 
 
-def friction_model(gear, kind):
+def friction_model(gear: GearParams, kind: str) -> _WithRipple | _NoFriction:
     """
     Build a stateful single-gear friction model.
 
@@ -84,7 +90,7 @@ def friction_model(gear, kind):
 
     Returns
     -------
-    object with ``step(qd, xi, tau_l, dt, q=0.0) -> float`` and ``reset()``
+    object with ``step(qd, xi, tau_l, dt, *, q=0.0) -> float`` and ``reset()``
 
     """
     if kind not in FRICTION_KINDS:

@@ -51,18 +51,26 @@ for a velocity ramping linearly over the step (the joint integrator's):
 there the slip onset is where the element torque meets alpha_i g(qd) at
 the velocity of that instant, not at the step's mean velocity.
 """
+from __future__ import annotations
+
 import math
+from typing import TYPE_CHECKING
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from ._sampled import SampledFrictionModel
+from .lugre import G_MIN
 from .static import curve_params, g_abs, s_visc, sign
 from .._jit import njit
 from ..exceptions import GearConfigError
 
-__all__ = ['GMS', 'gms_update', 'gms_update_ramp', 'pack_gms']
+if TYPE_CHECKING:
+    from collections.abc import Sequence
 
-G_MIN = 1e-12
+    from ..gear import FrictionParams
+
+__all__ = ['GMS', 'gms_update', 'gms_update_ramp', 'pack_gms']
 
 
 @njit(inline='always')
@@ -250,7 +258,7 @@ class GMS(SampledFrictionModel):
 
     """
 
-    def __init__(self, frictions):
+    def __init__(self, frictions: FrictionParams | Sequence[FrictionParams]) -> None:
         flist = self._init_batch(frictions)
         self.k, self.alpha, self.c = pack_gms(flist)
         self.reset()
@@ -260,8 +268,16 @@ class GMS(SampledFrictionModel):
         """Element deflections z (B, N) in rad."""
         return self.z.copy()
 
-    def reset(self, z=0.0):
-        """All elements sticking with deflection z (default relaxed)."""
+    def reset(self, *, z: ArrayLike = 0.0) -> None:
+        """
+        Put all elements sticking with deflection z.
+
+        Parameters
+        ----------
+        z : array_like, scalar, (N,) or (B, N)
+            Element deflections (rad); default relaxed.
+
+        """
         self.z = np.zeros_like(self.k) + np.asarray(z, dtype=float)
         self.stick = np.ones(self.k.shape, dtype=np.int8)
         self.slipdir = np.zeros(self.k.shape, dtype=np.float64)
@@ -270,11 +286,26 @@ class GMS(SampledFrictionModel):
         _gms_run(*self.packed.args(), self.k, self.alpha, self.c, qd, xi, tl, dt,
                  self.z, self.stick, self.slipdir, out)
 
-    def simulate(self, qd, xi, tau_l, dt, reset=False):
+    def simulate(self, qd: ArrayLike, xi: ArrayLike, tau_l: ArrayLike, dt: float, *,
+                 reset: bool = False) -> np.ndarray:
         """
-        Friction torque for a sampled velocity sequence.
+        Return the friction torque for a sampled velocity sequence.
 
-        See :class:`~friction_joint.models.lugre.LuGre`.
+        Parameters
+        ----------
+        qd, xi, tau_l : array_like, (T,) or (B, T) or scalar
+            Velocity (rad/s), temperature (degC), load (Nm); held over each step.
+        dt : float
+            Sample time (s).
+        reset : bool
+            Start from relaxed, sticking elements (:meth:`reset`) instead of the
+            current state.
+
+        Returns
+        -------
+        tau : ndarray, (T,) or (B, T)
+            Friction torque after each step.
+
         """
         if reset:
             self.reset()

@@ -89,9 +89,13 @@ The friction torque ``tau_r`` each step reports is the one at the step's
 The static model uses a Karnopp stick zone: the joint sticks when its
 velocity would cross zero inside a step and the net torque is below F_s.
 """
+from __future__ import annotations
+
 import math
+from typing import TYPE_CHECKING
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from ._expint import affine2_step, implicit_euler_v
 from .gms import gms_update_ramp, pack_gms
@@ -99,6 +103,11 @@ from .lugre import G_MIN, lugre_torque
 from .static import broadcast_batch, curve_params, g_abs, pack_static, s_visc, sign
 from .._jit import njit
 from ..exceptions import GearConfigError
+
+if TYPE_CHECKING:
+    from collections.abc import Sequence
+
+    from ..gear import GearParams
 
 __all__ = ['Joint', 'JointTrajectory']
 
@@ -388,11 +397,23 @@ class JointTrajectory:
     """
     Result of :meth:`Joint.simulate`: arrays (T,) or (B, T) at the end of each step.
 
-    Attributes: ``t`` (s), ``q`` (rad), ``qd`` (rad/s), ``tau_r`` friction
-    torque (Nm), ``tau_ext`` external torque used in the step (Nm).
+    Parameters
+    ----------
+    t : ndarray
+        Time (s) at the end of each step.
+    q : ndarray
+        Position (rad).
+    qd : ndarray
+        Velocity (rad/s).
+    tau_r : ndarray
+        Friction torque (Nm).
+    tau_ext : ndarray
+        External torque used in the step (Nm).
+
     """
 
-    def __init__(self, t, q, qd, tau_r, tau_ext):
+    def __init__(self, t: np.ndarray, q: np.ndarray, qd: np.ndarray, tau_r: np.ndarray,
+                 tau_ext: np.ndarray) -> None:
         self.t, self.q, self.qd, self.tau_r, self.tau_ext = t, q, qd, tau_r, tau_ext
 
 
@@ -418,8 +439,9 @@ class Joint:
 
     """
 
-    def __init__(self, gears, model=None, mgl=0.0, k_ext=0.0, inertia=None, *,
-                 lever_offset=0.0):
+    def __init__(self, gears: GearParams | Sequence[GearParams], *, model: str | None = None,
+                 mgl: ArrayLike = 0.0, k_ext: ArrayLike = 0.0, inertia: ArrayLike | None = None,
+                 lever_offset: ArrayLike = 0.0) -> None:
         self.single = not isinstance(gears, (list, tuple))
         glist = [gears] if self.single else list(gears)
         models = {model or g.friction.model for g in glist}
@@ -449,8 +471,18 @@ class Joint:
     def batch(self):
         return self.packed.batch
 
-    def reset(self, q=0.0, qd=0.0):
-        """Joint at (q, qd) with relaxed friction state."""
+    def reset(self, *, q: ArrayLike = 0.0, qd: ArrayLike = 0.0) -> None:
+        """
+        Put the joint at (q, qd) with relaxed friction state.
+
+        Parameters
+        ----------
+        q : float or array_like (B,)
+            Position (rad).
+        qd : float or array_like (B,)
+            Velocity (rad/s).
+
+        """
         self._step_args = None
         n = self.batch
         self.q = np.broadcast_to(np.asarray(q, float), (n,)).copy()
@@ -462,7 +494,8 @@ class Joint:
             self.stick = np.ones(self.k_el.shape, dtype=np.int8)
             self.slipdir = np.zeros(self.k_el.shape)
 
-    def simulate(self, tau, dt, xi=25.0, tau_ext=0.0):
+    def simulate(self, tau: ArrayLike, dt: float, *, xi: ArrayLike = 25.0,
+                 tau_ext: ArrayLike = 0.0) -> JointTrajectory:
         """
         Integrate from the current state over sampled inputs.
 
@@ -513,9 +546,21 @@ class Joint:
         state['_step_args'] = None
         return state
 
-    def step(self, tau, dt, xi, tau_ext=0.0):
+    def step(self, tau: float, dt: float, *, xi: float,
+             tau_ext: float = 0.0) -> tuple[float, float, float, float]:
         """
         Advance a single gear by one step; low-overhead path for real-time loops.
+
+        Parameters
+        ----------
+        tau : float
+            Drive torque held over the step (Nm).
+        dt : float
+            Step (s).
+        xi : float
+            Gear temperature (degC).
+        tau_ext : float
+            External torque input (Nm), added to the spring and gravity terms.
 
         Returns
         -------

@@ -36,14 +36,23 @@ z and the steady state).  The output uses dz/dt evaluated at the end of the
 step.  For a joint whose velocity itself responds to the friction torque
 see :mod:`friction_joint.models.joint`, which integrates the coupled system.
 """
+from __future__ import annotations
+
 import math
+from typing import TYPE_CHECKING
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from ._sampled import SampledFrictionModel
 from .static import curve_params, g_abs, s_visc, StaticFriction
 from .._jit import njit
 from ..exceptions import GearConfigError
+
+if TYPE_CHECKING:
+    from collections.abc import Sequence
+
+    from ..gear import FrictionParams
 
 __all__ = ['LuGre', 'lugre_update', 'lugre_torque', 'G_MIN']
 
@@ -101,7 +110,7 @@ class LuGre(SampledFrictionModel):
 
     """
 
-    def __init__(self, frictions):
+    def __init__(self, frictions: FrictionParams | Sequence[FrictionParams]) -> None:
         flist = self._init_batch(frictions)
         for f in flist:
             if f.lugre is None:
@@ -114,21 +123,38 @@ class LuGre(SampledFrictionModel):
     def state(self):
         return self.z.copy()
 
-    def reset(self, z=0.0):
-        """Set the bristle deflection (rad); default relaxed."""
+    def reset(self, *, z: ArrayLike = 0.0) -> None:
+        """
+        Set the bristle deflection.
+
+        Parameters
+        ----------
+        z : array_like, scalar or (B,)
+            Bristle deflection (rad); default relaxed.
+
+        """
         self.z = np.broadcast_to(np.asarray(z, dtype=float), (self.batch,)).copy()
 
-    def settle(self, qd, xi, tau_l=0.0):
-        """Put the state at the steady state of velocity qd (sliding)."""
+    def settle(self, qd: ArrayLike, xi: ArrayLike, tau_l: ArrayLike = 0.0) -> None:
+        """
+        Put the state at the steady state of velocity qd (sliding).
+
+        Parameters
+        ----------
+        qd, xi, tau_l : array_like, scalar, (T,) or (B, T)
+            Velocity (rad/s), temperature (degC), load (Nm); the last sample counts.
+
+        """
         g, _ = StaticFriction.from_packed(self.packed).components(qd, xi, tau_l)
         self.z = np.asarray(g, dtype=float)[:, -1] / self.sigma0
 
     def _run(self, qd, xi, tl, dt, out):
         _lugre_run(*self.packed.args(), self.sigma0, self.sigma1, qd, xi, tl, dt, self.z, out)
 
-    def simulate(self, qd, xi, tau_l, dt, z0=None):
+    def simulate(self, qd: ArrayLike, xi: ArrayLike, tau_l: ArrayLike, dt: float, *,
+                 z0: ArrayLike | None = None) -> np.ndarray:
         """
-        Friction torque for a sampled velocity sequence.
+        Return the friction torque for a sampled velocity sequence.
 
         Parameters
         ----------
@@ -146,5 +172,5 @@ class LuGre(SampledFrictionModel):
 
         """
         if z0 is not None:
-            self.reset(z0)
+            self.reset(z=z0)
         return self._simulate(qd, xi, tau_l, dt)

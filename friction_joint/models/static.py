@@ -39,11 +39,20 @@ a leading batch dimension so identification can evaluate hundreds of
 candidate models at once.  The scalar kernels are numba-compiled when numba
 is available and are shared by the LuGre, GMS and joint kernels.
 """
+from __future__ import annotations
+
 import math
+from typing import TYPE_CHECKING
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from .._jit import njit
+
+if TYPE_CHECKING:
+    from collections.abc import Sequence
+
+    from ..gear import FrictionParams
 
 __all__ = ['PARAMETERS', 'PackedStatic', 'pack_static', 'broadcast_batch', 'curve_params',
            'g_abs', 's_visc', 'sign', 'StaticFriction']
@@ -249,13 +258,25 @@ class StaticFriction:
 
     """
 
-    def __init__(self, frictions):
+    def __init__(self, frictions: FrictionParams | Sequence[FrictionParams]) -> None:
         self.single = not isinstance(frictions, (list, tuple))
         self.packed = pack_static(frictions)
 
     @classmethod
-    def from_packed(cls, packed):
-        """Return a batch model over already packed coefficients (results keep the batch axis)."""
+    def from_packed(cls, packed: PackedStatic) -> StaticFriction:
+        """
+        Return a batch model over already packed coefficients (results keep the batch axis).
+
+        Parameters
+        ----------
+        packed : PackedStatic
+            The coefficients of B parameter sets, see :func:`pack_static`.
+
+        Returns
+        -------
+        StaticFriction
+
+        """
         obj = cls.__new__(cls)
         obj.single = False
         obj.packed = packed
@@ -264,8 +285,26 @@ class StaticFriction:
     def _out(self, a):
         return a[0] if self.single else a
 
-    def components(self, qd, xi, tau_l=0.0):
-        """Return ``(g, s)``: Stribeck part and viscous part, each (B, T) or (T,)."""
+    def components(self, qd: ArrayLike, xi: ArrayLike,
+                   tau_l: ArrayLike = 0.0) -> tuple[np.ndarray, np.ndarray]:
+        """
+        Return ``(g, s)``: Stribeck part and viscous part, each (B, T) or (T,).
+
+        Parameters
+        ----------
+        qd : array_like, scalar, (T,) or (B, T)
+            Velocity (rad/s).
+        xi : array_like, scalar, (T,) or (B, T)
+            Gear temperature (degC).
+        tau_l : array_like, scalar, (T,) or (B, T)
+            Load torque (Nm); its magnitude enters the load polynomials.
+
+        Returns
+        -------
+        g, s : ndarray
+            Stribeck part ``g`` (eq. 1) and viscous part ``s`` (eq. 5), Nm.
+
+        """
         qd, xi, tl = broadcast_batch(self.packed.batch, qd, xi, tau_l)
         g = np.empty_like(qd)
         s = np.empty_like(qd)
@@ -274,18 +313,48 @@ class StaticFriction:
                      qd, xi, np.abs(tl), g, s)
         return self._out(g), self._out(s)
 
-    def torque(self, qd, xi, tau_l=0.0):
+    def torque(self, qd: ArrayLike, xi: ArrayLike, tau_l: ArrayLike = 0.0) -> np.ndarray:
         """
         Return the static friction torque tau_rs (Nm) at velocity qd (rad/s).
 
         The torque includes ``friction.offset``.
+
+        Parameters
+        ----------
+        qd : array_like, scalar, (T,) or (B, T)
+            Velocity (rad/s).
+        xi : array_like, scalar, (T,) or (B, T)
+            Gear temperature (degC).
+        tau_l : array_like, scalar, (T,) or (B, T)
+            Load torque (Nm); its magnitude enters the load polynomials.
+
+        Returns
+        -------
+        ndarray, (B, T) or (T,)
+            The friction torque (Nm).
+
         """
         g, s = self.components(qd, xi, tau_l)
         off = self.packed.offset[0] if self.single else self.packed.offset[:, None]
         return g + s + off
 
-    def parameters(self, xi, tau_l=0.0):
-        """Return the evaluated curve parameters as a dict of arrays, keys :data:`PARAMETERS`."""
+    def parameters(self, xi: ArrayLike, tau_l: ArrayLike = 0.0) -> dict[str, np.ndarray]:
+        """
+        Return the evaluated curve parameters as a dict of arrays, keys :data:`PARAMETERS`.
+
+        Parameters
+        ----------
+        xi : array_like, scalar, (T,) or (B, T)
+            Gear temperature (degC).
+        tau_l : array_like, scalar, (T,) or (B, T)
+            Load torque (Nm); its magnitude enters the load polynomials.
+
+        Returns
+        -------
+        dict of str to ndarray
+            Each parameter, (B, T) or (T,).
+
+        """
         xi, tl = broadcast_batch(self.packed.batch, xi, tau_l)
         out = np.empty((5,) + xi.shape)
         p = self.packed

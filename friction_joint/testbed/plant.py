@@ -244,7 +244,8 @@ class Plant:
                 raise SimulationError(f'{name} {value} Nm at t = {self.t:.4f} s is not finite: '
                                       'step refused, nothing applied')
         tau_app = self.current(tau_cmd) if not self.ideal else float(tau_cmd)
-        q, qd, tau_r, tau_ext = self.joint.step(tau_app, self.dt, self.thermal.xi, tau_contact)
+        q, qd, tau_r, tau_ext = self.joint.step(tau_app, self.dt, xi=self.thermal.xi,
+                                                tau_ext=tau_contact)
         power = abs(float(tau_r) * float(qd))    # Python floats: inf, no overflow warning
         if not (math.isfinite(q) and math.isfinite(qd) and math.isfinite(power)):
             raise SimulationError(
