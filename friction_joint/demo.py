@@ -43,7 +43,7 @@ import json
 import os
 import time
 
-from .exceptions import FrictionJointError
+from .exceptions import InputFileError, NodeError
 from .experiments.classic import EXPERIMENTS as CLASSIC_EXPERIMENTS
 from .experiments.classic_report import summary_markdown, write_experiment
 from .experiments.compensation import COMPENSATION
@@ -73,7 +73,7 @@ def _config(name):
         path = os.path.normpath(os.path.join(base, name))
         if os.path.exists(path):
             return path
-    raise FrictionJointError(f'cannot find config/{name} next to the package')
+    raise InputFileError(f'cannot find config/{name} next to the package')
 
 
 def _clock(seconds):
@@ -288,8 +288,8 @@ def _ros_run(out, model, truth, duration):
     rec = read_recording(bag)
     check = check_lockstep(rec)
     if not check.complete:
-        raise FrictionJointError(f'{bag}: the lockstep run lost messages: {check.describe()}; '
-                                 'see the node logs in ' + os.path.join(out, 'logs'))
+        raise NodeError(f'{bag}: the lockstep run lost messages: {check.describe()}; '
+                        'see the node logs in ' + os.path.join(out, 'logs'))
     js, cmd, ext, link = rec.joint_states, rec.joint_command, rec.external_torque, rec.link_torque
     fig, ax = plt.subplots(3, 1, figsize=(8, 8), sharex=True)
     ax[0].plot(cmd.t, cmd.q_d, label='$q_d$')

@@ -28,7 +28,7 @@ result directory nor the network:
   fragment is ignored; remote (``http(s):``, ``//host``) and ``data:``
   sources are left as they are;
 * a missing or unreadable image, or one of an unknown type, is a one-line
-  :class:`~friction_joint.exceptions.FrictionJointError` naming the file and
+  :class:`~friction_joint.exceptions.InputFileError` naming the file and
   the Markdown file (or ``base_dir``) it was looked up from;
 * links (``[summary](compensation/summary.json)``) are kept as written: they
   resolve when the HTML file lies beside the Markdown file, as
@@ -61,7 +61,7 @@ from markdown.inlinepatterns import InlineProcessor
 from markdown.treeprocessors import Treeprocessor
 from markdown.util import AtomicString
 
-from .exceptions import FrictionJointError
+from .exceptions import InputFileError, OutputError
 
 __all__ = ['markdown_to_html', 'write_html_report']
 
@@ -177,18 +177,18 @@ def _data_uri(src, base_dir, where):
     suffix = os.path.splitext(path)[1].lower()
     mime = IMAGE_TYPES.get(suffix)
     if mime is None:
-        raise FrictionJointError(
+        raise InputFileError(
             f'{_error_prefix(where)}cannot embed image {src!r}: unknown image type '
             f'{suffix or "(no suffix)"!r} (known: {", ".join(sorted(IMAGE_TYPES))})')
     try:
         with open(path, 'rb') as fh:
             data = fh.read()
     except FileNotFoundError:
-        raise FrictionJointError(f'{_error_prefix(where)}image {src!r} not found: no file '
-                                 f'{path}') from None
+        raise InputFileError(f'{_error_prefix(where)}image {src!r} not found: no file '
+                             f'{path}') from None
     except OSError as exc:
-        raise FrictionJointError(f'{_error_prefix(where)}cannot read image {src!r} ({path}): '
-                                 f'{exc.strerror or exc}') from None
+        raise InputFileError(f'{_error_prefix(where)}cannot read image {src!r} ({path}): '
+                             f'{exc.strerror or exc}') from None
     return f'data:{mime};base64,{base64.b64encode(data).decode("ascii")}'
 
 
@@ -245,7 +245,7 @@ def markdown_to_html(text, *, base_dir, title=DEFAULT_TITLE):
 
     Raises
     ------
-    FrictionJointError
+    InputFileError
         An image is missing, unreadable or of an unknown type; the message
         names it and ``base_dir``.
 
@@ -265,9 +265,9 @@ def _write_atomic(path, data):
         except FileExistsError:
             continue
         except OSError as exc:
-            raise FrictionJointError(f'cannot write {path}: {exc.strerror or exc}') from None
+            raise OutputError(f'cannot write {path}: {exc.strerror or exc}') from None
     else:
-        raise FrictionJointError(f'cannot write {path}: no free temporary name in {folder}')
+        raise OutputError(f'cannot write {path}: no free temporary name in {folder}')
     try:
         with os.fdopen(fd, 'wb') as fh:
             fh.write(data)
@@ -280,7 +280,7 @@ def _write_atomic(path, data):
         except OSError:
             pass
         if isinstance(exc, OSError):
-            raise FrictionJointError(f'cannot write {path}: {exc.strerror or exc}') from None
+            raise OutputError(f'cannot write {path}: {exc.strerror or exc}') from None
         raise
 
 
@@ -309,7 +309,7 @@ def write_html_report(md_path, html_path=None):
 
     Raises
     ------
-    FrictionJointError
+    InputFileError, OutputError
         The Markdown file cannot be read, an image is missing, unreadable or
         of an unknown type, ``html_path`` is ``md_path`` or cannot be written;
         nothing is written then.
@@ -322,16 +322,16 @@ def write_html_report(md_path, html_path=None):
     if os.path.abspath(html_path) == os.path.abspath(md_path) or \
             (os.path.exists(html_path) and os.path.exists(md_path) and
              os.path.samefile(html_path, md_path)):
-        raise FrictionJointError(f'{md_path}: the HTML report would overwrite the Markdown '
-                                 'file; give another html_path')
+        raise OutputError(f'{md_path}: the HTML report would overwrite the Markdown '
+                          'file; give another html_path')
     try:
         with open(md_path, encoding='utf-8') as fh:
             text = fh.read()
     except OSError as exc:
-        raise FrictionJointError(f'cannot read {md_path}: {exc.strerror or exc}') from None
+        raise InputFileError(f'cannot read {md_path}: {exc.strerror or exc}') from None
     except UnicodeDecodeError as exc:
-        raise FrictionJointError(f'{md_path}: not UTF-8 ({exc.reason} at byte '
-                                 f'{exc.start})') from None
+        raise InputFileError(f'{md_path}: not UTF-8 ({exc.reason} at byte '
+                             f'{exc.start})') from None
     page = _render(text, os.path.dirname(os.path.abspath(md_path)), None, md_path)
     _write_atomic(html_path, page.encode('utf-8'))
     return html_path

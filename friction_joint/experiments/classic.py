@@ -52,7 +52,7 @@ import warnings
 import numpy as np
 
 from ._common import check_steps
-from ..exceptions import FrictionJointError, GearConfigWarning
+from ..exceptions import ArgumentError, GearConfigWarning
 from ..gear import gear_from_dict
 from ..models.joint import Joint
 from ..models.lugre import LuGre
@@ -112,7 +112,7 @@ def _midpoints(n, dt):
 def _nsteps(duration, dt):
     n = check_steps(duration, dt, 'a run')
     if n < 2:
-        raise FrictionJointError(f'duration {duration} s is shorter than two steps of {dt} s')
+        raise ArgumentError(f'duration {duration} s is shorter than two steps of {dt} s')
     return n
 
 
@@ -172,7 +172,7 @@ def presliding(amplitude=None, ramp_time=5.0, hold_time=2.0, dt=1e-4, params=Non
     p = dict(CANUDAS_1995, **(params or {}))
     a = 0.95 * p['fs'] if amplitude is None else float(amplitude)
     if not 0.0 < a < p['fs']:
-        raise FrictionJointError(
+        raise ArgumentError(
             f'presliding: amplitude must be in (0, F_s = {p["fs"]}) N, got {a}')
     tr, th = float(ramp_time), float(hold_time)
     knots_f = [0.0, a, a, -a, -a, a, a, -a, -a, 0.0, 0.0]
@@ -281,9 +281,9 @@ def frictional_lag(omegas=(1.0, 10.0, 25.0), v_mean=1.5e-3, v_amplitude=1e-3, pe
 
     """
     if not 0.0 < v_amplitude < v_mean:
-        raise FrictionJointError('frictional_lag: need 0 < v_amplitude < v_mean (no reversal)')
+        raise ArgumentError('frictional_lag: need 0 < v_amplitude < v_mean (no reversal)')
     if int(periods) < 1:
-        raise FrictionJointError('frictional_lag: periods must be >= 1')
+        raise ArgumentError('frictional_lag: periods must be >= 1')
     gear = canudas_gear(params)
     widths, areas, vs_list, fs_list = [], [], [], []
     m = int(samples_per_period)
@@ -367,14 +367,14 @@ def breakaway(rates=(0.1, 0.2, 0.5, 1.0, 2.0, 5.0, 10.0, 20.0, 30.0), f_end=2.0,
     """
     p = dict(CANUDAS_1995, **(params or {}))
     if f_end <= p['fs']:
-        raise FrictionJointError(f'breakaway: f_end must exceed F_s = {p["fs"]} N')
+        raise ArgumentError(f'breakaway: f_end must exceed F_s = {p["fs"]} N')
     gear = canudas_gear(params)
     out = {'breakaway_force': [], 'applied_force_at_breakaway': [], 'time_to_breakaway': []}
     series = {'t': [], 'force': [], 'friction': [], 'v': []}
     for r in rates:
         r = float(r)
         if not r > 0.0:
-            raise FrictionJointError(f'breakaway: force rates must be > 0, got {r}')
+            raise ArgumentError(f'breakaway: force rates must be > 0, got {r}')
         # force increment per step <= 1e-4 N and step <= 1e-4 s
         dt = min(1e-4, 1e-4 / r)
         n = _nsteps(f_end / r, dt)
