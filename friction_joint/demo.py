@@ -44,7 +44,7 @@ import os
 import time
 
 from .exceptions import InputFileError, NodeError
-from .experiments.classic import EXPERIMENTS as CLASSIC_EXPERIMENTS
+from .experiments.classic import CLASSIC_EXPERIMENTS
 from .experiments.classic_report import summary_markdown, write_experiment
 from .experiments.compensation import COMPENSATION
 from .experiments.runner import run_experiment

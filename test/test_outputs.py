@@ -367,7 +367,7 @@ def test_experiment_recording_force(tiny_excitation, tmp_path, capsys, name):
 
 @pytest.fixture
 def fast_lag(monkeypatch):
-    monkeypatch.setitem(classic.EXPERIMENTS, 'lag',
+    monkeypatch.setitem(classic.CLASSIC_EXPERIMENTS, 'lag',
                         lambda: classic.frictional_lag(samples_per_period=2000))
 
 

@@ -19,7 +19,7 @@ See :mod:`friction_joint.experiments.classic`.
 """
 import os
 
-from ..experiments.classic import EXPERIMENTS
+from ..experiments.classic import CLASSIC_EXPERIMENTS
 
 __all__ = ['NAME', 'HELP', 'DESCRIPTION', 'add_arguments', 'run']
 
@@ -32,7 +32,7 @@ DESCRIPTION = ('Run one of the four classic LuGre experiments of Canudas de Wit,
 
 def add_arguments(parser):
     """Add the ``classic`` arguments to ``parser``."""
-    parser.add_argument('experiment', choices=tuple(EXPERIMENTS),
+    parser.add_argument('experiment', choices=tuple(CLASSIC_EXPERIMENTS),
                         help='presliding: force below F_s; lag: frictional lag loops; '
                              'breakaway: break-away force vs force rate; stick-slip: '
                              'spring-pulled mass')

@@ -59,7 +59,7 @@ from ..models.lugre import LuGre
 from ..models.static import StaticFriction
 
 __all__ = ['CANUDAS_1995', 'canudas_gear', 'presliding', 'frictional_lag', 'breakaway',
-           'stick_slip', 'slip_onsets', 'EXPERIMENTS']
+           'stick_slip', 'slip_onsets', 'CLASSIC_EXPERIMENTS']
 
 #: Table I of Canudas de Wit et al. (1995) plus the unit mass (SI units).
 CANUDAS_1995 = {'sigma0': 1e5, 'sigma1': math.sqrt(1e5), 'sigma2': 0.4,
@@ -481,7 +481,7 @@ def stick_slip(k=2.0, vp=0.1, duration=30.0, dt=5e-5, threshold=0.05, params=Non
 
 
 #: command-line name -> experiment function (no arguments: the Canudas 1995 set-up)
-EXPERIMENTS = {
+CLASSIC_EXPERIMENTS = {
     'presliding': presliding,
     'lag': frictional_lag,
     'breakaway': breakaway,

@@ -286,7 +286,7 @@ def run_classic(name, out_dir, *, force=False):
         Paths of the PNG and JSON files.
 
     """
-    from .classic import EXPERIMENTS
+    from .classic import CLASSIC_EXPERIMENTS
     with OutputSet(force=force) as outputs:
         paths = _declare(outputs, name, out_dir)
-        return _write(outputs, name, EXPERIMENTS[name](), paths)
+        return _write(outputs, name, CLASSIC_EXPERIMENTS[name](), paths)

@@ -50,7 +50,7 @@ def stubbed(monkeypatch):
     monkeypatch.setattr(demo, '_identification', identification)
     monkeypatch.setattr(demo, 'CLASSIC', ('lag',))
     monkeypatch.setattr(demo, 'TESTBED', ())
-    monkeypatch.setitem(classic.EXPERIMENTS, 'lag',
+    monkeypatch.setitem(classic.CLASSIC_EXPERIMENTS, 'lag',
                         lambda: classic.frictional_lag(samples_per_period=2000))
 
 

@@ -292,7 +292,7 @@ def test_cli_leaves_nothing_on_error(tmp_path, monkeypatch):
     def broken(draw, size, dpi=100):
         raise RuntimeError('figure failed')
     monkeypatch.setattr(classic_report, 'render_png', broken)
-    monkeypatch.setitem(classic.EXPERIMENTS, 'lag',
+    monkeypatch.setitem(classic.CLASSIC_EXPERIMENTS, 'lag',
                         lambda: classic.frictional_lag(samples_per_period=2000))
     out = tmp_path / 'out'
     out.mkdir()
@@ -302,7 +302,7 @@ def test_cli_leaves_nothing_on_error(tmp_path, monkeypatch):
 
 
 def test_cli_reports_unwritable_out(tmp_path, monkeypatch, capsys):
-    monkeypatch.setitem(classic.EXPERIMENTS, 'lag',
+    monkeypatch.setitem(classic.CLASSIC_EXPERIMENTS, 'lag',
                         lambda: classic.frictional_lag(samples_per_period=2000))
     blocker = tmp_path / 'file'
     blocker.write_text('not a directory')
