@@ -55,7 +55,7 @@ from sensor_msgs.msg import JointState, Temperature
 from .common import (declare_follower_params, Lossless, PairedInput, run_node, StampPairing,
                      take_queued)
 from .ranges import (between, check_controller_params, RISE_TIME_BOUNDS, sample_rate,
-                     SAMPLE_RATE_BOUNDS)
+                     SAMPLE_RATE_BOUNDS, warm_up_temperature)
 from ..parameters import declare_gear, describe, parameter_guard
 from ..qos import overridable, stream_qos
 from ..startup import check_overrides_used
@@ -122,7 +122,7 @@ class ControllerNode(PairedInput, Node):
                                     self.p['rise_time'], self.p['overshoot'])
         self.dt = 1.0 / rate
         self.ctrl = self._controller()
-        self.ctrl(0.0, 0.0, 25.0, 0.0)              # compile the kernels before data flows
+        self.ctrl(0.0, 0.0, warm_up_temperature(self.gear), 0.0)    # compile the kernels
         self.ctrl = self._controller()
         self.traj = SineTrajectory(self.p['amplitude'], self.p['omega'], self.p['offset'])
         self.pair = StampPairing(self.p['sync'])

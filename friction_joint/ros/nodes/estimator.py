@@ -46,7 +46,7 @@ from sensor_msgs.msg import JointState, Temperature
 
 from .common import declare_follower_params, Lossless, PairedInput, run_node, StampPairing
 from .ranges import (BETA_BOUNDS, between, check_estimator_params, sample_rate,
-                     SAMPLE_RATE_BOUNDS)
+                     SAMPLE_RATE_BOUNDS, warm_up_temperature)
 from ..parameters import declare_gear, describe, parameter_guard
 from ..qos import overridable, stream_qos
 from ..startup import check_overrides_used
@@ -92,7 +92,7 @@ class EstimatorNode(PairedInput, Node):
         self.limits = InputLimits(self.gear)
         self.dt = 1.0 / sample_rate(self.p, self.gear)
         self.observer = self._observer()
-        self.observer(0.0, 0.0, 0.0, 25.0)          # compile the kernels before data flows
+        self.observer(0.0, 0.0, 0.0, warm_up_temperature(self.gear))    # compile the kernels
         self.observer = self._observer()
         self.pair = StampPairing(self.p['sync'])
         self.last_ns = None

@@ -26,8 +26,8 @@ from ...gear.schema import RATE_BOUNDS
 
 __all__ = ['between', 'DURATION_BOUNDS', 'WAIT_BOUNDS', 'RESEND_BOUNDS', 'RISE_TIME_BOUNDS',
            'INERTIA_FACTOR', 'MIN_RISE_STEPS', 'PUBLISH_RATE_BOUNDS', 'SAMPLE_RATE_BOUNDS',
-           'BETA_BOUNDS', 'sample_rate', 'check_controller_params', 'check_estimator_params',
-           'topics_problem']
+           'BETA_BOUNDS', 'sample_rate', 'warm_up_temperature', 'check_controller_params',
+           'check_estimator_params', 'topics_problem']
 
 #: simulated or recorded time, s: ROS stamps carry int32 seconds (2.1e9 s, of which the
 #: wall clock has used 1.8e9): 1e8 s (3 years) leaves room for any start time
@@ -98,6 +98,17 @@ def _fail(name, why):
 def sample_rate(p, gear):
     """Return the sample rate of a controller or estimator: ``rate``, or ``simulation.rate``."""
     return p['rate'] or gear.section('simulation')['rate']
+
+
+def warm_up_temperature(gear):
+    """
+    Return the temperature a node's first, compiling call uses: the middle of the gear's range.
+
+    Any temperature of the gear's ``friction.temperature_range`` works (the call only
+    compiles the kernels before data flows); the middle is one for every gear.
+    """
+    lo, hi = gear.friction.temperature_range
+    return 0.5 * (lo + hi)
 
 
 def check_controller_params(p, gear):
