@@ -61,6 +61,33 @@ POSITIONAL_DEFAULTS = {
     ('friction_joint.identification.StaticIdentifier.predict', 'tau_l'): _SIGNAL,
     ('friction_joint.identification.StaticIdentifier.predict_parameters', 'tau_l'): _SIGNAL,
 }
+#: (callable, parameter) -> the caller outside this API's subpackages that still passes it
+#: positionally; the parameter becomes keyword-only once the caller passes it by name
+PENDING_CALLERS = {
+    ('friction_joint.control.pd_gains', 'rise_time'):
+        'ros/nodes/controller.py, experiments/hidden.py, test/ros/test_nodes.py',
+    ('friction_joint.control.pd_gains', 'overshoot'):
+        'ros/nodes/controller.py, experiments/hidden.py, test/ros/test_nodes.py',
+    ('friction_joint.control.SineTrajectory.__init__', 'omega'):
+        'ros/nodes/controller.py, experiments/warmup.py, experiments/compensation.py, '
+        'test/ros/test_nodes.py',
+    ('friction_joint.control.SineTrajectory.__init__', 'offset'): 'ros/nodes/controller.py',
+    ('friction_joint.control.Controller.__init__', 'friction'):
+        'ros/nodes/controller.py, experiments/hidden.py, experiments/fleet.py, '
+        'test/ros/test_nodes.py',
+    ('friction_joint.control.Controller.__init__', 'dt'):
+        'ros/nodes/controller.py, experiments/hidden.py, experiments/fleet.py, '
+        'test/ros/test_nodes.py',
+    ('friction_joint.control.Controller.__init__', 'ff_velocity'):
+        'ros/nodes/controller.py, test/ros/test_nodes.py',
+    ('friction_joint.control.DisturbanceObserver.__init__', 'beta'):
+        'ros/nodes/estimator.py, test/ros/test_nodes.py, test/ros/test_node_inputs.py',
+    ('friction_joint.control.DisturbanceObserver.__init__', 'dt'):
+        'ros/nodes/estimator.py, test/ros/test_nodes.py, test/ros/test_node_inputs.py',
+    ('friction_joint.testbed.Plant.step', 'tau_contact'): 'ros/nodes/joint_sim.py',
+    ('friction_joint.control.DisturbanceObserver.__init__', 'friction'):
+        'ros/nodes/estimator.py, test/ros/test_nodes.py, test/ros/test_node_inputs.py',
+}
 #: numpydoc codes checked: no docstring, summary line, the Parameters section
 NUMPYDOC_CODES = ('GL08', 'SS01', 'SS02', 'SS03', 'SS05', 'PR01', 'PR02', 'PR03')
 #: the names of the cli subcommand protocol, one per subcommand module by design
@@ -125,13 +152,14 @@ def test_options_keyword_only(name):
         return      # a dataclass's fields, in field order
     positional = [p.name for p in _parameters(func, cls)
                   if p.default is not p.empty and p.kind is p.POSITIONAL_OR_KEYWORD
-                  and (name, p.name) not in POSITIONAL_DEFAULTS]
+                  and (name, p.name) not in POSITIONAL_DEFAULTS
+                  and (name, p.name) not in PENDING_CALLERS]
     assert not positional, f'{name}: options not keyword-only: {", ".join(positional)}'
 
 
 def test_positional_defaults_exist():
     """Every entry of the allow-list names a real parameter that still has a default."""
-    for (name, param), reason in POSITIONAL_DEFAULTS.items():
+    for (name, param), reason in {**POSITIONAL_DEFAULTS, **PENDING_CALLERS}.items():
         func, cls = CALLABLES[name]
         params = {p.name: p for p in _parameters(func, cls)}
         assert param in params and params[param].default is not inspect.Parameter.empty, name
@@ -140,15 +168,17 @@ def test_positional_defaults_exist():
 
 def _dataclass_errors(name, cls):
     """PR01/PR02/PR03 of a dataclass: its Attributes (and Parameters) against its fields."""
-    from numpydoc.docscrape import ClassDoc
-    doc = ClassDoc(cls)
-    documented = [p.name for p in doc['Parameters'] + doc['Attributes']]
+    from numpydoc.docscrape import NumpyDocString
+    doc = NumpyDocString(inspect.getdoc(cls) or '')
+    params = [n for p in doc['Parameters'] for n in p.name.split(', ')]
+    documented = list(dict.fromkeys(params + [n for p in doc['Attributes']
+                                              for n in p.name.split(', ')]))
     fields = [f.name for f in dataclasses.fields(cls) if f.init]
     errors = []
     missing = [f for f in fields if f not in documented]
     if missing:
         errors.append(f'PR01 fields not documented: {missing}')
-    unknown = [p.name for p in doc['Parameters'] if p.name not in fields]
+    unknown = [n for n in params if n not in fields]
     if unknown:
         errors.append(f'PR02 unknown parameters: {unknown}')
     order = [d for d in documented if d in fields]

@@ -31,13 +31,21 @@ Bounding the inputs to plausible values is the caller's job (the
 ``controller`` node gates them with
 :class:`~friction_joint.testbed.plant.InputLimits`).
 """
+from __future__ import annotations
+
 import math
+from typing import TYPE_CHECKING
 
 import numpy as np
 from scipy.optimize import brentq
 
 from ..exceptions import ArgumentError, InputRejected
 from ..models.friction import friction_model
+
+if TYPE_CHECKING:
+    from numpy.typing import ArrayLike
+
+    from ..gear import GearParams
 
 __all__ = ['pd_gains', 'step_metrics', 'SineTrajectory', 'Controller']
 
@@ -53,9 +61,10 @@ def _unit_step(tn, zeta):
     return 1.0 - math.exp(-zeta * tn) * (math.cos(wd * tn) + zeta / wd * math.sin(wd * tn))
 
 
-def pd_gains(inertia, rise_time=0.04, overshoot=0.06):
+def pd_gains(inertia: float, rise_time: float = 0.04,
+             overshoot: float = 0.06) -> tuple[float, float]:
     """
-    PD gains of eq. 17 from a 10-90 % rise time and a maximum overshoot.
+    Return the PD gains of eq. 17 from a 10-90 % rise time and a maximum overshoot.
 
     Parameters
     ----------
@@ -86,8 +95,25 @@ def pd_gains(inertia, rise_time=0.04, overshoot=0.06):
     return inertia * wn ** 2, 2.0 * zeta * wn * inertia
 
 
-def step_metrics(t, y, final):
-    """10-90 % rise time and maximum overshoot (fraction) of a step response."""
+def step_metrics(t: ArrayLike, y: ArrayLike, final: float) -> tuple[float, float]:
+    """
+    Return the 10-90 % rise time and maximum overshoot (fraction) of a step response.
+
+    Parameters
+    ----------
+    t : array_like (T,)
+        Time (s).
+    y : array_like (T,)
+        The response.
+    final : float
+        The step's final value.
+
+    Returns
+    -------
+    rise_time, overshoot : float
+        Rise time (s) and overshoot as a fraction of ``final``.
+
+    """
     y = np.asarray(y) / final
     t10 = np.interp(0.1, y[: np.argmax(y >= 0.9) + 1], t[: np.argmax(y >= 0.9) + 1])
     t90 = np.interp(0.9, y[: np.argmax(y >= 0.9) + 1], t[: np.argmax(y >= 0.9) + 1])
@@ -95,9 +121,21 @@ def step_metrics(t, y, final):
 
 
 class SineTrajectory:
-    """q_d(t) = a sin(w t) + offset, with its first two derivatives (paper: w = 1.5)."""
+    """
+    Desired trajectory q_d(t) = a sin(w t) + offset, with its first two derivatives.
 
-    def __init__(self, amplitude, omega=1.5, offset=0.0):
+    Parameters
+    ----------
+    amplitude : float
+        a (rad).
+    omega : float
+        w (rad/s); the paper's is 1.5.
+    offset : float
+        Offset (rad).
+
+    """
+
+    def __init__(self, amplitude: float, omega: float = 1.5, offset: float = 0.0) -> None:
         self.a, self.w, self.offset = float(amplitude), float(omega), float(offset)
 
     def __call__(self, t):
@@ -125,7 +163,8 @@ class Controller:
 
     """
 
-    def __init__(self, gear, kp, kd, friction='lugre', dt=1.0 / 3000.0, ff_velocity='measured'):
+    def __init__(self, gear: GearParams, kp: float, kd: float, friction: str = 'lugre',
+                 dt: float = 1.0 / 3000.0, ff_velocity: str = 'measured') -> None:
         if ff_velocity not in ('measured', 'desired'):
             raise ArgumentError("ff_velocity must be 'measured' or 'desired', "
                                 f'got {ff_velocity!r}')
@@ -139,12 +178,25 @@ class Controller:
         self.friction = friction_model(gear, friction)
         self.last = {}
 
-    def reset(self):
+    def reset(self) -> None:
         """Relax the friction feed-forward state."""
         self.friction.reset()
 
-    def gravity(self, q):
-        """tau_g(q) = m g l sin(q - angle_offset) of the model's lever."""
+    def gravity(self, q: float) -> float:
+        """
+        Return tau_g(q) = m g l sin(q - angle_offset) of the model's lever.
+
+        Parameters
+        ----------
+        q : float
+            Joint position (rad).
+
+        Returns
+        -------
+        float
+            The gravity torque (Nm).
+
+        """
         return self.mgl * math.sin(q - self.lever_offset)
 
     def __call__(self, q, qd, xi, q_d, qd_d=0.0, qdd_d=0.0, *, dt=None):

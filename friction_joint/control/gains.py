@@ -44,6 +44,8 @@ Presets (:data:`GAIN_PRESETS`):
     specification would give with the whole joint's J (errors of a few %
     without compensation).
 """
+from __future__ import annotations
+
 import dataclasses
 import math
 
@@ -74,11 +76,11 @@ class GainDesign:
     """
 
     name: str = 'full-inertia'
-    design_inertia: float = None
+    design_inertia: float | None = None
     rise_time: float = 0.04
     overshoot: float = 0.06
-    kp: float = None
-    kd: float = None
+    kp: float | None = None
+    kd: float | None = None
 
     def __post_init__(self):
         if (self.kp is None) != (self.kd is None):
@@ -92,20 +94,44 @@ class GainDesign:
             raise ArgumentError(f'design inertia must be > 0 kg m^2, '
                                 f'got {self.design_inertia}')
 
-    def gains(self, model_inertia):
+    def gains(self, model_inertia: float) -> tuple[float, float]:
         """
         Return ``(kp, kd)`` for a model gear of joint inertia ``model_inertia``.
 
         Direct gains are returned as given; otherwise :func:`pd_gains` of the
         design inertia (the model's joint inertia when it is None).
+
+        Parameters
+        ----------
+        model_inertia : float
+            The model gear's joint inertia (kg m^2).
+
+        Returns
+        -------
+        kp, kd : float
+            Nm/rad and Nm s/rad.
+
         """
         if self.kp is not None:
             return float(self.kp), float(self.kd)
         inertia = model_inertia if self.design_inertia is None else self.design_inertia
-        return pd_gains(inertia, self.rise_time, self.overshoot)
+        return pd_gains(inertia, rise_time=self.rise_time, overshoot=self.overshoot)
 
-    def to_dict(self, model_inertia):
-        """Plain description with the gains it gives (for summary files)."""
+    def to_dict(self, model_inertia: float) -> dict[str, object]:
+        """
+        Return a plain description with the gains it gives (for summary files).
+
+        Parameters
+        ----------
+        model_inertia : float
+            The model gear's joint inertia (kg m^2).
+
+        Returns
+        -------
+        dict
+            ``preset``, ``design_inertia``, ``rise_time``, ``overshoot``, ``kp``, ``kd``.
+
+        """
         kp, kd = self.gains(model_inertia)
         return {'preset': self.name, 'design_inertia': (None if self.kp is not None else
                                                         self.design_inertia or model_inertia),
@@ -121,12 +147,20 @@ GAIN_PRESETS = {
 }
 
 
-def gain_design(spec):
+def gain_design(spec: GainDesign | str) -> GainDesign:
     """
     Return the :class:`GainDesign` named or described by ``spec``.
 
-    ``spec`` is a :class:`GainDesign`, a preset name (``paper``,
-    ``full-inertia``), ``J=<kg m^2>`` (design inertia) or ``kp=<Nm/rad>,kd=<Nm s/rad>``.
+    Parameters
+    ----------
+    spec : GainDesign or str
+        A :class:`GainDesign`, a preset name (``paper``, ``full-inertia``),
+        ``J=<kg m^2>`` (design inertia) or ``kp=<Nm/rad>,kd=<Nm s/rad>``.
+
+    Returns
+    -------
+    GainDesign
+
     """
     if isinstance(spec, GainDesign):
         return spec
@@ -153,7 +187,7 @@ def gain_design(spec):
     raise ArgumentError(f'gains {spec!r}: give J=<kg m^2> alone, or kp and kd together')
 
 
-def loop_metrics(kp, kd, inertia):
+def loop_metrics(kp: float, kd: float, inertia: float) -> dict[str, float]:
     """
     Return natural frequency, damping ratio and overshoot of the PD loop on ``inertia``.
 

@@ -37,7 +37,10 @@ Bounding the inputs to plausible values is the caller's job (the
 ``estimator`` node gates them with
 :class:`~friction_joint.testbed.plant.InputLimits`).
 """
+from __future__ import annotations
+
 import math
+from typing import TYPE_CHECKING
 
 import numpy as np
 from scipy import signal
@@ -45,6 +48,9 @@ from scipy import signal
 from ..exceptions import ArgumentError, InputRejected
 from ..models.friction import friction_model
 from ..testbed.sensors import StreamingSOS
+
+if TYPE_CHECKING:
+    from ..gear import GearParams
 
 __all__ = ['DisturbanceObserver']
 
@@ -62,6 +68,7 @@ class DisturbanceObserver:
     dt : float
         Sample time, s.
     friction : {'lugre', 'gms', 'static', 'none'}
+        The friction model subtracted (eq. 15); ``'none'`` gives eq. 4.
     gravity : bool
         Subtract the model's lever gravity (True) or estimate it as part of
         tau_ext (False, as in the paper's Section V-D).
@@ -70,8 +77,9 @@ class DisturbanceObserver:
 
     """
 
-    def __init__(self, gear, beta=60.0, dt=1.0 / 3000.0, friction='lugre', gravity=False,
-                 method='bilinear'):
+    def __init__(self, gear: GearParams, beta: float = 60.0, dt: float = 1.0 / 3000.0,
+                 friction: str = 'lugre', *, gravity: bool = False,
+                 method: str = 'bilinear') -> None:
         if not beta > 0:
             raise ArgumentError(f'observer cut-off beta must be > 0, got {beta}')
         self.J = gear.inertia
@@ -86,13 +94,25 @@ class DisturbanceObserver:
         self.tau_friction = 0.0
         self._qd = 0.0
 
-    def reset(self, tau_ext=0.0, qd=0.0, tau=0.0):
-        """Start at a steady state with estimate tau_ext (finite) at velocity qd."""
+    def reset(self, *, tau_ext: float = 0.0, qd: float = 0.0, tau: float = 0.0) -> None:
+        """
+        Start at a steady state with estimate tau_ext (finite) at velocity qd.
+
+        Parameters
+        ----------
+        tau_ext : float
+            The estimate (Nm).
+        qd : float
+            Velocity (rad/s).
+        tau : float
+            Drive torque (Nm); not used (the steady state does not depend on it).
+
+        """
         if not (math.isfinite(tau_ext) and math.isfinite(qd)):
             raise InputRejected(f'observer reset to a non-finite state (tau_ext {tau_ext}, '
                                 f'qd {qd})')
         self.friction.reset()
-        self.q_filter.reset(tau_ext + self.beta * self.J * qd)
+        self.q_filter.reset(x0=tau_ext + self.beta * self.J * qd)
         self.estimate = tau_ext
         self.tau_friction = 0.0
         self._qd = qd
@@ -122,7 +142,7 @@ class DisturbanceObserver:
             if not math.isfinite(estimate):
                 raise InputRejected(f'the estimate overflows ({estimate} Nm)')
         except ValueError as exc:
-            self.reset(self.estimate, self._qd)
+            self.reset(tau_ext=self.estimate, qd=self._qd)
             raise InputRejected(f'observer sample (drive torque {tau} Nm, velocity {qd} '
                                 f'rad/s) refused: {exc}; observer reset to '
                                 f'{self.estimate:.6g} Nm') from None

@@ -25,6 +25,8 @@ spec (integers in float keys and lists become floats), the other parameters
 one type, nulls and empty sections dropped (rcl has no null), and strings
 quoted.
 """
+from __future__ import annotations
+
 import json
 import os
 import re
@@ -33,7 +35,7 @@ import warnings
 
 import yaml
 
-from .params import expand_dotted, gear_from_dict, gear_from_flat
+from .params import expand_dotted, gear_from_dict, gear_from_flat, GearParams
 from .schema import key_specs, required_keys, SCHEMA, Section
 from .strict_yaml import parse_yaml_text, read_yaml_document, Yaml12Resolver
 from ..exceptions import GearConfigError
@@ -46,7 +48,7 @@ _REQUIRED = required_keys()
 _PLAIN_KEY = re.compile(r'[A-Za-z0-9_/][A-Za-z0-9_./*~-]*')
 
 
-def load_gear(path):
+def load_gear(path: str | os.PathLike) -> GearParams:
     """
     Load and validate a gear parameter file.
 
@@ -70,7 +72,7 @@ def load_gear(path):
     return _gear_from_document(read_yaml_document(path), path)
 
 
-def parse_gear(text, where):
+def parse_gear(text: str, where: str) -> GearParams:
     """
     Validate the text of a gear parameter file as :func:`load_gear` validates a file.
 
@@ -122,15 +124,29 @@ for _first, _resolvers in Yaml12Resolver.yaml_implicit_resolvers.items():
         _Dumper.add_implicit_resolver(_tag, _regexp, [_first])
 
 
-def format_gear(gear, header=None):
-    """Return the text of ``gear`` as a ROS 2 parameter file, ``header`` lines as comments."""
+def format_gear(gear: GearParams, *, header: str | None = None) -> str:
+    """
+    Return the text of ``gear`` as a ROS 2 parameter file, ``header`` lines as comments.
+
+    Parameters
+    ----------
+    gear : GearParams
+        The gear.
+    header : str, optional
+        Lines written as ``#`` comments at the top.
+
+    Returns
+    -------
+    str
+
+    """
     text = yaml.dump(gear.to_dict(), Dumper=_Dumper, sort_keys=False, default_flow_style=None)
     if header:
         text = ''.join(f'# {line}\n' if line else '#\n' for line in header.splitlines()) + text
     return text
 
 
-def save_gear(gear, path, header=None):
+def save_gear(gear: GearParams, path: str | os.PathLike, *, header: str | None = None) -> None:
     """
     Write ``gear`` as a ROS 2 parameter file (atomically), with an optional comment header.
 
@@ -144,7 +160,7 @@ def save_gear(gear, path, header=None):
         Lines written as ``#`` comments at the top.
 
     """
-    text = format_gear(gear, header)
+    text = format_gear(gear, header=header)
     path = str(path)
     d = os.path.dirname(os.path.abspath(path))
     tmp = os.path.join(d, f'.gear-{secrets.token_hex(6)}.yaml')

@@ -20,11 +20,15 @@ Validated gear parameters: the typed views, the consistency and physical checks.
 rcl) both end in the same schema (:mod:`.schema`) and checks, so a gear read
 by the command line and by a node is the same :class:`GearParams`.
 """
+from __future__ import annotations
+
 import copy
 import dataclasses
+import os
 import warnings
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from .polynomial import polynomial_violation
 from .schema import (DEFAULT_SECTIONS, MIN_CUTOFF_FRACTION, REQUIRED, SCHEMA, Section,
@@ -37,45 +41,115 @@ __all__ = ['LuGreParams', 'GMSParams', 'RippleParams', 'FrictionParams', 'GearPa
 
 @dataclasses.dataclass(frozen=True)
 class LuGreParams:
+    """
+    LuGre pre-sliding parameters (seed eq. 10), ``friction.lugre``.
+
+    Attributes
+    ----------
+    sigma0 : float
+        Bristle stiffness (Nm/rad).
+    sigma1 : float
+        Micro-damping (Nm s/rad).
+
+    """
+
     sigma0: float
     sigma1: float = 0.0
 
 
 @dataclasses.dataclass(frozen=True)
 class GMSParams:
-    k: tuple
-    alpha: tuple
+    """
+    GMS parameters (seed eq. 11-13), ``friction.gms``.
+
+    Attributes
+    ----------
+    k : tuple of float
+        Element stiffnesses k_i (Nm/rad).
+    alpha : tuple of float
+        Torque fractions alpha_i (sum 1).
+    c : float
+        Attraction C (Nm/s).
+
+    """
+
+    k: tuple[float, ...]
+    alpha: tuple[float, ...]
     c: float
 
 
 @dataclasses.dataclass(frozen=True)
 class RippleParams:
+    """
+    Position ripple sum_n A_n sin(n c q + phi_n), ``friction.position_ripple``.
+
+    Attributes
+    ----------
+    cycles_per_rev : float
+        c, the fundamental's cycles per output revolution.
+    amplitude : tuple of float
+        A_n (Nm).
+    phase : tuple of float
+        phi_n (rad).
+
+    """
+
     cycles_per_rev: float
-    amplitude: tuple
-    phase: tuple
+    amplitude: tuple[float, ...]
+    phase: tuple[float, ...]
 
 
 @dataclasses.dataclass(frozen=True)
 class FrictionParams:
-    """Friction parameters of one gear (seed eq. 1, 5-13)."""
+    """
+    Friction parameters of one gear (seed eq. 1, 5-13), the ``friction`` section.
+
+    Attributes
+    ----------
+    model : {'static', 'lugre', 'gms'}
+        The friction model.
+    fc, fv : tuple of float
+        Temperature polynomials (powers 0..n) of F_c and F_v (eq. 7).
+    fs, vs : tuple of float or None
+        Those of F_s and v_s; None: no Stribeck effect.
+    delta_v : tuple of float
+        That of the viscous exponent (eq. 5).
+    delta_s : float
+        Stribeck exponent (eq. 1).
+    fc_load, fv_load, fs_load, vs_load, delta_v_load : tuple of float
+        Load polynomials (powers 1..m) of the same parameters.
+    velocity_scale : float
+        kappa: the curve is evaluated at ``kappa * qd``.
+    temperature_range : tuple of float
+        ``(lo, hi)`` degC: xi is clipped to it.
+    lugre : LuGreParams or None
+        ``friction.lugre``.
+    gms : GMSParams or None
+        ``friction.gms``.
+    position_ripple : RippleParams or None
+        ``friction.position_ripple``.
+    offset : float
+        Constant torque added to the friction torque (Nm).
+
+    """
 
     model: str
-    fc: tuple
-    fv: tuple
-    fs: tuple = None
-    vs: tuple = None
-    delta_v: tuple = (1.0,)
+    fc: tuple[float, ...]
+    fv: tuple[float, ...]
+    fs: tuple[float, ...] | None = None
+    vs: tuple[float, ...] | None = None
+    delta_v: tuple[float, ...] = (1.0,)
     delta_s: float = 2.0
-    fc_load: tuple = ()
-    fv_load: tuple = ()
-    fs_load: tuple = ()
-    vs_load: tuple = ()
-    delta_v_load: tuple = ()
+    fc_load: tuple[float, ...] = ()
+    fv_load: tuple[float, ...] = ()
+    fs_load: tuple[float, ...] = ()
+    vs_load: tuple[float, ...] = ()
+    delta_v_load: tuple[float, ...] = ()
     velocity_scale: float = 1.0
-    temperature_range: tuple = (0.0, 100.0)
-    lugre: LuGreParams = None
-    gms: GMSParams = None
-    position_ripple: RippleParams = None
+    temperature_range: tuple[float, float] = (0.0, 100.0)
+    lugre: LuGreParams | None = None
+    gms: GMSParams | None = None
+    position_ripple: RippleParams | None = None
     offset: float = 0.0
 
 
@@ -86,6 +160,24 @@ class GearParams:
 
     ``data`` is the validated ``ros__parameters`` mapping (defaults filled
     in); the other attributes are typed views of it.
+
+    Attributes
+    ----------
+    joint_name : str
+        The joint's name in recordings.
+    gear_ratio : float
+        Gear ratio.
+    inertia : float
+        Joint inertia (kg m^2).
+    friction : FrictionParams
+        The ``friction`` section.
+    data : dict
+        The validated ``ros__parameters`` mapping.
+    source : str or None
+        Where it came from, used in error messages.
+    given : frozenset of str
+        Dotted names of the keys the source gave (the others hold defaults).
+
     """
 
     joint_name: str
@@ -93,11 +185,24 @@ class GearParams:
     inertia: float
     friction: FrictionParams
     data: dict = dataclasses.field(repr=False, compare=False)
-    source: str = None
-    given: frozenset = dataclasses.field(default=frozenset(), repr=False, compare=False)
+    source: str | None = None
+    given: frozenset[str] = dataclasses.field(default=frozenset(), repr=False, compare=False)
 
-    def section(self, name):
-        """Return a validated simulator section with defaults (``'lever'``, ``'thermal'``, ...)."""
+    def section(self, name: str) -> dict | None:
+        """
+        Return a validated simulator section with defaults (``'lever'``, ``'thermal'``, ...).
+
+        Parameters
+        ----------
+        name : str
+            The section's key.
+
+        Returns
+        -------
+        dict or None
+            A copy of the section; None for an absent section without defaults.
+
+        """
         sec = self.data.get(name)
         if sec is None and name in DEFAULT_SECTIONS:
             sec = validate_fields(SCHEMA[name].fields, {}, name)
@@ -114,7 +219,7 @@ class GearParams:
         """Angle (rad) at which the lever hangs down: gravity is m g l sin(q - offset)."""
         return self.section('lever')['angle_offset']
 
-    def lever_torque(self, q):
+    def lever_torque(self, q: ArrayLike) -> float | np.ndarray:
         """
         Return the lever's gravity torque m g l sin(q - angle_offset) at ``q``.
 
@@ -134,13 +239,25 @@ class GearParams:
         out = mgl * np.sin(np.asarray(q, float) - lever['angle_offset'])
         return float(out) if out.ndim == 0 else out
 
-    def replace(self, changes):
-        """Return a new GearParams with ``changes`` (a nested dict) merged in and validated."""
+    def replace(self, changes: dict) -> GearParams:
+        """
+        Return a new GearParams with ``changes`` merged in and validated.
+
+        Parameters
+        ----------
+        changes : dict
+            A nested ``ros__parameters`` mapping of the keys to change.
+
+        Returns
+        -------
+        GearParams
+
+        """
         data = copy.deepcopy(self.data)
         _merge(data, changes)
         return gear_from_dict(data, source=self.source, given=self.given | _given_keys(changes))
 
-    def to_dict(self):
+    def to_dict(self) -> dict:
         """
         Return the gear file's content: ``{'/**': {'ros__parameters': ...}}``.
 
@@ -188,7 +305,8 @@ def _tup(x):
     return None if x is None else tuple(x)
 
 
-def gear_from_dict(params, source=None, given=None):
+def gear_from_dict(params: dict, *, source: str | os.PathLike | None = None,
+                   given: frozenset[str] | None = None) -> GearParams:
     """
     Validate a ``ros__parameters`` mapping and return :class:`GearParams`.
 
@@ -340,13 +458,26 @@ def _check_physics(friction):
                 'narrow the range to where the polynomial was identified or fix the coefficients')
 
 
-def passivity_bound(friction, xi):
+def passivity_bound(friction: FrictionParams, xi: ArrayLike) -> np.ndarray:
     """
-    Upper bound on sigma1 for a passive LuGre model (Astrom & Canudas de Wit 2008).
+    Return the upper bound on sigma1 for a passive LuGre model (Astrom & Canudas de Wit 2008).
 
     sigma1 < sigma2 F_c / (F_s - F_c), with sigma2 the viscous slope.  For the nonlinear viscous
     term (eq. 5) sigma2 is taken as ds/dqd at qd = v_s/kappa, the velocity where the Stribeck dip
-    happens; for delta_v = 1 this is the exact linear coefficient.  Returns inf where F_s <= F_c.
+    happens; for delta_v = 1 this is the exact linear coefficient.
+
+    Parameters
+    ----------
+    friction : FrictionParams
+        The friction section.
+    xi : array_like
+        Temperatures (degC).
+
+    Returns
+    -------
+    ndarray
+        The bound (Nm s/rad) at each temperature; inf where F_s <= F_c.
+
     """
     from ..models.static import StaticFriction
     p = StaticFriction(friction).parameters(np.atleast_1d(xi))
@@ -416,8 +547,22 @@ def expand_dotted(params, prefix=''):
     return out
 
 
-def gear_from_flat(params, source=None):
-    """Build GearParams from ROS-style dotted names (``friction.fc`` ...)."""
+def gear_from_flat(params: dict, *, source: str | None = None) -> GearParams:
+    """
+    Build GearParams from ROS-style dotted names (``friction.fc`` ...).
+
+    Parameters
+    ----------
+    params : dict
+        A ``ros__parameters`` mapping, dotted, nested or both.
+    source : str, optional
+        Where it came from, used in error messages.
+
+    Returns
+    -------
+    GearParams
+
+    """
     where = f'{source}: ' if source else ''
     try:
         nested = expand_dotted(params)

@@ -39,6 +39,8 @@ Limits on list lengths (checked before a list's elements are looked at):
 
 Integers are ROS 2 parameter integers (64-bit); larger ones are rejected.
 """
+from __future__ import annotations
+
 import copy
 import math
 import reprlib
@@ -226,14 +228,40 @@ class FloatList(_Spec):
 
 
 class Section(_Spec):
-    """A mapping of keys with their own specs."""
+    """
+    A mapping of keys with their own specs.
 
-    def __init__(self, fields, optional=True, doc=''):
+    Parameters
+    ----------
+    fields : dict
+        Each key's spec (``Float``, ``Int``, ``Str``, ``FloatList`` or a ``Section``).
+    optional : bool
+        Whether the section may be absent.
+    doc : str
+        What the section is, for documentation.
+
+    """
+
+    def __init__(self, fields: dict[str, _Spec], *, optional: bool = True, doc: str = '') -> None:
         self.fields, self.doc = fields, doc
         self.default = None if optional else REQUIRED
 
-    def check(self, value, path):
-        """Return the validated mapping (defaults filled in) or raise GearConfigError."""
+    def check(self, value: object, path: str) -> dict:
+        """
+        Return the validated mapping (defaults filled in) or raise GearConfigError.
+
+        Parameters
+        ----------
+        value : object
+            The section's value as read.
+        path : str
+            Its dotted name, for error messages.
+
+        Returns
+        -------
+        dict
+
+        """
         if not isinstance(value, dict):
             raise GearConfigError(f'{path}: expected a mapping of keys, got {_short(value)}')
         return validate_fields(self.fields, value, path)

@@ -502,7 +502,7 @@ def _relocated(obj, relocate):
 
 def _gear_bytes(gear, header):
     """Return the gear file's text (UTF-8), checked to load as every node loads it."""
-    text = format_gear(gear, header)          # in memory: no temporary file to fill a disk
+    text = format_gear(gear, header=header)          # in memory: no temporary file to fill a disk
     parse_gear(text, 'the identified gear file')
     return text.encode('utf-8')
 

@@ -23,9 +23,13 @@ their own **model** gear file.
 plausible for a gear (derived from its gear file); the nodes refuse inputs
 beyond them.
 """
+from __future__ import annotations
+
 import math
+from typing import TYPE_CHECKING
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from .sensors import CurrentLoop, Encoder, TemperatureSensor, VelocityEstimator
 from .thermal import ThermalModel
@@ -33,6 +37,9 @@ from ..exceptions import SimulationError
 from ..gear.schema import ABSOLUTE_ZERO
 from ..models.joint import Joint
 from ..models.static import StaticFriction
+
+if TYPE_CHECKING:
+    from ..gear import GearParams
 
 __all__ = ['Plant', 'Sample', 'InputLimits', 'PLAUSIBILITY_FACTOR', 'MAX_INPUT_SPEED',
            'ACCELERATION_TIME']
@@ -80,7 +87,7 @@ class InputLimits:
 
     """
 
-    def __init__(self, gear, factor=PLAUSIBILITY_FACTOR):
+    def __init__(self, gear: GearParams, *, factor: float = PLAUSIBILITY_FACTOR) -> None:
         if not (math.isfinite(factor) and factor >= 1.0):
             raise ValueError(f'plausibility factor must be >= 1, got {factor}')
         mgl, inertia = gear.mgl, gear.inertia
@@ -108,12 +115,22 @@ class InputLimits:
         ripple = gear.friction.position_ripple
         return peak + (sum(abs(a) for a in ripple.amplitude) if ripple else 0.0)
 
-    def check(self, quantity, value):
+    def check(self, quantity: str, value: float) -> str | None:
         """
         Return why ``value`` is not plausible for ``quantity``, or None if it is.
 
-        ``quantity`` is ``'position'``, ``'velocity'``, ``'torque'`` or
-        ``'temperature'``.
+        Parameters
+        ----------
+        quantity : {'position', 'velocity', 'torque', 'temperature'}
+            What ``value`` is.
+        value : float
+            The value, in the unit of :data:`UNITS`.
+
+        Returns
+        -------
+        str or None
+            The reason, one line, or None for a plausible value.
+
         """
         unit = UNITS[quantity]
         if not math.isfinite(value):
@@ -130,7 +147,7 @@ class InputLimits:
         return (f'{quantity} {value:g} {unit} is beyond the plausible +-{bound:.4g} {unit} '
                 'of this gear')
 
-    def describe(self):
+    def describe(self) -> str:
         """Return the limits as one line of text."""
         lo, hi = self.temperature
         return (f'|q| <= {self.position:.3g} rad, |qd| <= {self.velocity:.4g} rad/s, '
@@ -146,12 +163,18 @@ class Sample:
     ``xi_new`` (a new temperature sample was taken), ``tau_link`` (output
     torque sensor, tau_ext).  Truth (for evaluation only): ``q_true``,
     ``qd_true``, ``tau_applied``, ``tau_r``, ``tau_ext``, ``xi_true``.
+
+    Parameters
+    ----------
+    **kw : float or bool
+        The values, by the names above.
+
     """
 
     __slots__ = ('t', 'q', 'qd', 'effort', 'xi', 'xi_new', 'tau_link',
                  'q_true', 'qd_true', 'tau_applied', 'tau_r', 'tau_ext', 'xi_true')
 
-    def __init__(self, **kw):
+    def __init__(self, **kw: float | bool) -> None:
         for k, v in kw.items():
             setattr(self, k, v)
 
@@ -178,7 +201,8 @@ class Plant:
 
     """
 
-    def __init__(self, gear, model=None, xi0=None, seed=None, q0=0.0, ideal_sensors=False):
+    def __init__(self, gear: GearParams, *, model: str | None = None, xi0: float | None = None,
+                 seed: int | None = None, q0: float = 0.0, ideal_sensors: bool = False) -> None:
         sim = gear.section('simulation')
         sens = gear.section('sensors')
         self.gear = gear
@@ -223,7 +247,7 @@ class Plant:
                       q_true=q, qd_true=qd, tau_applied=tau_app, tau_r=tau_r, tau_ext=tau_ext,
                       xi_true=xi)
 
-    def step(self, tau_cmd, tau_contact=0.0):
+    def step(self, tau_cmd: float, tau_contact: float = 0.0) -> Sample:
         """
         Apply ``tau_cmd`` for one step, plus a contact torque, and measure.
 
@@ -233,6 +257,13 @@ class Plant:
         out of the finite range (an unstable loop, a runaway command) raises it
         too, naming the time, command and contact torque; the plant is then
         spent.
+
+        Parameters
+        ----------
+        tau_cmd : float
+            Torque command (Nm).
+        tau_contact : float
+            Contact torque on the link (Nm), part of tau_ext.
 
         Returns
         -------
@@ -263,8 +294,24 @@ class Plant:
         self.last = self._sample(q, qd, tau_app, tau_r, tau_ext, noise, xi_new)
         return self.last
 
-    def run(self, tau_cmd, tau_contact=None):
-        """Open-loop run over a command sequence; returns a dict of arrays (measured and true)."""
+    def run(self, tau_cmd: ArrayLike, *,
+            tau_contact: ArrayLike | None = None) -> dict[str, np.ndarray]:
+        """
+        Run open loop over a command sequence.
+
+        Parameters
+        ----------
+        tau_cmd : array_like (T,)
+            Torque command of each step (Nm).
+        tau_contact : array_like (T,), optional
+            Contact torque of each step (Nm); default none.
+
+        Returns
+        -------
+        dict of str to ndarray
+            Each field of :class:`Sample` (measured and true) over the steps.
+
+        """
         n = len(tau_cmd)
         contact = np.zeros(n) if tau_contact is None else np.asarray(tau_contact, float)
         names = Sample.__slots__

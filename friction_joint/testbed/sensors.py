@@ -25,9 +25,12 @@ Sensor models of the simulated test bed.
   quantised to 0.0625 degC (MCP9808);
 * output torque sensor: true link torque plus noise.
 """
+from __future__ import annotations
+
 import math
 
 import numpy as np
+from numpy.typing import ArrayLike
 from scipy import signal
 
 __all__ = ['StreamingSOS', 'Encoder', 'VelocityEstimator', 'CurrentLoop',
@@ -47,15 +50,29 @@ class StreamingSOS:
     per-sample cost small enough for a 3 kHz loop.  The state never holds a
     non-finite value: a sample that is not finite, or that would overflow the
     state, raises ``ValueError`` and leaves the filter as it was.
+
+    Parameters
+    ----------
+    sos : array_like, (n_sections, 6)
+        Second-order sections as ``scipy.signal`` designs them.
+
     """
 
-    def __init__(self, sos):
+    def __init__(self, sos: ArrayLike) -> None:
         self.sos = np.asarray(sos, dtype=float)
         self._coef = [tuple(float(c) for c in row) for row in self.sos]
         self.reset()
 
-    def reset(self, x0=0.0):
-        """Start in the steady state of a constant input x0 (finite)."""
+    def reset(self, *, x0: float = 0.0) -> None:
+        """
+        Start in the steady state of a constant input x0 (finite).
+
+        Parameters
+        ----------
+        x0 : float
+            The constant input.
+
+        """
         if not math.isfinite(x0):
             raise ValueError(f'filter reset to a non-finite value {x0}')
         zi = signal.sosfilt_zi(self.sos) * x0
@@ -85,9 +102,17 @@ class StreamingSOS:
 
 
 class Encoder:
-    """Absolute encoder with 2^bits counts per revolution."""
+    """
+    Absolute encoder with 2^bits counts per revolution.
 
-    def __init__(self, bits):
+    Parameters
+    ----------
+    bits : int
+        Resolution in bits.
+
+    """
+
+    def __init__(self, bits: int) -> None:
         self.resolution = 2.0 * math.pi / 2 ** int(bits)
 
     def __call__(self, q):
@@ -95,9 +120,19 @@ class Encoder:
 
 
 class VelocityEstimator:
-    """Backward difference of the encoder position, 2nd-order Butterworth low-pass."""
+    """
+    Backward difference of the encoder position, 2nd-order Butterworth low-pass.
 
-    def __init__(self, cutoff_hz, rate_hz):
+    Parameters
+    ----------
+    cutoff_hz : float
+        Cut-off of the low-pass (Hz), below Nyquist.
+    rate_hz : float
+        Sample rate (Hz).
+
+    """
+
+    def __init__(self, cutoff_hz: float, rate_hz: float) -> None:
         if not 0 < cutoff_hz < rate_hz / 2:
             raise ValueError(f'velocity cut-off {cutoff_hz} Hz must be below Nyquist '
                              f'({rate_hz / 2} Hz)')
@@ -105,9 +140,20 @@ class VelocityEstimator:
         self.rate = float(rate_hz)
         self.q_prev = None
 
-    def reset(self, q, qd=0.0):
+    def reset(self, q: float, *, qd: float = 0.0) -> None:
+        """
+        Start at position q with the filter at the steady state of velocity qd.
+
+        Parameters
+        ----------
+        q : float
+            Measured position (rad).
+        qd : float
+            Velocity (rad/s).
+
+        """
         self.q_prev = q
-        self.filter.reset(qd)
+        self.filter.reset(x0=qd)
 
     def __call__(self, q_meas):
         if self.q_prev is None:
@@ -118,9 +164,24 @@ class VelocityEstimator:
 
 
 class CurrentLoop:
-    """Torque actually applied: first-order lag of the command plus noise."""
+    """
+    Torque actually applied: first-order lag of the command plus noise.
 
-    def __init__(self, bandwidth_hz, rate_hz, noise, rng):
+    Parameters
+    ----------
+    bandwidth_hz : float
+        Bandwidth of the current loop (Hz).
+    rate_hz : float
+        Sample rate (Hz).
+    noise : float
+        Standard deviation of the current ripple (Nm).
+    rng : numpy.random.Generator
+        Source of the noise.
+
+    """
+
+    def __init__(self, bandwidth_hz: float, rate_hz: float, noise: float,
+                 rng: np.random.Generator) -> None:
         self.a = math.exp(-2.0 * math.pi * bandwidth_hz / rate_hz)
         self.noise = float(noise)
         self.rng = rng
@@ -132,9 +193,30 @@ class CurrentLoop:
 
 
 class TemperatureSensor:
-    """Housing temperature sensor: lag, sample-and-hold at its rate, quantisation."""
+    """
+    Housing temperature sensor: lag, sample-and-hold at its rate, quantisation.
 
-    def __init__(self, time_constant, resolution, rate_hz, noise, sim_rate_hz, *, rng, xi0):
+    Parameters
+    ----------
+    time_constant : float
+        Sensor lag (s).
+    resolution : float
+        Quantisation step (degC).
+    rate_hz : float
+        Sample rate of the sensor (Hz).
+    noise : float
+        Standard deviation of the noise (degC).
+    sim_rate_hz : float
+        Rate at which it is advanced (Hz).
+    rng : numpy.random.Generator
+        Source of the noise.
+    xi0 : float
+        Initial temperature (degC).
+
+    """
+
+    def __init__(self, time_constant: float, resolution: float, rate_hz: float, noise: float,
+                 sim_rate_hz: float, *, rng: np.random.Generator, xi0: float) -> None:
         self.a = math.exp(-1.0 / (time_constant * sim_rate_hz))
         self.resolution = resolution
         self.every = max(1, int(round(sim_rate_hz / rate_hz)))

@@ -59,7 +59,8 @@ class CommandWatchdog:
 
     """
 
-    def __init__(self, rate, timeout, reaction, *, inertia, torque_limit):
+    def __init__(self, rate: float, timeout: float, reaction: str, *, inertia: float,
+                 torque_limit: float) -> None:
         if reaction not in REACTIONS:
             raise ValueError(f'reaction must be one of {", ".join(REACTIONS)}, got {reaction!r}')
         self.timeout_steps = timeout * rate
@@ -70,15 +71,38 @@ class CommandWatchdog:
         self.trips = 0
         self.tripped = False
 
-    def command(self, k):
-        """Note a valid command taken at step ``k``."""
+    def command(self, k: int) -> None:
+        """
+        Note a valid command taken at step ``k``.
+
+        Parameters
+        ----------
+        k : int
+            The simulation step.
+
+        """
         self.valid_k = k
 
-    def torque(self, k, tau_cmd, qd):
+    def torque(self, k: int, tau_cmd: float, qd: float) -> tuple[float, str | None]:
         """
         Return ``(torque, event)`` at step ``k``; event is 'tripped', 'resumed' or None.
 
-        ``tau_cmd`` is the newest valid command, ``qd`` the measured velocity.
+        Parameters
+        ----------
+        k : int
+            The simulation step.
+        tau_cmd : float
+            The newest valid command (Nm).
+        qd : float
+            The measured velocity (rad/s).
+
+        Returns
+        -------
+        torque : float
+            The drive torque (Nm).
+        event : str or None
+            ``'tripped'``, ``'resumed'`` or None.
+
         """
         if self.valid_k is None:
             return tau_cmd, None
