@@ -31,6 +31,7 @@ import numpy as np
 from ._common import (check_model, check_scale, check_steps, grid_on, json_key, n_steps,
                       STYLES)
 from .compensation import COMPENSATION, tracking_run
+from .paper import PAPER
 from ..control.gains import GAIN_PRESETS, GainDesign, loop_metrics
 from ..output import ExperimentResult
 from ..testbed.plant import Plant
@@ -40,7 +41,7 @@ __all__ = ['GAIN_SWEEP', 'gain_sweep']
 GAIN_SWEEP = {
     'ratios': (1 / 40, 1 / 28, 1 / 20, 1 / 14, 1 / 10, 1 / 7, 1 / 5, 1 / 3, 1 / 2, 1.0),
     'amplitude': 0.4,               # rad, the paper's low-velocity case
-    'band': (29.0, 35.0),           # %, the paper's uncompensated maximum error
+    'band': PAPER['uncompensated_band'].value,   # %, the paper's uncompensated maximum error
     'models': ('none', 'lugre'),
 }
 

@@ -19,23 +19,21 @@ Report text of the test-bed experiments: what was run, what the figure shows, th
 against each hardware model (LuGre and GMS truth), into Markdown: one
 paragraph per experiment and a table with the paper's number next to ours.
 Numbers are rounded to what they mean (0.1 % for tracking errors, 0.01 Nm for
-torques, 0.001 rad/s for velocities).  :data:`PAPER` holds the paper's
-numbers, quoted from its Section V and conclusion.
+torques, 0.001 rad/s for velocities).  The paper's numbers, quoted from its
+Section V and conclusion, come from :data:`~friction_joint.experiments.paper.PAPER`.
 """
-__all__ = ['PAPER', 'testbed_markdown']
+from .paper import PAPER
 
-#: the seed paper's reported numbers (Section V-B..D, conclusion)
-PAPER = {
-    'uncompensated_band': (29.0, 35.0),   # % of a, a = 0.4 rad, "depending on the temperature"
-    'compensated': {'lugre': 6.0, 'gms': 4.0},   # % max error (conclusion)
-    'estimation_max': 1.0,                # Nm, "less than 1 Nm"
-    'estimation_pct': 14.0,               # %, "approximately 14 % error"
-    'peak_velocity': {'0.4': 0.6, '2.4': 3.5},   # rad/s, Fig. 6 caption
-}
+__all__ = ['testbed_markdown']
 
 NAMES = {'none': 'no friction model', 'lugre': 'LuGre', 'gms': 'GMS', 'fc': 'F_c', 'fs': 'F_s',
          'fv': 'F_v', 'vs': 'v_s'}
 HARDWARE = {'lugre': 'LuGre hardware', 'gms': 'GMS hardware'}
+
+
+def _p(key):
+    """Return the paper's number ``key`` (:data:`~friction_joint.experiments.paper.PAPER`)."""
+    return PAPER[key].value
 
 
 def _f(x, digits=1):
@@ -59,7 +57,8 @@ def _loop_sentence(s):
     design = (f'designed for {g["design_inertia"]:.3g} kg m² (preset `{g["preset"]}`)'
               if g.get('design_inertia') else f'given directly (`{g["preset"]}`)')
     return (f'Gains k_p = {g["kp"]:.1f} Nm/rad, k_d = {g["kd"]:.2f} Nm s/rad, {design} '
-            f'for 0.04 s rise time and 6 % overshoot; on the hardware’s '
+            f'for {_p("rise_time"):g} s rise time and {_p("overshoot"):g} % overshoot; on the '
+            'hardware’s '
             f'{lp["inertia"]:.3g} kg m² they make a loop with '
             f'ω_n = {lp["omega_n"]:.1f} rad/s, ζ = {lp["zeta"]:.2f}, '
             f'{100 * lp["overshoot"]:.0f} % overshoot and {1e3 * lp["rise_time"]:.0f} ms '
@@ -72,10 +71,11 @@ def _compensation(runs, rel):
     temps = list(first['warm_up'])
     warm = ', '.join(f'{first["warm_up"][t]["reached"]:.1f} °C after '
                      f'{first["warm_up"][t]["elapsed_s"]:.0f} s' for t in temps)
-    lo, hi = PAPER['uncompensated_band']
+    lo, hi = _p('uncompensated_band')
     lines += [
-        'The joint tracks q_d = a sin(1.5 t) for a = 0.4 rad (peak 0.6 rad/s, the paper’s low '
-        'velocity) and a = 2.4 rad (3.6 rad/s) with the controller of eq. 17, without friction '
+        'The joint tracks q_d = a sin(1.5 t) for a = 0.4 rad (peak '
+        f'{_p("peak_velocity_low"):g} rad/s, the paper’s low velocity) and a = 2.4 rad '
+        '(3.6 rad/s) with the controller of eq. 17, without friction '
         'feed-forward and with LuGre or GMS feed-forward, the same gains in every run. '
         + _loop_sentence(first) + ' The gear is heated to the three operating temperatures by '
         'its own friction losses on a 2.4 rad sinusoid, then brought to rest at q = 0 '
@@ -83,8 +83,8 @@ def _compensation(runs, rel):
         'a 1 s settling interval is given in % of a; the figures show the error over time '
         '(Fig. 6) and the maxima as bars with the RMSE as thin bars (Fig. 7).', '',
         f'The paper reports {lo:g}-{hi:g} % without compensation at a = 0.4 rad, depending on '
-        f'the temperature, and {PAPER["compensated"]["lugre"]:g} % (LuGre) and '
-        f'{PAPER["compensated"]["gms"]:g} % (GMS) with it. Its hardware is one gear with one '
+        f'the temperature, and {_p("compensated_lugre"):g} % (LuGre) and '
+        f'{_p("compensated_gms"):g} % (GMS) with it. Its hardware is one gear with one '
         'friction; ours is simulated twice, once with LuGre and once with GMS friction, '
         'so the table shows the matching model (the one playing the hardware), beside the '
         "paper's number for it, and the mismatched one, which the paper has no case "
@@ -97,7 +97,7 @@ def _compensation(runs, rel):
         for m in ('none', 'lugre', 'gms'):
             mx = s['max_error_pct'][m]
             paper = (f'{lo:g}-{hi:g} %' if m == 'none' else
-                     f'{PAPER["compensated"][m]:g} %' if m == hw else '– (no such case)')
+                     f'{_p("compensated_" + m):g} %' if m == hw else '– (no such case)')
             match = ' (matching)' if m == hw else (' (mismatched)' if m != 'none' else '')
             lines.append(f'| {HARDWARE[hw]} | {NAMES[m]}{match} | '
                          + ' | '.join(_f(mx[t]['0.4']) for t in temps)
@@ -137,15 +137,15 @@ def _estimation(runs, rel):
              'torque it has to find, as in the paper; it runs without a friction model '
              '(eq. 4), with LuGre and with GMS. The figure shows the applied and estimated '
              'torque and the estimation error. The paper reports an error below '
-             f'{PAPER["estimation_max"]:g} Nm and "approximately '
-             f'{PAPER["estimation_pct"]:g} %".', '',
+             f'{_p("estimation_max"):g} Nm and "approximately '
+             f'{_p("estimation_pct"):g} %".', '',
              '| hardware | observer model | max error (Nm) | RMS error (Nm) | RMS (% of load) '
              '| max (% of load) | paper |', '|---|---|---|---|---|---|---|']
     for hw, s in runs.items():
         for m in ('none', 'lugre', 'gms'):
             match = ' (matching)' if m == hw else (' (mismatched)' if m != 'none' else '')
             paper = ('–' if m == 'none' else '– (no such case)' if m != hw else
-                     f'< {PAPER["estimation_max"]:g} Nm, ≈ {PAPER["estimation_pct"]:g} %')
+                     f'< {_p("estimation_max"):g} Nm, ≈ {_p("estimation_pct"):g} %')
             lines.append(f'| {HARDWARE[hw]} | {NAMES[m]}{match} | {_f(s["max_error"][m], 2)} | '
                          f'{_f(s["rms_error"][m], 2)} | {_f(s["rms_error_pct"][m])} | '
                          f'{_f(s["max_error_pct"][m])} | {paper} |')
@@ -171,7 +171,7 @@ def _estimation(runs, rel):
         matching = [s['rms_error_pct'][k] for k, s in runs.items() if k in s['rms_error_pct']]
         lines += [
             f'Why our matching observers reach {_span(matching)} RMS where the paper reports '
-            f'"approximately {PAPER["estimation_pct"]:g} %": the simulated hardware is '
+            f'"approximately {_p("estimation_pct"):g} %": the simulated hardware is '
             'kinder than a real test bed. The observer sees everything the simulator '
             'models but for small parameter errors: the joint is one rigid inertia '
             f'({hw["inertia"]:.3g} kg m² against the model’s {hw["model_inertia"]:.3g}), with '
@@ -190,7 +190,7 @@ def _estimation(runs, rel):
             'leaves out ("position dependency ..., HD resonance frequencies, and HD ripple", '
             'its Section I) and a friction that no model matches exactly; those are what '
             'an estimate on real hardware has to absorb. The paper does not say what its '
-            f'{PAPER["estimation_pct"]:g} % is relative to; ours is the RMS error in % of the '
+            f'{_p("estimation_pct"):g} % is relative to; ours is the RMS error in % of the '
             'largest load (the table gives the maximum too).', '']
     return lines + _figures(runs, rel, 'estimation', ['estimation.png'])
 
@@ -232,8 +232,9 @@ def _sweep(s, rel):
         f'at {t} °C between {_f(s["band_inertia"][t][1], 3)} and '
         f'{_f(s["band_inertia"][t][0], 3)} kg m²' for t in temps)
     return ['### Where the paper’s regime lies: the design inertia of the gains', '',
-            'The paper designs its gains for 0.04 s rise time and 6 % overshoot but does not '
-            'say for which inertia. Designed for the whole joint '
+            f'The paper designs its gains for {_p("rise_time"):g} s rise time and '
+            f'{_p("overshoot"):g} % overshoot but does not say for which inertia. Designed '
+            'for the whole joint '
             f'({s["model_inertia"]:g} kg m²) they leave only a few % of tracking error '
             'without compensation; the sweep below runs the uncompensated and the '
             'LuGre-compensated tracking at a = 0.4 rad for design inertias from 1/40 of the '
@@ -260,7 +261,7 @@ def _headline(runs):
     paper's model was identified on its gear); the mismatched pairs, which
     the paper has no counterpart for, follow under their own heading.
     """
-    lo, hi = PAPER['uncompensated_band']
+    lo, hi = _p('uncompensated_band')
     rows = []
 
     def row(label, paper, hw, cell):
@@ -281,7 +282,7 @@ def _headline(runs):
         return lambda r: ' / '.join(
             f'{v:.3f}' for v in r['chirp']['velocity_rmse'][m].values()) + ' rad/s'
 
-    paper_est = f'< {PAPER["estimation_max"]:g} Nm; ≈ {PAPER["estimation_pct"]:g} %'
+    paper_est = f'< {_p("estimation_max"):g} Nm; ≈ {_p("estimation_pct"):g} %'
     pairs = [(hw, m) for hw in runs for m in ('lugre', 'gms') if m == hw]
     other = [(hw, m) for hw in runs for m in ('lugre', 'gms') if m != hw]
     for hw in runs:
@@ -289,7 +290,7 @@ def _headline(runs):
             f'temperatures; {HARDWARE[hw]}', f'{lo:g}-{hi:g} %', hw, comp('none'))
     for hw, m in pairs:
         row(f'Fig. 7: max tracking error, a = 0.4 rad, **{NAMES[m]} feed-forward on '
-            f'{HARDWARE[hw]}**', f'{PAPER["compensated"][m]:g} %', hw, comp(m))
+            f'{HARDWARE[hw]}**', f'{_p("compensated_" + m):g} %', hw, comp(m))
     for hw, m in pairs:
         row(f'Fig. 8: external torque error, max; RMS in % of the load amplitude, '
             f'**{NAMES[m]} observer on {HARDWARE[hw]}**', paper_est, hw, est(m))

@@ -26,7 +26,7 @@ from friction_joint.control.controller import Controller
 from friction_joint.experiments import testbed_report
 from friction_joint.experiments.compensation import compensation
 from friction_joint.experiments.estimation import estimation
-from friction_joint.experiments.testbed_report import PAPER
+from friction_joint.experiments.paper import PAPER
 from friction_joint.experiments.warmup import warm_up
 from friction_joint.gear import load_gear
 from friction_joint.testbed.plant import Plant
@@ -92,7 +92,7 @@ def paper_regime():
 @pytest.mark.parametrize('kind', sorted(TRUTHS))
 def test_compensation_reproduces_fig7_in_the_paper_regime(paper_regime, kind):
     s = paper_regime[kind]['compensation']
-    lo, hi = PAPER['uncompensated_band']
+    lo, hi = PAPER['uncompensated_band'].value
     other = 'gms' if kind == 'lugre' else 'lugre'
     for t in ('27', '31', '35'):
         assert lo <= s['max_error_pct']['none'][t]['0.4'] <= hi, t
@@ -107,7 +107,7 @@ def test_compensation_reproduces_fig7_in_the_paper_regime(paper_regime, kind):
 @pytest.mark.parametrize('kind', sorted(TRUTHS))
 def test_estimation_reproduces_fig8_in_the_paper_regime(paper_regime, kind):
     s = paper_regime[kind]['estimation']
-    assert s['max_error'][kind] < PAPER['estimation_max']
+    assert s['max_error'][kind] < PAPER['estimation_max'].value
     assert s['rms_error_pct'][kind] <= 5.0
     assert s['rms_error_pct']['none'] > 15.0
 
@@ -127,7 +127,7 @@ def test_report_puts_the_papers_numbers_beside_ours(paper_regime):
     head = text[text.index('### Headline'):text.index('### ', text.index('### Headline') + 4)]
     for m, name in (('lugre', 'LuGre'), ('gms', 'GMS')):
         row = next(ln for ln in head.splitlines()
-                   if f'| {PAPER["compensated"][m]:g} % |' in ln)
+                   if f'| {PAPER["compensated_" + m].value:g} % |' in ln)
         assert f'{name} feed-forward on {name} hardware' in row, row
         mx = [t['0.4'] for t in paper_regime[m]['compensation']['max_error_pct'][m].values()]
         assert row.endswith(f'| {min(mx):.1f}-{max(mx):.1f} % |'), row
