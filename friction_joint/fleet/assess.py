@@ -27,7 +27,9 @@ results (:func:`~friction_joint.fleet.recording.analyse_recording`) and
    *reference friction* (the friction torque at +-v_ref, xi_ref, no load) and
    F_c at xi_ref, each with its standard error;
 3. runs the wear test per joint (:func:`~friction_joint.fleet.trend.trend_test`)
-   on the reference friction, and, for comparison, the same test on the raw
+   on the reference friction (each recording's standard error pulled half-way,
+   in variance, towards the fleet's median: a fit to a few plateaus estimates
+   its own scatter poorly), and, for comparison, the same test on the raw
    mean friction of the plateaus (no temperature or load compensation: what
    a naive monitor sees).  The extra variance is estimated over the fleet, per
    quantity.
@@ -144,12 +146,20 @@ def _series(entries, rows):
     return out
 
 
-def _verdict(s, q, extra, alpha, n_boot, seed):
+def _shrunk(series, q):
+    """Return per joint the standard errors of ``q`` pulled half-way (variance) to the median."""
+    var = [p[q + '_se'] ** 2 for s in series.values() for p in s['points']]
+    m = float(np.median(var)) if var else 0.0
+    return {j: np.sqrt(0.5 * np.array([p[q + '_se'] ** 2 for p in s['points']], float) + 0.5 * m)
+            for j, s in series.items()}
+
+
+def _verdict(s, q, se, extra, alpha, n_boot, seed):
     pts = s['points']
     if len(pts) < 2:
         return None
     col = (lambda k: np.array([p[k] for p in pts], float))
-    return trend_test(col('days'), col('travel'), col(q), col(q + '_se'), extra_var=extra,
+    return trend_test(col('days'), col('travel'), col(q), se, extra_var=extra,
                       alpha=alpha, n_boot=n_boot, seed=seed)
 
 
@@ -179,13 +189,15 @@ def assess_fleet(entries, results, gear, *, alpha=ALPHA, n_boot=BOOTSTRAP, seed=
         ref = reference_friction(res, gear, xi_ref, v_ref) if res.get('status') == 'ok' else None
         rows.append(_row(e, res, ref))
     series = _series(entries, rows)
-    extra = {}
+    extra, ses = {}, {}
     for q in QUANTITIES:
+        ses[q] = _shrunk(series, q)
         extra[q] = extra_variance(([p['travel'] for p in s['points']], [p[q] for p in s['points']],
-                                   [p[q + '_se'] for p in s['points']]) for s in series.values())
+                                   ses[q][j]) for j, s in series.items())
     joints = {}
     for k, (joint, s) in enumerate(sorted(series.items())):
-        tests = {q: _verdict(s, q, extra[q], alpha, n_boot, seed + k) for q in QUANTITIES}
+        tests = {q: _verdict(s, q, ses[q][joint], extra[q], alpha, n_boot, seed + k)
+                 for q in QUANTITIES}
         main = tests['reference']
         entry = {'wear': bool(main and main.wear), 'onset': None, 'rate': None,
                  'recordings': s['count'], 'failed': s['failed'], 'series': s,

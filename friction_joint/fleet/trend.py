@@ -29,8 +29,10 @@ is the *extra variance*, what the per-recording standard errors do not cover
 (model error, conditions the model does not know), estimated over the whole
 fleet by :func:`extra_variance` from the residuals of each recording against
 the line through its neighbours (on the travel axis: wear at a constant rate
-cancels).  The statistic is the largest drop of the weighted
-chi^2 from no wear to a hinge, over onsets and both axes.  Its significance is
+cancels).  The statistic is the largest drop of the weighted chi^2 from no
+wear to a hinge, over onsets and both axes, divided by the hinge fit's
+residual chi^2 per degree of freedom (a sup-F statistic: a scale error of the
+variances cancels).  Its significance is
 calibrated per joint by a **parametric bootstrap under no wear**: ``n_boot``
 series drawn from the fitted flat model with the same s_k and sigma^2, scanned
 the same way; the p-value is the share of bootstrap statistics at least as
@@ -40,8 +42,9 @@ large.  A joint is flagged when ``p < alpha`` (default 0.01, so at most about
 A flagged joint's onset, rate and their uncertainties come from the axis with
 the larger chi^2 drop; the rate per day comes from the time axis and the rate
 per unit travel from the travel axis (each at its best onset, standard error
-for that onset).  ``onset_range`` are the onsets whose chi^2 is within 1 of
-the best (a profile interval).
+for that onset, scaled by the residual scatter when it exceeds the assumed
+variances).  ``onset_range`` are the onsets whose chi^2 is within one
+residual variance of the best (a profile interval).
 """
 import dataclasses
 import math
@@ -161,7 +164,7 @@ def _grid(x):
 
 
 def _scan(x, ys, w, grid):
-    """Chi^2 drop, slope, slope variance per (series, onset); ys (B, n), grid (m,)."""
+    """Chi^2 drop, slope, slope variance per (series, onset), flat chi^2 per series."""
     h = np.clip(x[None, :] - grid[:, None], 0.0, None)              # (m, n)
     sw = w.sum()
     hc = h - (h @ w / sw)[:, None]
@@ -169,7 +172,15 @@ def _scan(x, ys, w, grid):
     shy = (ys * w) @ hc.T                                            # (B, m)
     b = shy / shh
     gain = np.where(b > 0, shy * shy / shh, 0.0)
-    return gain, b, 1.0 / shh
+    yc = ys - ((ys @ w) / sw)[:, None]
+    chi0 = (yc * yc) @ w                                             # (B,)
+    return gain, b, 1.0 / shh, chi0
+
+
+def _studentized(gain, chi0, n):
+    """``gain / s^2`` with s^2 the hinge fit's residual chi^2 per degree of freedom."""
+    rest = np.maximum(chi0[:, None] - gain, 1e-12 * np.maximum(chi0[:, None], 1e-300))
+    return gain / (rest / (n - 3))
 
 
 def _flat(y, w):
@@ -212,20 +223,22 @@ def trend_test(days, travel, y, se, *, extra_var=0.0, alpha=ALPHA, n_boot=BOOTST
     fits = {k: _scan(x_axes[k], y[None, :], w, grids[k]) for k in x_axes}
     gain = {k: float(f[0][0].max()) for k, f in fits.items()}
     axis = max(gain, key=gain.get)
-    stat = gain[axis]
+    stat = float(max(_studentized(f[0], f[3], n).max() for f in fits.values()))
     a0, _ = _flat(y, w)
     rng = np.random.default_rng(seed)
     ys = a0 + rng.standard_normal((n_boot, n)) / np.sqrt(w)
-    boot = np.max([_scan(x_axes[k], ys, w, grids[k])[0].max(axis=1) for k in x_axes], axis=0)
-    p = float((1 + np.sum(boot >= stat - 1e-12)) / (n_boot + 1))
+    boot = np.max([_studentized(*_scan(x_axes[k], ys, w, grids[k])[::3], n).max(axis=1)
+                   for k in x_axes], axis=0)
+    p = float((1 + np.sum(boot >= stat * (1.0 - 1e-12))) / (n_boot + 1))
     threshold = float(np.quantile(boot, 1.0 - alpha))
 
     def best(k):
-        g, b, var = fits[k]
+        g, b, var, chi0 = fits[k]
         i = int(np.argmax(g[0]))
-        near = grids[k][g[0] >= g[0][i] - 1.0]
-        return grids[k][i], float(b[0, i]), math.sqrt(var[i]), (float(near.min()),
-                                                                float(near.max()))
+        scale = max(float(chi0[0] - g[0][i]) / (n - 3), 1.0)      # residual scatter beyond w
+        near = grids[k][g[0] >= g[0][i] - scale]
+        return grids[k][i], float(b[0, i]), math.sqrt(var[i] * scale), (float(near.min()),
+                                                                        float(near.max()))
 
     c_t, b_t, se_t, range_t = best('time')
     c_d, b_d, se_d, range_d = best('travel')
