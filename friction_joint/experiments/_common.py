@@ -12,20 +12,20 @@
 # See the License for the specific language governing permissions and
 # limitations under the License.
 
-"""Shared pieces of the test-bed experiments: result types, checks, the closed loop."""
+"""Shared pieces of the test-bed experiments: the result type, checks, the closed loop."""
 import collections
+import dataclasses
 import math
 
 import numpy as np
 
 from ..exceptions import ExperimentError, GearConfigError
 from ..inputs import MEMORY_BUDGET
+from ..output import json_clean
 
-__all__ = ['MODELS', 'MIN_SAMPLES', 'STEP_BYTES', 'MAX_STEPS', 'Experiment', 'json_key',
-           'n_steps', 'check_steps',
-           'check_scale', 'check_model', 'rmse', 'corr', 'grid_on', 'STYLES', 'COLORS',
-           'LABELS', 'SETTLING_LABEL', 'paper_suptitle', 'add_headroom', 'peak_window',
-           'reversal_peak_window', 'sign_changes', 'reversal_window', 'zoom_inset',
+__all__ = ['MODELS', 'MIN_SAMPLES', 'STEP_BYTES', 'MAX_STEPS', 'ExperimentData', 'Experiment',
+           'json_key', 'n_steps', 'check_steps', 'check_scale', 'check_model', 'rmse', 'corr',
+           'LABELS', 'peak_window', 'reversal_peak_window', 'sign_changes', 'reversal_window',
            'SumOfSines', 'closed_loop']
 
 #: friction feed-forward / observer models compared
@@ -40,7 +40,61 @@ STEP_BYTES = 32 * 8
 MAX_STEPS = MEMORY_BUDGET // STEP_BYTES
 
 
-#: ``func(model, truth, duration_scale) -> ExperimentResult``, ``help`` one line;
+@dataclasses.dataclass
+class ExperimentData:
+    """
+    Numbers and signals of one test-bed experiment run.
+
+    The experiment functions return it; the figures are drawn from it by
+    :mod:`~friction_joint.experiments.plots` (:meth:`figures`), the numbers
+    written as ``summary.json`` (:meth:`to_dict`) and read by the report.
+
+    Attributes
+    ----------
+    name : str
+        The experiment (``chirp``, ``compensation``, ``estimation``,
+        ``gain_sweep``); selects its figures.
+    summary : dict
+        Plain numbers, as documented by the experiment function.
+    series : dict
+        The signals the figures are drawn from (numpy arrays), per experiment.
+    truth_model : str
+        Friction model of the simulated hardware (``lugre``, ``gms``).
+
+    """
+
+    name: str
+    summary: dict
+    series: dict = dataclasses.field(default_factory=dict)
+    truth_model: str = ''
+
+    def to_dict(self):
+        """Return the summary as plain JSON types (what ``summary.json`` holds)."""
+        return json_clean(self.summary)
+
+    def figures(self):
+        """Return the figures of the run: file name -> ``(draw(fig), (width, height))``."""
+        from .plots import experiment_figures
+        return experiment_figures(self)
+
+    def plot(self, fig, name=None):
+        """
+        Draw one figure of the run on the matplotlib Figure ``fig``.
+
+        Parameters
+        ----------
+        fig : matplotlib.figure.Figure
+            The (empty) figure to draw on.
+        name : str, optional
+            File name of the figure (see :meth:`figures`); default the first.
+
+        """
+        figs = self.figures()
+        draw, _ = figs[name if name is not None else next(iter(figs))]
+        draw(fig)
+
+
+#: ``func(model, truth, duration_scale) -> ExperimentData``, ``help`` one line;
 #: ``output``: ``'results'`` (figures + summary.json in a directory) or ``'recording'``
 #: (``func(model, truth, duration_scale, progress=None)`` returns ``(topics, summary)``,
 #: written as a rosbag2 recording);
@@ -115,47 +169,8 @@ def corr(a, b):
     return float(np.corrcoef(a, b)[0, 1])
 
 
-def grid_on(ax):
-    ax.grid(True, alpha=0.3)
-
-
-#: line style per model (matplotlib keyword arguments) in every figure: LuGre
-#: solid under GMS dashed stay apart where the two curves coincide; the
-#: measured / true signal is black and thicker, drawn first (underneath)
-STYLES = {'none': {'color': 'C3', 'linestyle': '-', 'linewidth': 1.0},
-          'lugre': {'color': 'C0', 'linestyle': '-', 'linewidth': 1.4},
-          'gms': {'color': 'C2', 'linestyle': '--', 'linewidth': 1.4},
-          'measured': {'color': 'k', 'linestyle': '-', 'linewidth': 2.0},
-          'truth': {'color': 'k', 'linestyle': '-', 'linewidth': 2.0}}
-COLORS = {k: v['color'] for k, v in STYLES.items()}
+#: display name of each friction model in figures and progress messages
 LABELS = {'none': 'no friction model', 'lugre': 'LuGre', 'gms': 'GMS'}
-
-#: label of the shaded settling interval at the start of a run
-SETTLING_LABEL = 'settling, not evaluated'
-
-
-def paper_suptitle(fig, number, what, truth_model):
-    """Figure title naming the seed paper's figure ``number`` and the hardware's friction."""
-    name = {'lugre': 'LuGre', 'gms': 'GMS'}.get(truth_model, truth_model)
-    fig.suptitle(f'Fig. {number} (reproduced): {what}, hardware with {name} friction',
-                 fontsize='large', fontweight='bold')
-
-
-def add_headroom(ax, frac, data=None, margin=0.05):
-    """
-    Raise the top of the y axis so that the data fill the lower ``1 - frac`` of ``ax``.
-
-    ``data``: arrays whose range (plus ``margin``) sets the y axis first
-    instead of the current limits, e.g. the evaluated part of the curves.
-    """
-    if data is not None:
-        lo = min(float(np.min(d)) for d in data)
-        hi = max(float(np.max(d)) for d in data)
-        pad = margin * (hi - lo) if hi > lo else 1.0
-        lo, hi = lo - pad, hi + pad
-    else:
-        lo, hi = ax.get_ylim()
-    ax.set_ylim(lo, hi + frac / (1.0 - frac) * (hi - lo))
 
 
 def _clip_window(t, t0, t1):
@@ -241,48 +256,6 @@ def reversal_window(t, v, half_width, moving=0.05):
         return None
     k = mv[flips[0] + 1]
     return _clip_window(t, t[k] - half_width, t[k] + half_width)
-
-
-def zoom_inset(ax, window, curves, *, scale_by=None, width=0.42, height=0.36, margin=0.08,
-               title='zoom'):
-    """
-    Inset axes on ``ax`` zooming on the time ``window``: ``(inset, legend corner)``.
-
-    ``curves`` is a sequence of ``(t, y, style)`` drawn again in the inset
-    (``style``: matplotlib keyword arguments, any ``label`` dropped); the
-    y range covers the curves whose indices are in ``scale_by`` (all by
-    default) over the window.  The inset sits in the top corner away from the
-    window (call :func:`add_headroom` first to keep the curves below it) and
-    the zoomed region is marked on ``ax``.  Returns the inset axes and
-    ``'upper left'`` or ``'upper right'``, the other top corner, for the
-    legend of ``ax``.
-    """
-    t0, t1 = window
-    x_lo, x_hi = ax.get_xlim()
-    centre = (0.5 * (t0 + t1) - x_lo) / max(x_hi - x_lo, 1e-12)
-    left = centre > 0.5
-    x = 0.01 if left else 0.99 - width
-    inset = ax.inset_axes([x, 0.95 - height, width, height])
-    lo, hi = math.inf, -math.inf
-    for i, (t, y, style) in enumerate(curves):
-        t, y = np.asarray(t), np.asarray(y)
-        k0 = max(int(np.searchsorted(t, t0)) - 1, 0)
-        k1 = int(np.searchsorted(t, t1, side='right')) + 1
-        inset.plot(t[k0:k1], y[k0:k1], **{k: v for k, v in style.items() if k != 'label'})
-        if (scale_by is None or i in scale_by) and k1 > k0:
-            lo, hi = min(lo, float(np.min(y[k0:k1]))), max(hi, float(np.max(y[k0:k1])))
-    if math.isfinite(lo) and math.isfinite(hi):
-        pad = margin * (hi - lo) if hi > lo else max(abs(hi), 1.0) * margin
-        inset.set_ylim(lo - pad, hi + pad)
-    inset.set_xlim(t0, t1)
-    inset.tick_params(labelsize='x-small')
-    if left:                # tick labels inside ax, not over its own y tick labels
-        inset.yaxis.tick_right()
-    inset.set_title(title, fontsize='x-small', pad=2)
-    inset.set_facecolor('white')
-    grid_on(inset)
-    ax.indicate_inset_zoom(inset, edgecolor='0.4')
-    return inset, ('upper right' if left else 'upper left')
 
 
 class SumOfSines:

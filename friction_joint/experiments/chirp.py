@@ -20,10 +20,8 @@ Open-loop chirp torques, measured vs LuGre/GMS.
 
 import numpy as np
 
-from ._common import (add_headroom, check_model, check_scale, corr, grid_on, json_key, LABELS,
-                      n_steps, paper_suptitle, reversal_window, rmse, STYLES, zoom_inset)
+from ._common import check_model, check_scale, corr, ExperimentData, json_key, n_steps, rmse
 from ..models.joint import Joint
-from ..output import ExperimentResult
 from ..testbed.plant import Plant
 
 __all__ = ['CHIRP', 'chirp_signal', 'chirp']
@@ -68,7 +66,7 @@ def chirp(model, truth, duration_scale=1.0):
 
     Returns
     -------
-    ExperimentResult
+    ExperimentData
         ``summary``: per model and amplitude (keys like ``'5.5'``)
         ``velocity_rmse`` (rad/s, model vs measured velocity),
         ``velocity_rmse_rel`` (relative to the RMS measured velocity),
@@ -76,7 +74,9 @@ def chirp(model, truth, duration_scale=1.0):
         model friction vs the true friction torque incl. ripple); per
         amplitude ``peak_velocity``, ``rms_velocity`` (rad/s, measured),
         ``stiction_fraction`` (time share with |true velocity| < 1e-3 rad/s),
-        ``effort_rmse`` (Nm, measured effort vs command).
+        ``effort_rmse`` (Nm, measured effort vs command).  ``series`` per
+        amplitude key: ``t``, ``command`` (Nm), ``measured`` (the plant's
+        signals), ``models`` (model -> simulated trajectory).
 
     """
     scale = check_scale(duration_scale)
@@ -93,7 +93,7 @@ def chirp(model, truth, duration_scale=1.0):
                'friction_rmse': {m: {} for m in models},
                'peak_velocity': {}, 'rms_velocity': {}, 'stiction_fraction': {},
                'effort_rmse': {}}
-    series = []
+    series = {}
     for amp in c['amplitudes']:
         plant = Plant(truth, xi0=c['xi0'])
         n_steps(duration, plant.dt, 'chirp run')
@@ -115,51 +115,5 @@ def chirp(model, truth, duration_scale=1.0):
         summary['stiction_fraction'][key] = float(
             np.mean(np.abs(meas['qd_true']) < c['stiction_velocity']))
         summary['effort_rmse'][key] = rmse(meas['effort'] - cmd)
-        series.append((amp, meas['t'], cmd, meas, sims))
-
-    def draw(fig):
-        axes = fig.subplots(3, len(series), sharex='col', squeeze=False,
-                            gridspec_kw={'height_ratios': [1.0, 1.6, 1.2]})
-        letters = 'abcdef'
-        for j, (amp, t, cmd, meas, sims) in enumerate(series):
-            tag = 'low' if j == 0 else 'high'
-            a0, a1, a2 = axes[:, j]
-            key = json_key(amp)
-            p = [f'({letters[3 * j + i]}) ' if len(series) == 2 else '' for i in range(3)]
-            a0.plot(t, cmd, color='C1', lw=2.2, label='commanded')
-            a0.plot(t, meas['effort'], color='k', lw=0.7, ls='--',
-                    label='applied (measured effort)')
-            a0.set_ylabel('motor torque (Nm)')
-            a0.set_title(f'{p[0]}{tag} amplitude: {amp:g} Nm chirp, '
-                         f'{c["f0"]:g}-{c["f1"]:g} Hz: commanded and applied torque',
-                         fontsize='medium')
-            curves = [(t, meas['qd'], dict(STYLES['measured'], label='measured'))]
-            for m in models:
-                curves.append((t, sims[m].qd, dict(
-                    STYLES[m], label=(f'{LABELS[m]} (RMSE '
-                                      f'{summary["velocity_rmse"][m][key]:.3f} rad/s)'))))
-            for tt, y, style in curves:
-                a1.plot(tt, y, **style)
-            a1.set_ylabel('velocity (rad/s)')
-            a1.set_title(f'{p[1]}velocity: measured and simulated (open loop, same effort '
-                         'and temperature)', fontsize='medium')
-            loc1 = 'upper left'
-            window = reversal_window(t, meas['qd'], 0.2)
-            if window is not None:
-                add_headroom(a1, 0.42)
-                _, loc1 = zoom_inset(a1, window, curves, width=0.4, height=0.36,
-                                     title='zoom: break-away at the first velocity reversal')
-            a2.plot(t, meas['tau_r'], **STYLES['truth'], label='true friction (incl. ripple)')
-            for m in models:
-                a2.plot(t, sims[m].tau_r, **STYLES[m], label=LABELS[m])
-            a2.set_ylabel('friction torque (Nm)')
-            a2.set_title(f'{p[2]}friction torque: true and estimated by the models',
-                         fontsize='medium')
-            a2.set_xlabel('time (s)')
-            for ax, loc in ((a0, 'upper left'), (a1, loc1), (a2, 'upper left')):
-                ax.legend(fontsize='x-small', loc=loc)
-                grid_on(ax)
-        paper_suptitle(fig, 5, 'open-loop chirp excitation, low (left) and high (right) '
-                               'amplitude', truth.friction.model)
-
-    return ExperimentResult(summary, {'chirp.png': (draw, (15, 13))})
+        series[key] = {'t': meas['t'], 'command': cmd, 'measured': meas, 'models': sims}
+    return ExperimentData('chirp', summary, series, truth.friction.model)

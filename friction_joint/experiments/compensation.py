@@ -19,13 +19,11 @@ import time
 
 import numpy as np
 
-from ._common import (add_headroom, check_model, check_scale, check_steps, closed_loop, grid_on,
-                      json_key, LABELS, MODELS, n_steps, paper_suptitle, reversal_peak_window,
-                      rmse, SETTLING_LABEL, STYLES, zoom_inset)
+from ._common import (check_model, check_scale, check_steps, closed_loop, ExperimentData,
+                      json_key, LABELS, MODELS, n_steps, reversal_peak_window, rmse)
 from .warmup import warm_up
 from ..control.controller import Controller, SineTrajectory
 from ..control.gains import gain_design, loop_metrics
-from ..output import ExperimentResult
 from ..testbed.plant import Plant
 
 __all__ = ['COMPENSATION', 'compensation', 'tracking_run', 'warmed_plants']
@@ -111,7 +109,7 @@ def compensation(model, truth, duration_scale=1.0, *, gains=None, progress=None)
 
     Returns
     -------
-    ExperimentResult
+    ExperimentData
         ``summary``: ``max_error_pct[model][temperature][amplitude]`` (max
         |q_d - q_true| in % of a), ``rmse[...]`` (rad), ``max_error[...]``
         (rad), ``max_error_time[...]`` (s since the start of tracking, where
@@ -125,7 +123,9 @@ def compensation(model, truth, duration_scale=1.0, *, gains=None, progress=None)
         maxima (its ``model`` and ``time_s``);
         ``ff_velocity`` (the variant of the main tables) and
         ``ff_velocity_variants[variant]`` with the same tables for the
-        others (lugre and gms only).
+        others (lugre and gms only).  ``series['error']``:
+        ``(temperature, amplitude, model) -> (t, q_d - q_true)`` of the main
+        variant.
 
     """
     scale = check_scale(duration_scale)
@@ -207,87 +207,4 @@ def compensation(model, truth, duration_scale=1.0, *, gains=None, progress=None)
         worst = max(('lugre', 'gms'), key=lambda m: summary['max_error'][m][tk][ak])
         summary['zoom'][tk][ak] = {'window_s': list(window), 'model': worst,
                                    'time_s': summary['max_error_time'][worst][tk][ak]}
-
-    def draw_errors(fig):
-        axes = fig.subplots(len(amps), len(temps), sharex=True, squeeze=False)
-        for i, ak in enumerate(amps):
-            speed = 'low' if i == 0 else 'high'
-            for j, tk in enumerate(temps):
-                ax = axes[i, j]
-                curves = []
-                for kind in MODELS:
-                    t, e = traces[(tk, ak, kind)]
-                    pct = summary['max_error_pct'][kind][tk][ak]
-                    curves.append((t, 1e3 * e, dict(STYLES[kind],
-                                                    label=f'{LABELS[kind]} (max {pct:.1f} %)')))
-                for t, y, style in curves:
-                    ax.plot(t, y, **style)
-                ax.axvspan(0.0, settle, color='0.85', lw=0, label=SETTLING_LABEL)
-                ax.set_title(f'{speed} velocity: $q_d = {ak}\\,\\sin({c["omega"]:g}t)$ rad '
-                             f'(peak {summary["peak_velocity"][ak]:.1f} rad/s), {tk} \u00b0C',
-                             fontsize='medium')
-                if j == 0:
-                    ax.set_ylabel('position error $q_d - q$ (mrad)')
-                if i == len(amps) - 1:
-                    ax.set_xlabel('time since the start of tracking (s)')
-                t = curves[0][0]
-                add_headroom(ax, 0.45, [y[t >= settle] for _, y, _ in curves])
-                zoom = summary['zoom'][tk][ak]
-                _, loc = zoom_inset(ax, zoom['window_s'], curves, scale_by=(1, 2), width=0.46,
-                                    height=0.36,
-                                    title=f'zoom: largest {LABELS[zoom["model"]]} error '
-                                          f'(t = {zoom["time_s"]:.2f} s)')
-                ax.legend(fontsize='x-small', loc=loc)
-                grid_on(ax)
-        paper_suptitle(fig, 6, 'position error of the friction compensation, low (top) and '
-                               'high (bottom) velocity', summary['truth_model'])
-
-    def draw_bars(fig):
-        ax = fig.subplots()
-        cases = [(tk, ak) for ak in amps for tk in temps]
-        x = np.arange(len(cases))
-        w = 0.27
-        low = [k for k, (_, ak) in enumerate(cases) if ak == amps[0]]
-        x0, x1 = low[0] - 0.45, low[-1] + 0.45
-        ax.fill_between([x0, x1], 29.0, 35.0, color='C3', alpha=0.12, lw=0,
-                        label='paper, no compensation: 29-35 %')
-        for v, kind in ((6.0, 'lugre'), (4.0, 'gms')):
-            ax.plot([x0, x1], [v, v], color=STYLES[kind]['color'], ls=':', lw=1.6,
-                    label=f'paper, {LABELS[kind]}: {v:g} %')
-        for i, kind in enumerate(MODELS):
-            mx = [summary['max_error_pct'][kind][tk][ak] for tk, ak in cases]
-            rm = [100.0 * summary['rmse'][kind][tk][ak] / float(ak) for tk, ak in cases]
-            pos = x + (i - 1) * w
-            ax.bar(pos, mx, w * 0.9, color=STYLES[kind]['color'], alpha=0.75,
-                   hatch='//' if kind == 'gms' else None, edgecolor='white', lw=0,
-                   label=f'{LABELS[kind]}: max error')
-            ax.bar(pos, rm, w * 0.22, color='k',
-                   label='RMSE (thin bars)' if i == len(MODELS) - 1 else None)
-            for p_, v_ in zip(pos, mx):
-                ax.annotate(f'{v_:.1f}', (p_, v_), xytext=(0, 3), textcoords='offset points',
-                            ha='center', va='bottom', fontsize='small',
-                            bbox={'facecolor': 'white', 'edgecolor': 'none', 'alpha': 0.7,
-                                  'pad': 0.5})
-        split = len(low) - 0.5
-        ax.axvline(split, color='0.5', lw=0.8)
-        top = ax.get_ylim()[1] * 1.12
-        ax.set_ylim(0.0, top)
-        for xs, ak, ha in ((split - 0.1, amps[0], 'right'), (split + 0.1, amps[-1], 'left')):
-            speed = 'low' if ak == amps[0] else 'high'
-            ax.text(xs, 0.98 * top, f'{speed} velocity (a = {ak} rad, peak '
-                    f'{summary["peak_velocity"][ak]:.1f} rad/s) \u2192' if ha == 'left' else
-                    f'\u2190 {speed} velocity (a = {ak} rad, peak '
-                    f'{summary["peak_velocity"][ak]:.1f} rad/s)',
-                    ha=ha, va='top', fontsize='small', color='0.3')
-        ax.set_xticks(x)
-        ax.set_xticklabels([f'{tk} \u00b0C\na = {ak} rad' for tk, ak in cases])
-        ax.set_ylabel('position error (% of amplitude a)')
-        ax.set_title('thick bars: max $|q_d - q|$, thin bars: RMSE, both in % of a '
-                     f'(friction feed-forward driven by the {main} velocity)',
-                     fontsize='medium')
-        ax.legend(fontsize='small', loc='center right')
-        grid_on(ax)
-        paper_suptitle(fig, 7, 'maximum tracking error', summary['truth_model'])
-
-    return ExperimentResult(summary, {'compensation_error.png': (draw_errors, (16, 9.5)),
-                                      'compensation_bars.png': (draw_bars, (13, 7))})
+    return ExperimentData('compensation', summary, {'error': traces}, truth.friction.model)

@@ -16,15 +16,14 @@
 
 import numpy as np
 
-from ._common import (add_headroom, check_model, check_scale, check_steps, closed_loop, grid_on,
-                      json_key, LABELS, MODELS, n_steps, paper_suptitle, reversal_peak_window,
-                      rmse, SETTLING_LABEL, sign_changes, STYLES, SumOfSines, zoom_inset)
+from ._common import (check_model, check_scale, check_steps, closed_loop, ExperimentData,
+                      json_key, MODELS, n_steps, reversal_peak_window, rmse, sign_changes,
+                      SumOfSines)
 from .compensation import COMPENSATION
 from ..control.controller import Controller
 from ..control.gains import gain_design, loop_metrics
 from ..control.observer import DisturbanceObserver
 from ..models.static import StaticFriction
-from ..output import ExperimentResult
 from ..testbed.plant import Plant
 
 __all__ = ['ESTIMATION', 'estimation']
@@ -84,7 +83,7 @@ def estimation(model, truth, duration_scale=1.0, *, gains=None):
 
     Returns
     -------
-    ExperimentResult
+    ExperimentData
         ``summary``: ``rms_error``, ``max_error`` (Nm) and ``rms_error_pct``,
         ``max_error_pct`` (% of ``load_amplitude`` = max |tau_ext|) and
         ``max_error_time`` (s, where the maximum is) per observer model
@@ -102,7 +101,8 @@ def estimation(model, truth, duration_scale=1.0, *, gains=None):
         ``ripple_cycles_per_rev``, ``current_bandwidth_hz``, ``torque_noise``
         and ``effort_noise`` (Nm), ``inertia`` and ``model_inertia``,
         ``parameter_error_pct``: truth against model for fc, fs, fv, vs at
-        ``xi0``).
+        ``xi0``).  ``series``: ``t``, ``tau_link``, ``tau_ext``, ``q``, ``qd``
+        and ``estimates`` (observer -> estimate) of the closed loop.
 
     """
     scale = check_scale(duration_scale)
@@ -195,49 +195,5 @@ def estimation(model, truth, duration_scale=1.0, *, gains=None):
         summary['beta_sweep'][json_key(b)] = {'rms_error': rms, 'max_error': mx,
                                               'rms_error_pct': 100.0 * rms / load,
                                               'max_error_pct': 100.0 * mx / load}
-
-    def draw(fig):
-        a0, a1, a2 = fig.subplots(3, 1, sharex=True, gridspec_kw={'height_ratios': [3, 3, 1.3]})
-        t = r['t']
-        settle_s = summary['settle_s']
-        a0.plot(t, r['tau_link'], color='0.6', lw=0.5, label='link torque sensor')
-        a0.plot(t, r['tau_ext'], **STYLES['truth'], label=r'applied $\tau_{ext}$ (true)')
-        for kind in MODELS:
-            a0.plot(t, r['estimates'][kind], **STYLES[kind], label=f'estimate, {LABELS[kind]}')
-        a0.set_ylabel('external torque (Nm)')
-        a0.set_title(f'disturbance observer eq. 15, $\\beta$ = {c["beta"]:g} rad/s, gravity '
-                     f'as unknown load; controller eq. 17 with {LABELS[c["controller"]]} '
-                     'feed-forward', fontsize='medium')
-        curves = []
-        for kind in MODELS:
-            label = (f'{LABELS[kind]} (RMS {summary["rms_error"][kind]:.2f} Nm, '
-                     f'{summary["rms_error_pct"][kind]:.1f} %)')
-            curves.append((t, r['estimates'][kind] - r['tau_ext'],
-                           dict(STYLES[kind], label=label)))
-        for tt, y, style in curves:
-            a1.plot(tt, y, **style)
-        bound = {'color': 'k', 'linestyle': ':', 'linewidth': 1.0}
-        a1.axhline(1.0, **bound, label='paper: error < 1 Nm')
-        a1.axhline(-1.0, **bound)
-        a1.set_ylabel(r'error $\hat\tau_{ext} - \tau_{ext}$ (Nm)')
-        a1.set_title('estimation error against the true external torque', fontsize='medium')
-        add_headroom(a1, 0.45)
-        zoom = summary['zoom']
-        inset, loc1 = zoom_inset(a1, zoom['window_s'], curves, scale_by=(1, 2), width=0.4,
-                                 height=0.38,
-                                 title=f'zoom: the largest LuGre/GMS error, '
-                                       f'{zoom["max_error"]:.2f} Nm ({LABELS[zoom["model"]]}) '
-                                       f'at t = {zoom["time_s"]:.2f} s')
-        inset.axhline(1.0, **bound)
-        inset.axhline(-1.0, **bound)
-        a2.plot(t, r['q'], color='C4', lw=0.9, label='position (rad)')
-        a2.plot(t, r['qd'], color='C5', lw=0.7, label='velocity (rad/s)')
-        a2.set_ylabel('q (rad), $\\dot q$ (rad/s)')
-        a2.set_xlabel('time (s)')
-        for ax, loc in ((a0, 'upper right'), (a1, loc1), (a2, 'upper right')):
-            ax.axvspan(0.0, settle_s, color='0.85', lw=0, label=SETTLING_LABEL)
-            ax.legend(fontsize='x-small', loc=loc, ncol=2)
-            grid_on(ax)
-        paper_suptitle(fig, 8, 'external torque estimation', summary['truth_model'])
-
-    return ExperimentResult(summary, {'estimation.png': (draw, (13, 12))})
+    series = {k: r[k] for k in ('t', 'tau_link', 'tau_ext', 'q', 'qd', 'estimates')}
+    return ExperimentData('estimation', summary, series, truth.friction.model)

@@ -28,12 +28,10 @@ import math
 
 import numpy as np
 
-from ._common import (check_model, check_scale, check_steps, grid_on, json_key, n_steps,
-                      STYLES)
+from ._common import check_model, check_scale, check_steps, ExperimentData, json_key, n_steps
 from .compensation import COMPENSATION, tracking_run
 from .paper import PAPER
 from ..control.gains import GAIN_PRESETS, GainDesign, loop_metrics
-from ..output import ExperimentResult
 from ..testbed.plant import Plant
 
 __all__ = ['GAIN_SWEEP', 'gain_sweep']
@@ -75,7 +73,7 @@ def gain_sweep(model, truth, duration_scale=1.0):
 
     Returns
     -------
-    ExperimentResult
+    ExperimentData
         ``summary``: ``design_inertia`` (kg m^2, the grid), ``ratio`` (to the
         model's joint inertia), ``max_error_pct[model][temperature]`` (lists
         over the grid), ``loop`` (omega_n, zeta on the truth per grid point),
@@ -115,29 +113,4 @@ def gain_sweep(model, truth, duration_scale=1.0):
                                 for k, v in table['none'].items()},
                'presets': {k: (p.design_inertia or model.inertia)
                            for k, p in GAIN_PRESETS.items()}}
-
-    def draw(fig):
-        ax = fig.subplots()
-        lo, hi = c['band']
-        ax.axhspan(lo, hi, color='0.85', label=f'paper, no compensation: {lo:g}-{hi:g} %')
-        for kind in c['models']:
-            for xi, mark in zip(temps, ('o', 's')):
-                style = dict(STYLES[kind])
-                style['linestyle'] = '-' if xi == temps[0] else '--'
-                ax.plot(grid, table[kind][json_key(xi)], marker=mark, ms=4,
-                        label=f'{"no friction model" if kind == "none" else "LuGre"}, '
-                              f'{xi:g} \u00b0C', **style)
-        for name, j in summary['presets'].items():
-            ax.axvline(j, color='k', ls=':', lw=0.9)
-            ax.text(j, ax.get_ylim()[1] * 0.95, f' preset {name}\n {j:.3g} kg m$^2$',
-                    fontsize='x-small', va='top')
-        ax.set_xscale('log')
-        ax.set_xlabel('design inertia of the PD gains (kg m$^2$); plant inertia '
-                      f'{truth.inertia:g} kg m$^2$')
-        ax.set_ylabel(f'max tracking error (% of a = {amp:g} rad)')
-        fig.suptitle("Where the paper's Fig. 7 regime lies: uncompensated error vs the gains' "
-                     f'design inertia (hardware: {truth.friction.model})')
-        ax.legend(fontsize='small')
-        grid_on(ax)
-
-    return ExperimentResult(summary, {'gain_sweep.png': (draw, (10, 6))})
+    return ExperimentData('gain_sweep', summary, {}, truth.friction.model)

@@ -37,10 +37,11 @@ the paper runs its test bed and its model:
 
 Every experiment function takes ``(model, truth, duration_scale=1.0)`` (two
 :class:`~friction_joint.gear.GearParams`) and returns an
-:class:`ExperimentResult`: ``summary`` (plain numbers for ``summary.json``)
-and ``figures`` (file name -> function drawing on a matplotlib Figure).
+:class:`~friction_joint.experiments._common.ExperimentData`: ``summary``
+(plain numbers for ``summary.json``) and ``series`` (the signals its figures
+are drawn from); the figures are drawn by :mod:`~friction_joint.experiments.plots`.
 :data:`EXPERIMENTS` maps the command-line names to them; adding an
-experiment is adding an entry.
+experiment is adding an entry (and its figures to ``plots.TESTBED_FIGURES``).
 
 The command ``friction_joint experiment NAME --model M.yaml --truth T.yaml
 --out DIR [--duration-scale X] [--force]`` runs one and writes its PNG figures
@@ -66,9 +67,10 @@ from .chirp import chirp
 from .compensation import compensation
 from .estimation import estimation
 from .gain_sweep import gain_sweep
+from .plots import experiment_figures
 from ..exceptions import ExperimentError, FrictionJointError
 from ..gear import load_gear
-from ..output import OutputSet, result_files
+from ..output import ExperimentResult, OutputSet, result_files
 
 __all__ = ['check_gains', 'EXPERIMENTS', 'CLOSED_LOOP', 'identification', 'run_experiment']
 
@@ -220,5 +222,6 @@ def run_experiment(name, model_path, truth_path, out_dir, duration_scale=1.0, pr
         result.summary['model_file'] = os.path.abspath(model_path)
         result.summary['truth_file'] = os.path.abspath(truth_path)
         result.summary['wall_time_s'] = time.perf_counter() - start
-        outputs.write_directory(out_dir, result_files(result))
+        figures = experiment_figures(result)
+        outputs.write_directory(out_dir, result_files(ExperimentResult(result.summary, figures)))
         return outputs.publish()

@@ -19,9 +19,8 @@ import os
 
 from friction_joint.cli import main
 from friction_joint.experiments import runner
-from friction_joint.experiments._common import reversal_peak_window
+from friction_joint.experiments._common import ExperimentData, reversal_peak_window
 from friction_joint.experiments.compensation import compensation
-from friction_joint.output import ExperimentResult
 import numpy as np
 import pytest
 
@@ -168,7 +167,7 @@ def test_progress_reaches_the_experiments_that_take_it(tmp_path, monkeypatch):
 
     def stub(model, truth, duration_scale=1.0, *, gains=None, progress=None):
         progress('warm-up to 27 degC by self-heating')
-        return ExperimentResult({'experiment': 'compensation'}, {})
+        return ExperimentData('stub', {'experiment': 'compensation'})
     monkeypatch.setitem(runner.EXPERIMENTS, 'compensation',
                         runner.EXPERIMENTS['compensation']._replace(func=stub))
     said = []
@@ -176,7 +175,7 @@ def test_progress_reaches_the_experiments_that_take_it(tmp_path, monkeypatch):
     assert said == ['warm-up to 27 degC by self-heating']
     # an experiment without the parameter runs as before
     monkeypatch.setitem(runner.EXPERIMENTS, 'compensation', runner.EXPERIMENTS[
-        'compensation']._replace(func=lambda model, truth, scale: ExperimentResult({}, {})))
+        'compensation']._replace(func=lambda model, truth, scale: ExperimentData('stub', {})))
     runner.run_experiment('compensation', MODEL, TRUTH, tmp_path / 'out2', progress=said.append)
     assert len(said) == 1
 
