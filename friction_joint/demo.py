@@ -166,12 +166,11 @@ def _run_all(out, model, truths, duration_scale, relocate, *, stages=None):
         t0 = time.perf_counter()
         d = os.path.join(out, 'classic')
         with stages.stage(f'classic experiment {name}'):
-            write_experiment(name, CLASSIC_EXPERIMENTS[name](), d)
-        with open(os.path.join(d, f'{name}.json'), encoding='utf-8') as fh:
-            numbers = json.load(fh)
+            result = CLASSIC_EXPERIMENTS[name]()
+            write_experiment(result, d)
         lines += [f'### {name} ({time.perf_counter() - t0:.1f} s)', '',
                   CLASSIC_TEXT.get(name, ''), '', f'![{name}](classic/{name}.png)', '']
-        lines += summary_markdown(name, numbers) + ['']
+        lines += summary_markdown(name, result.to_dict()) + ['']
     with stages.stage('identification (excitation recorded, then identified)'):
         lines += _identification(out, model, truth, duration_scale, relocate=relocate,
                                  progress=stages.detail)

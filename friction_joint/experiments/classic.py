@@ -38,14 +38,16 @@ positions are in m and forces in N (``gear_ratio = 1``, ``inertia = 1``).
 * :func:`stick_slip` -- mass pulled through a spring at constant speed
   (Fig. 6): periodic stick-slip.
 
-Each function returns ``{'summary': dict, 'series': dict}``: ``summary``
-holds the key numbers (plain floats and lists, written to JSON by the
-command), ``series`` the numpy arrays the figure is drawn from.
+Each function returns a :class:`ClassicResult`: ``summary`` holds the key
+numbers (plain floats and lists, written to JSON by the command, see
+:meth:`ClassicResult.to_dict`), ``series`` the numpy arrays the figure is
+drawn from.
 
 Figures and files: :mod:`friction_joint.experiments.classic_report`; the
 command ``friction_joint classic EXPERIMENT --out DIR`` runs one experiment
 and writes ``DIR/EXPERIMENT.png`` and ``DIR/EXPERIMENT.json``, both atomically.
 """
+import dataclasses
 import math
 import warnings
 
@@ -57,15 +59,59 @@ from ..gear import gear_from_dict
 from ..models.joint import Joint
 from ..models.lugre import LuGre
 from ..models.static import StaticFriction
+from ..output import json_clean
 
-__all__ = ['CANUDAS_1995', 'canudas_gear', 'presliding', 'frictional_lag', 'breakaway',
-           'stick_slip', 'slip_onsets', 'CLASSIC_EXPERIMENTS']
+__all__ = ['CANUDAS_1995', 'ClassicResult', 'canudas_gear', 'presliding', 'frictional_lag',
+           'breakaway', 'stick_slip', 'slip_onsets', 'CLASSIC_EXPERIMENTS']
 
 #: Table I of Canudas de Wit et al. (1995) plus the unit mass (SI units).
 CANUDAS_1995 = {'sigma0': 1e5, 'sigma1': math.sqrt(1e5), 'sigma2': 0.4,
                 'fc': 1.0, 'fs': 1.5, 'vs': 1e-3, 'mass': 1.0}
 
 XI = 25.0   # temperature input; the Canudas set has no temperature dependency
+
+
+@dataclasses.dataclass
+class ClassicResult:
+    """
+    Numbers and signals of one classic experiment run.
+
+    The figure is drawn from it by
+    :mod:`~friction_joint.experiments.classic_report` (:meth:`plot`), the
+    numbers written as ``NAME.json`` (:meth:`to_dict`).
+
+    Attributes
+    ----------
+    name : str
+        The experiment's command-line name (``presliding``, ``lag``,
+        ``breakaway``, ``stick-slip``; :data:`CLASSIC_EXPERIMENTS`).
+    summary : dict
+        Key numbers, as documented by the experiment function.
+    series : dict
+        The numpy arrays the figure is drawn from.
+
+    """
+
+    name: str
+    summary: dict
+    series: dict = dataclasses.field(default_factory=dict)
+
+    def to_dict(self):
+        """Return the summary as plain JSON types (what ``NAME.json`` holds)."""
+        return json_clean(self.summary)
+
+    def plot(self, fig):
+        """
+        Draw the experiment's figure on the matplotlib Figure ``fig``.
+
+        Parameters
+        ----------
+        fig : matplotlib.figure.Figure
+            The (empty) figure to draw on.
+
+        """
+        from .classic_report import draw_classic
+        draw_classic(fig, self)
 
 
 def canudas_gear(params=None):
@@ -154,7 +200,7 @@ def presliding(amplitude=None, ramp_time=5.0, hold_time=2.0, dt=1e-4, params=Non
 
     Returns
     -------
-    dict
+    ClassicResult
         ``summary``: ``sigma0``, ``force_amplitude`` (N), ``stiffness``
         (N/m, mean of the zero-force passages), ``stiffness_passages``
         (least-squares slope of applied force vs displacement over
@@ -215,7 +261,7 @@ def presliding(amplitude=None, ramp_time=5.0, hold_time=2.0, dt=1e-4, params=Non
         'x_min_quasistatic': -q_scale * math.log(1.0 + a / p['fs']),
     }
     series = {'t': t, 'force': force, 'x': x, 'v': v, 'friction': traj.tau_r}
-    return {'summary': summary, 'series': series}
+    return ClassicResult('presliding', summary, series)
 
 
 # --------------------------------------------------------- frictional lag ---
@@ -273,7 +319,7 @@ def frictional_lag(omegas=(1.0, 10.0, 25.0), v_mean=1.5e-3, v_amplitude=1e-3, pe
 
     Returns
     -------
-    dict
+    ClassicResult
         ``summary``: ``omegas`` (rad/s), ``v_mean``, ``v_amplitude`` (m/s),
         ``loop_width`` (N per frequency), ``loop_area`` (N m/s per frequency).
         ``series``: ``v`` and ``friction`` (lists of arrays, one period per
@@ -307,7 +353,7 @@ def frictional_lag(omegas=(1.0, 10.0, 25.0), v_mean=1.5e-3, v_amplitude=1e-3, pe
                'v_amplitude': float(v_amplitude), 'loop_width': widths, 'loop_area': areas}
     series = {'v': vs_list, 'friction': fs_list, 'v_static': v_static,
               'friction_static': f_static}
-    return {'summary': summary, 'series': series}
+    return ClassicResult('lag', summary, series)
 
 
 # -------------------------------------------------------------- break-away ---
@@ -357,7 +403,7 @@ def breakaway(rates=(0.1, 0.2, 0.5, 1.0, 2.0, 5.0, 10.0, 20.0, 30.0), f_end=2.0,
 
     Returns
     -------
-    dict
+    ClassicResult
         ``summary``: ``rates`` (N/s), ``breakaway_force`` (N, friction at the
         peak; None where there is none), ``applied_force_at_breakaway`` (N),
         ``time_to_breakaway`` (s), ``fs``, ``fc`` (N).
@@ -392,7 +438,7 @@ def breakaway(rates=(0.1, 0.2, 0.5, 1.0, 2.0, 5.0, 10.0, 20.0, 30.0), f_end=2.0,
         for key, arr in (('t', t), ('force', force), ('friction', traj.tau_r), ('v', traj.qd)):
             series[key].append(arr)
     summary = {'rates': [float(r) for r in rates], **out, 'fs': p['fs'], 'fc': p['fc']}
-    return {'summary': summary, 'series': series}
+    return ClassicResult('breakaway', summary, series)
 
 
 # -------------------------------------------------------------- stick-slip ---
@@ -452,7 +498,7 @@ def stick_slip(k=2.0, vp=0.1, duration=30.0, dt=5e-5, threshold=0.05, params=Non
 
     Returns
     -------
-    dict
+    ClassicResult
         ``summary`` exactly: ``slip_onsets`` (s), ``period`` (s, mean
         difference of the onsets; None with fewer than two), ``v_max`` (m/s),
         ``x_end`` (m), ``spring_stiffness`` (N/m, ``k``), ``pull_velocity``
@@ -477,7 +523,7 @@ def stick_slip(k=2.0, vp=0.1, duration=30.0, dt=5e-5, threshold=0.05, params=Non
                'x_end': float(traj.q[-1]), 'spring_stiffness': float(k),
                'pull_velocity': float(vp), 'spring_force_at_slip': spring}
     series = {'t': t, 'x': traj.q, 'v': traj.qd, 'friction': traj.tau_r, 'y': vp * t}
-    return {'summary': summary, 'series': series}
+    return ClassicResult('stick-slip', summary, series)
 
 
 #: command-line name -> experiment function (no arguments: the Canudas 1995 set-up)

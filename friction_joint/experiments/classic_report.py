@@ -15,6 +15,8 @@
 """
 Figures and files of the classic LuGre experiments (:mod:`friction_joint.experiments.classic`).
 
+:func:`draw_classic` draws the figure of a
+:class:`~friction_joint.experiments.classic.ClassicResult`;
 :func:`write_experiment` takes the result of an experiment function and writes
 ``NAME.png`` and ``NAME.json``; :func:`run_classic` runs the experiment and
 writes them (the ``classic`` command).  The output of one experiment is that
@@ -30,7 +32,7 @@ import numpy as np
 
 from ..output import json_bytes, OutputSet, render_png
 
-__all__ = ['FIGURES', 'summary_markdown', 'write_experiment', 'run_classic']
+__all__ = ['FIGURES', 'draw_classic', 'summary_markdown', 'write_experiment', 'run_classic']
 
 
 PLOT_POINTS = 20000   # series are thinned to about this many points per line
@@ -43,7 +45,7 @@ def _thin(*arrays):
 
 
 def _plot_presliding(fig, res):
-    s, m = res['series'], res['summary']
+    s, m = res.series, res.summary
     t, force, x, friction = _thin(s['t'], s['force'], s['x'], s['friction'])
     ax1, ax2 = fig.subplots(1, 2)
     ax1.plot(t, force, color='C0', label='applied force')
@@ -64,7 +66,7 @@ def _plot_presliding(fig, res):
 
 
 def _plot_lag(fig, res):
-    s, m = res['series'], res['summary']
+    s, m = res.series, res.summary
     ax = fig.subplots()
     ax.plot(1e3 * s['v_static'], s['friction_static'], 'k--', lw=1, label='steady state')
     for i, w in enumerate(m['omegas']):
@@ -80,7 +82,7 @@ def _plot_lag(fig, res):
 
 
 def _plot_breakaway(fig, res):
-    s, m = res['series'], res['summary']
+    s, m = res.series, res.summary
     ax1, ax2 = fig.subplots(1, 2)
     for i, r in enumerate(m['rates']):
         ax1.plot(*_thin(s['force'][i], s['friction'][i]), lw=1, label='%g N/s' % r)
@@ -104,7 +106,7 @@ def _plot_breakaway(fig, res):
 
 
 def _plot_stick_slip(fig, res):
-    s, m = res['series'], res['summary']
+    s, m = res.series, res.summary
     t, x, y, v, friction = _thin(s['t'], s['x'], s['y'], s['v'], s['friction'])
     ax1, ax2 = fig.subplots(2, 1, sharex=True)
     ax1.plot(t, x, label='mass $x$')
@@ -233,11 +235,21 @@ FIGURES = {
 }
 
 
-def _draw(name, result):
-    def draw(fig):
-        FIGURES[name][0](fig, result)
-        fig.suptitle(FIGURES[name][1] + ' (LuGre, Canudas de Wit et al. 1995 parameters)')
-    return draw
+def draw_classic(fig, result):
+    """
+    Draw the figure of a classic experiment on ``fig``, titled.
+
+    Parameters
+    ----------
+    fig : matplotlib.figure.Figure
+        The (empty) figure to draw on.
+    result : ClassicResult
+        The run; its ``name`` selects the figure in :data:`FIGURES`.
+
+    """
+    plot, title = FIGURES[result.name]
+    plot(fig, result)
+    fig.suptitle(title + ' (LuGre, Canudas de Wit et al. 1995 parameters)')
 
 
 def _declare(outputs, name, out_dir):
@@ -248,21 +260,32 @@ def _declare(outputs, name, out_dir):
     return paths
 
 
-def _write(outputs, name, result, paths):
-    png = render_png(_draw(name, result), (10, 5) if name != 'stick-slip' else (9, 6.5), dpi=110)
+def _write(outputs, result, paths):
+    size = (10, 5) if result.name != 'stick-slip' else (9, 6.5)
+    png = render_png(lambda fig: draw_classic(fig, result), size, dpi=110)
     outputs.write_file(paths[0], png)
-    outputs.write_file(paths[1], json_bytes(result['summary']))
+    outputs.write_file(paths[1], json_bytes(result.to_dict()))
     return tuple(outputs.publish())
 
 
-def write_experiment(name, result, out_dir, *, force=False):
+def write_experiment(result, out_dir, *, force=False):
     """
-    Write ``out_dir/name.png`` and ``out_dir/name.json``, together or not at all.
+    Write ``out_dir/NAME.png`` and ``out_dir/NAME.json`` of ``result``, together or not at all.
 
     Both files are rendered in memory and staged next to their place first;
     only then are they renamed into place, so an error leaves no partial
-    result.  ``out_dir`` is created if missing and may hold other files; an
-    existing ``name.png`` or ``name.json`` is an error unless ``force``.
+    result.  NAME is ``result.name``.  ``out_dir`` is created if missing and
+    may hold other files; an existing ``NAME.png`` or ``NAME.json`` is an
+    error unless ``force``.
+
+    Parameters
+    ----------
+    result : ClassicResult
+        The run of a classic experiment.
+    out_dir : str or path-like
+        Directory of the two files.
+    force : bool
+        Replace existing files of the same names.
 
     Returns
     -------
@@ -271,7 +294,7 @@ def write_experiment(name, result, out_dir, *, force=False):
 
     """
     with OutputSet(force=force) as outputs:
-        return _write(outputs, name, result, _declare(outputs, name, out_dir))
+        return _write(outputs, result, _declare(outputs, result.name, out_dir))
 
 
 def run_classic(name, out_dir, *, force=False):
@@ -289,4 +312,4 @@ def run_classic(name, out_dir, *, force=False):
     from .classic import CLASSIC_EXPERIMENTS
     with OutputSet(force=force) as outputs:
         paths = _declare(outputs, name, out_dir)
-        return _write(outputs, name, CLASSIC_EXPERIMENTS[name](), paths)
+        return _write(outputs, CLASSIC_EXPERIMENTS[name](), paths)

@@ -98,7 +98,7 @@ def presliding_result():
 
 
 def test_presliding_is_spring_like_with_stiffness_sigma0(presliding_result):
-    s = presliding_result['summary']
+    s = presliding_result.summary
     assert s['force_amplitude'] == pytest.approx(0.95 * FS)
     # never slides: micrometre displacements, velocities far below v_s
     assert s['v_peak'] < 0.1 * VS
@@ -141,21 +141,21 @@ def test_presliding_displacement_matches_radau():
         xs.append(sol.y[0])
         y0 = sol.y[:, -1]
     x_ref = np.concatenate(xs)
-    x = np.interp(t_cmp, res['series']['t'], res['series']['x'])
+    x = np.interp(t_cmp, res.series['t'], res.series['x'])
     x_max = np.abs(x_ref).max()
     assert x_max > 1e-5
     # the coupled joint step is second order (error 4x smaller per halving
     # of dt, measured 2.1e-4 x_max at dt = 1e-4; the Radau solution agrees
     # with rtol 1e-9/atol 1e-15 to 1e-14 m): 1e-3 x_max = 24 nm
     assert np.abs(x - x_ref).max() < 1e-3 * x_max
-    assert res['summary']['stiffness'] == pytest.approx(S0, rel=1e-2)
+    assert res.summary['stiffness'] == pytest.approx(S0, rel=1e-2)
 
 
 # --------------------------------------------------------- frictional lag ---
 
 def test_lag_loops_widen_monotonically_with_frequency():
     res = classic.frictional_lag()
-    s = res['summary']
+    s = res.summary
     assert s['omegas'] == [1.0, 10.0, 25.0]
     w, a = s['loop_width'], s['loop_area']
     assert w[0] > 1e-3                                # a real loop even at 1 rad/s
@@ -165,22 +165,22 @@ def test_lag_loops_widen_monotonically_with_frequency():
     # with velocity) it is lower while the velocity decreases (first half of
     # the period, from the velocity maximum) than while it increases, as
     # Canudas et al. report
-    for v, f in zip(res['series']['v'], res['series']['friction']):
+    for v, f in zip(res.series['v'], res.series['friction']):
         k = int(np.argmin(v))
         vm = 0.5 * (v.min() + v.max())
         f_dec = np.interp(vm, v[:k + 1][::-1], f[:k + 1][::-1])
         f_acc = np.interp(vm, v[k:], f[k:])
         assert f_dec < f_acc
     # the slowest loop hugs the steady-state curve
-    v0, f0 = res['series']['v'][0], res['series']['friction'][0]
-    f_ss = np.interp(v0, res['series']['v_static'], res['series']['friction_static'])
+    v0, f0 = res.series['v'][0], res.series['friction'][0]
+    f_ss = np.interp(v0, res.series['v_static'], res.series['friction_static'])
     assert np.abs(f0 - f_ss).max() < 0.02
 
 
 # -------------------------------------------------------------- break-away ---
 
 def test_breakaway_force_falls_with_force_rate():
-    s = classic.breakaway()['summary']
+    s = classic.breakaway().summary
     fb = s['breakaway_force']
     assert all(f is not None for f in fb)
     assert all(a > b for a, b in zip(fb, fb[1:])), fb      # strictly decreasing
@@ -193,7 +193,7 @@ def test_breakaway_force_falls_with_force_rate():
 
 def test_breakaway_peak_matches_radau():
     rate = 10.0
-    s = classic.breakaway(rates=(rate,))['summary']
+    s = classic.breakaway(rates=(rate,)).summary
     rhs, jac = lugre_rhs(lambda t, x: (rate * t, 0.0))
     sol = solve_ivp(rhs, (0.0, 0.2), [0.0, 0.0, 0.0], method='Radau', jac=jac,
                     rtol=1e-9, atol=1e-14, dense_output=True)
@@ -208,7 +208,7 @@ def test_breakaway_peak_matches_radau():
 def test_breakaway_has_no_peak_for_fast_ramps():
     # beyond ~35 N/s the bristle velocity r/sigma0 is comparable to v_s and
     # friction rises to the kinetic level without a stiction peak
-    s = classic.breakaway(rates=(60.0,))['summary']
+    s = classic.breakaway(rates=(60.0,)).summary
     assert s['breakaway_force'] == [None]
 
 
@@ -233,7 +233,7 @@ def stick_slip_reference():
 
 def test_stick_slip_matches_radau(stick_slip_reference):
     ref = stick_slip_reference
-    s = classic.stick_slip()['summary']
+    s = classic.stick_slip().summary
     assert set(s) == {'slip_onsets', 'period', 'v_max', 'x_end', 'spring_stiffness',
                       'pull_velocity', 'spring_force_at_slip'}
     # each slip starts once the spring pulls beyond the static level F_s (not above
@@ -313,13 +313,13 @@ def test_cli_reports_unwritable_out(tmp_path, monkeypatch, capsys):
 
 def test_summary_markdown_gives_outputs_with_units(presliding_result):
     lag = classic_report.summary_markdown(
-        'lag', classic.frictional_lag(samples_per_period=2000)['summary'])
+        'lag', classic.frictional_lag(samples_per_period=2000).summary)
     assert '| ω (rad/s) | loop width (N) | loop area (N mm/s) |' in lag
     assert sum(line.startswith('| 25 |') for line in lag) == 1     # one row per frequency
-    brk = classic.breakaway(rates=(1.0, 60.0))['summary']
+    brk = classic.breakaway(rates=(1.0, 60.0)).summary
     rows = classic_report.summary_markdown('breakaway', brk)
     assert any(line.startswith('| force rate r (N/s) | break-away force (N)') for line in rows)
     assert f'| 1 | {brk["breakaway_force"][0]:.3f} |' in '\n'.join(rows)
     assert any(line.startswith('| 60 | no peak') for line in rows)   # None: said in words
-    pre = '\n'.join(classic_report.summary_markdown('presliding', presliding_result['summary']))
+    pre = '\n'.join(classic_report.summary_markdown('presliding', presliding_result.summary))
     assert '| N/m |' in pre and '| µm |' in pre
