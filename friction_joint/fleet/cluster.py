@@ -71,7 +71,7 @@ def _connect(scheduler, workers, memory_limit):
     if n < 1:
         raise FrictionJointError(f'--workers must be >= 1, got {n}')
     cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
-                           memory_limit=memory_limit, silence_logs=logging.ERROR,
+                           memory_limit=memory_limit, silence_logs=logging.CRITICAL,
                            dashboard_address=':0')    # its HTTP endpoint on a free port
     try:
         return Client(cluster), cluster
