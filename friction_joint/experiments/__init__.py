@@ -18,22 +18,31 @@ Experiments on the simulated test bed and in the literature.
 * the paper's applications: :mod:`~friction_joint.experiments.chirp` (Fig. 5),
   :mod:`~friction_joint.experiments.compensation` (Fig. 6-7),
   :mod:`~friction_joint.experiments.estimation` (Fig. 8), run by name through
-  :mod:`~friction_joint.experiments.runner`;
+  :mod:`~friction_joint.experiments.runner`; each returns an
+  :class:`~friction_joint.experiments._common.ExperimentData` whose figures
+  :mod:`~friction_joint.experiments.plots` draws, beside the paper's own
+  numbers of :data:`~friction_joint.experiments.paper.PAPER` (also read by the
+  report text, :mod:`~friction_joint.experiments.testbed_report`);
 * :mod:`~friction_joint.experiments.classic`: the classic LuGre experiments of
-  Canudas de Wit et al. (1995), figures in :mod:`~friction_joint.experiments.classic_report`;
+  Canudas de Wit et al. (1995), each returning a
+  :class:`~friction_joint.experiments.classic.ClassicResult`; figures in
+  :mod:`~friction_joint.experiments.classic_report`;
 * :mod:`~friction_joint.experiments.excitation`: the identification excitation
   (Section V-A) recorded on the test bed;
 * :mod:`~friction_joint.experiments.hidden`: recordings with a hidden effect,
   for testing the diagnosis.
 """
+from ._common import ExperimentData
 from .chirp import chirp
-from .classic import breakaway, frictional_lag, presliding, stick_slip
+from .classic import breakaway, ClassicResult, frictional_lag, presliding, stick_slip
 from .compensation import compensation
 from .estimation import estimation
 from .excitation import simulate_identification
 from .hidden import apply_effect, apply_effects, draw_effect, EFFECT_RANGES, simulate_recording
+from .paper import PAPER, PaperNumber
 from .runner import EXPERIMENTS, run_experiment
 
-__all__ = ['chirp', 'compensation', 'estimation', 'EXPERIMENTS', 'run_experiment',
-           'presliding', 'frictional_lag', 'breakaway', 'stick_slip', 'simulate_identification',
+__all__ = ['chirp', 'compensation', 'estimation', 'ExperimentData', 'EXPERIMENTS',
+           'run_experiment', 'ClassicResult', 'PAPER', 'PaperNumber', 'presliding',
+           'frictional_lag', 'breakaway', 'stick_slip', 'simulate_identification',
            'EFFECT_RANGES', 'apply_effect', 'apply_effects', 'draw_effect', 'simulate_recording']

@@ -67,6 +67,7 @@ from .chirp import chirp
 from .compensation import compensation
 from .estimation import estimation
 from .gain_sweep import gain_sweep
+from .paper import PAPER
 from .plots import experiment_figures
 from ..exceptions import ExperimentError, FrictionJointError
 from ..gear import load_gear
@@ -113,7 +114,8 @@ EXPERIMENTS = {
                                          'observer, with and without friction model (Fig. 8)'),
     'gain_sweep': Experiment(gain_sweep, 'maximum tracking error without and with LuGre '
                                          "feed-forward against the gains' design inertia: "
-                                         "where the paper's 29-35 % regime lies"),
+                                         "where the paper's {:g}-{:g} % regime lies".format(
+                                             *PAPER['uncompensated_band'].value)),
     'identification': Experiment(identification, 'constant-velocity plateaus at several '
                                                  'temperatures and loads plus pre-sliding '
                                                  'sinusoids, written as a recording (--out BAG) '

@@ -133,3 +133,36 @@ def test_report_puts_the_papers_numbers_beside_ours(paper_regime):
         assert row.endswith(f'| {min(mx):.1f}-{max(mx):.1f} % |'), row
     mismatched = [ln for ln in head.splitlines() if 'mismatched' in ln and ln.startswith('| Fig.')]
     assert mismatched and all(ln.split('|')[2].strip() == '–' for ln in mismatched)
+
+
+def _code_strings_and_numbers(path):
+    """String constants (docstrings left out) and tuples of numbers in the code of ``path``."""
+    import ast
+    with open(path, encoding='utf-8') as fh:
+        tree = ast.parse(fh.read(), filename=path)
+    docs = {id(node.body[0].value) for node in ast.walk(tree)
+            if isinstance(node, (ast.Module, ast.FunctionDef, ast.ClassDef)) and node.body
+            and isinstance(node.body[0], ast.Expr)
+            and isinstance(node.body[0].value, ast.Constant)}
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Constant) and isinstance(node.value, str) \
+                and id(node) not in docs:
+            yield node.value
+        elif isinstance(node, ast.Tuple) and all(isinstance(e, ast.Constant) for e in node.elts):
+            yield tuple(e.value for e in node.elts)
+
+
+def test_the_papers_numbers_have_one_home():
+    """Figures, reports and the command line take the paper's numbers from experiments.paper."""
+    import friction_joint
+    base = os.path.dirname(friction_joint.__file__)
+    paths = [os.path.join(base, 'experiments', f)
+             for f in sorted(os.listdir(os.path.join(base, 'experiments')))
+             if f.endswith('.py') and f != 'paper.py'] + [os.path.join(base, 'demo.py')]
+    lo, hi = PAPER['uncompensated_band'].value
+    typed = (f'{lo:g}-{hi:g} %', f'< {PAPER["estimation_max"].value:g} Nm',
+             f'{PAPER["estimation_pct"].value:g} %')
+    bad = [f'{os.path.basename(p)}: {v!r}' for p in paths for v in _code_strings_and_numbers(p)
+           if v == (lo, hi) or (isinstance(v, str) and any(t in v for t in typed))]
+    assert not bad, '\n'.join(bad)
+    assert all(n.kind in ('result', 'set-up') and n.where for n in PAPER.values())
