@@ -136,7 +136,7 @@ def test_report_puts_the_papers_numbers_beside_ours(paper_regime):
 
 
 def _code_strings_and_numbers(path):
-    """String constants (docstrings left out) and tuples of numbers in the code of ``path``."""
+    """Yield the string constants (not docstrings) and tuples of numbers in ``path``."""
     import ast
     with open(path, encoding='utf-8') as fh:
         tree = ast.parse(fh.read(), filename=path)
