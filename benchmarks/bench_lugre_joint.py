@@ -30,7 +30,7 @@ What it does
    and 35 degC.  Inputs are sampled at the step midpoints, as
    ``Joint.simulate`` expects for second-order accuracy.  The drive torque
    fades in smoothly over 0.5 s; the lever starts at q = 0 moving at
-   qd0 = 0.3 rad/s with relaxed bristles (z = 0, what ``Joint.reset(0, qd0)``
+   qd0 = 0.3 rad/s with relaxed bristles (z = 0, what ``Joint.reset(q=0, qd=qd0)``
    gives).  Not from rest: with qd = 0 and zero net torque at t = 0 the
    quasi-static creep velocity is ~ (torque / F_v)^(1/delta_v) ~ t^5 and
    Radau's Newton iteration cannot start (step size underflow, see below).
@@ -293,7 +293,7 @@ def run_ours(gear, exc, mgl, dt, n, repeat, qd0=0.0):
     times = []
     traj = None
     for _ in range(repeat):
-        joint.reset(0.0, qd0)      # q = 0, qd = qd0, bristles relaxed (z = 0)
+        joint.reset(q=0.0, qd=qd0)      # bristles relaxed (z = 0)
         t0 = time.perf_counter()
         traj = joint.simulate(tau, dt, xi=xi, tau_ext=te_in)
         times.append(time.perf_counter() - t0)
