@@ -30,6 +30,8 @@ and rosbags' reader takes chunk compression from the chunks themselves.
 as it decompresses each chunk.  A CRC of 0 means "not recorded" (files of
 other tools) and is skipped.
 """
+from __future__ import annotations
+
 import os
 from pathlib import Path
 import struct
@@ -70,7 +72,7 @@ def _crc_of(fh, start, stop):
     return crc
 
 
-def verify_checksums(path, label=None):
+def verify_checksums(path: str | os.PathLike, *, label: str | None = None) -> None:
     """
     Check the data-section and summary CRCs of one MCAP file.
 
@@ -188,8 +190,9 @@ def _seal_file(src, compression, data_crc, overrides=(None, None)):
             os.remove(tmp)
 
 
-def seal_recording(path, *, compression='zstd', data_crc=True, metadata=None,
-                   channel_metadata=None):
+def seal_recording(path: str | os.PathLike, *, compression: str = 'zstd', data_crc: bool = True,
+                   metadata: dict[str, dict[str, str]] | None = None,
+                   channel_metadata: dict[str, dict[str, str]] | None = None) -> list[str]:
     """
     Rewrite a recording's MCAP file(s) with CRCs, compressed chunks and messages in time order.
 

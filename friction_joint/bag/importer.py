@@ -62,6 +62,8 @@ index) and converted to SI and the joint convention of docs/interfaces.md
   plus 8 per column kept plus :data:`WRITE_BYTES` per topic written, all files
   together) are refused before they are decoded, with one line naming the size.
 """
+from __future__ import annotations
+
 import json
 import os
 
@@ -112,12 +114,18 @@ _SPAN_LIMIT = 2.0**31
 _ZERO_C = -273.15
 
 
-def load_mapping(path):
+def load_mapping(path: str | os.PathLike) -> tuple[dict[str, tuple[int | str, str | None]],
+                                                   dict[str, object]]:
     """
     Read a mapping file: YAML with the keys of :data:`QUANTITIES` (``COL[:unit]``).
 
     Optional keys: ``radius`` (m), ``unwrap``, ``flip_friction`` (bools),
     ``skip_rows`` (int).
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The mapping file.
 
     Returns
     -------
@@ -266,7 +274,7 @@ class ImportedLog:
     """
     The result of :func:`import_logs`.
 
-    Attributes
+    Parameters
     ----------
     topics : dict
         Topic -> dict of arrays, the input of :func:`~friction_joint.bag.write_recording`.
@@ -280,13 +288,14 @@ class ImportedLog:
 
     """
 
-    def __init__(self, topics, mapping, notes, warnings):
+    def __init__(self, topics: dict[str, dict[str, np.ndarray]], mapping: dict, notes: list[str],
+                 warnings: list[str]) -> None:
         self.topics = topics
         self.mapping = mapping
         self.notes = notes
         self.warnings = warnings
 
-    def metadata(self):
+    def metadata(self) -> dict[str, str]:
         """Return the mapping as ``{key: str}``, the custom data of ``metadata.yaml``."""
         return {'friction_joint.import': json.dumps(self.mapping, sort_keys=True)}
 
@@ -449,8 +458,10 @@ def _file_checks(path, t, cols, flip_friction, frac):
             '--flip-friction')
 
 
-def import_logs(paths, columns, *, radius=1.0, unwrap=False, flip_friction=False, skip_rows=0,
-                joint_name='joint'):
+def import_logs(paths: list[str | os.PathLike],
+                columns: dict[str, tuple[int | str, str | None]], *, radius: float = 1.0,
+                unwrap: bool = False, flip_friction: bool = False, skip_rows: int = 0,
+                joint_name: str = 'joint') -> ImportedLog:
     """
     Convert logs (one run per file) into the topics of one recording.
 

@@ -25,9 +25,15 @@ the same set of stamps on every loop topic, and as many ``/clock`` messages as
 ``/clock``, until the first command arrives).  :func:`check_lockstep` counts
 what is there and names what is missing.
 """
+from __future__ import annotations
+
 from dataclasses import asdict, dataclass, field
+from typing import TYPE_CHECKING
 
 import numpy as np
+
+if TYPE_CHECKING:
+    from .topics import Recording
 
 __all__ = ['LOOP_TOPICS', 'LoopTopicCount', 'LockstepCheck', 'check_lockstep']
 
@@ -62,7 +68,7 @@ class LoopTopicCount:
     count: int
     steps: int
     missing: int
-    first_missing: float = None
+    first_missing: float | None = None
 
 
 @dataclass
@@ -82,20 +88,20 @@ class LockstepCheck:
     """
 
     steps: int
-    topics: list = field(default_factory=list)
-    absent: list = field(default_factory=list)
+    topics: list[LoopTopicCount] = field(default_factory=list)
+    absent: list[str] = field(default_factory=list)
 
     @property
     def complete(self):
         """Whether no loop topic misses a step and none is absent."""
         return not self.absent and all(t.missing == 0 for t in self.topics)
 
-    def to_dict(self):
+    def to_dict(self) -> dict:
         """Return a plain JSON-able dict (``complete`` included)."""
         return {'steps': self.steps, 'complete': self.complete, 'absent': list(self.absent),
                 'topics': [asdict(t) for t in self.topics]}
 
-    def describe(self):
+    def describe(self) -> str:
         """Return one line: counts per topic and what is missing."""
         parts = []
         for t in self.topics:
@@ -107,7 +113,7 @@ class LockstepCheck:
         return f'{self.steps} steps, {state}: ' + ', '.join(parts)
 
 
-def check_lockstep(recording):
+def check_lockstep(recording: Recording) -> LockstepCheck:
     """
     Check that every loop topic of a lockstep ``recording`` has every step.
 

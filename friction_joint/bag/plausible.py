@@ -39,13 +39,21 @@ are rejected (a float64 with a flipped exponent bit is off by a factor of
 2^32 or more).  Signals with fewer than ``2k + 1`` samples, or with ``S = 0``
 (constant apart from at most ``k`` samples), are not judged.
 """
+from __future__ import annotations
+
 from functools import partial
 import math
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from .blockwise import BLOCK
 from ..exceptions import RecordingError
+
+if TYPE_CHECKING:
+    from numpy.typing import ArrayLike
+
+    from .topics import Recording
 
 __all__ = ['FACTOR', 'VELOCITY_FACTOR', 'RATE_WINDOW', 'implausible', 'check_values',
            'check_samples']
@@ -165,7 +173,8 @@ def _implausible(x, ref, factor):
     return (bad if fin is None else fin[bad]), med, spread
 
 
-def check_samples(label, t, fields, position=None, *, origin=0.0):
+def check_samples(label: str, t: ArrayLike, fields: dict[str, ArrayLike], *,
+                  position: tuple[str, str] | None = None, origin: float = 0.0) -> None:
     """
     Raise on the first absurd sample of some signals sampled at ``t``.
 
@@ -224,13 +233,18 @@ def check_samples(label, t, fields, position=None, *, origin=0.0):
             f'median ({med:.3g} {unit}){also}; a corrupt value (a flipped bit?)')
 
 
-def check_values(recording):
+def check_values(recording: Recording) -> None:
     """
     Raise on the first absurd sample of a :class:`~friction_joint.bag.Recording`.
 
     Checks ``/joint_states`` (q, qd against the position, effort), ``/joint_temperature``
     (xi), ``/link_torque`` (tau), ``/joint_command`` (effort, q_d, qd_d) and
     ``/external_torque`` (effort).
+
+    Parameters
+    ----------
+    recording : Recording
+        The recording.
 
     Raises
     ------

@@ -29,6 +29,9 @@ field of 1e9 or more, or a negative stamp, is an error), absurd values
 (:mod:`~friction_joint.bag.consistency`), one clock for every topic, a velocity that is
 the derivative of the position and temperatures within physical bounds.
 """
+from __future__ import annotations
+
+from collections.abc import Iterable, Iterator
 import os
 from pathlib import Path
 import struct
@@ -225,9 +228,19 @@ def _read_raw(path, wanted):
         _close(reader)
 
 
-def recording_topics(path):
+def recording_topics(path: str | os.PathLike) -> dict[str, tuple[str, int]]:
     """
-    ``{topic: (message type, count)}`` of a recording, reading no messages.
+    Return ``{topic: (message type, count)}`` of a recording, reading no messages.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        A rosbag2 directory or a single ``.mcap`` file.
+
+    Returns
+    -------
+    dict
+        Topic -> ``(message type, message count)``.
 
     Raises
     ------
@@ -243,7 +256,8 @@ def recording_topics(path):
         _close(reader)
 
 
-def iter_messages(path, topics=None):
+def iter_messages(path: str | os.PathLike, topics: Iterable[str] | None = None
+                  ) -> Iterator[tuple[str, str, int, bytes]]:
     """
     Yield the serialized messages of a recording in bag-time order.
 
@@ -290,7 +304,8 @@ def iter_messages(path, topics=None):
         _close(reader)
 
 
-def read_recording(path, joint_name=None, *, check=True):
+def read_recording(path: str | os.PathLike, *, joint_name: str | None = None,
+                   check: bool = True) -> Recording:
     """
     Read a recording into arrays.
 

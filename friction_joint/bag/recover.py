@@ -22,6 +22,8 @@ record by record up to where it ends, also into a chunk cut in the middle if it
 is uncompressed, and writes the messages into a new, sealed recording
 (``metadata.yaml`` + ``.mcap``).
 """
+from __future__ import annotations
+
 import dataclasses
 import glob
 import json
@@ -204,13 +206,13 @@ class RecoveredRecording:
 
     out: str
     source: str
-    counts: dict
-    span: tuple
+    counts: dict[str, int]
+    span: tuple[float, float]
     complete: bool
     reason: str
     lost_bytes: int
-    removed: str = None
-    staging: str = None
+    removed: str | None = None
+    staging: str | None = None
 
 
 def _source_file(path):
@@ -319,7 +321,8 @@ def _marker_qos(staging):
             for t, p in qos.items() if isinstance(p, list)}
 
 
-def recover_recording(path, out, *, force=False, keep=False):
+def recover_recording(path: str | os.PathLike, out: str | os.PathLike, *, force: bool = False,
+                      keep: bool = False) -> RecoveredRecording:
     """
     Turn a truncated MCAP file (or a killed recorder's staging directory) into a recording.
 

@@ -33,6 +33,8 @@ footer) holding everything but the last second or so.
 * :func:`killed_recordings` lists the staging directories that earlier,
   killed recordings to ``OUT`` left behind (``record`` names them).
 """
+from __future__ import annotations
+
 import fcntl
 import glob
 import json
@@ -259,12 +261,22 @@ def _truncated_mcap(path):
     return None
 
 
-def partial_recording_error(path):
+def partial_recording_error(path: str | os.PathLike) -> RecordingError | None:
     """
     Return the reader's error for a cut-short recording at ``path``, or None.
 
-    ``path`` is a ``.mcap`` file, a rosbag2 directory or a recorder's staging
-    directory.  The one-line message names the file and the recovery command.
+    The one-line message names the file and the recovery command.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        A ``.mcap`` file, a rosbag2 directory or a recorder's staging directory.
+
+    Returns
+    -------
+    RecordingError or None
+        The error to raise; None when the recording is not cut short.
+
     """
     path = os.fspath(path)
     staging = staging_directory(path)

@@ -66,8 +66,11 @@ from ..exceptions import RecordingError
 
 __all__ = ['LATE', 'HOLE', 'GAP', 'BRIDGE_SAMPLES', 'BRIDGE_FRACTION', 'SMOOTH', 'stamp_order',
            'Pieces', 'split_pieces', 'motion_time_scale', 'uniform_grid', 'piece_on_grid',
-           'gap_summary']
+           'gap_summary', 'BRIDGE_MARGIN']
 
+#: samples this many derivative-filter time constants (1 / cut-off) around a bridged gap
+#: of the stamps are unreliable: identification and diagnosis leave them out
+BRIDGE_MARGIN = 2.0
 #: a late message may lag at most this many sample times behind the newest stamp
 LATE = 100
 #: a late message must fill a hole this many sample times wide (its neighbours' spacing)

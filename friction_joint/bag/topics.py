@@ -51,9 +51,12 @@ array lengths), so each layout is parsed once and all messages sharing it are
 decoded as columns of one numpy array (about 3 µs per message in total,
 dominated by reading the file).
 """
+from __future__ import annotations
+
 from dataclasses import dataclass, field
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from ..exceptions import RecordingError
 
@@ -84,8 +87,19 @@ class JointStates:
     """
     ``/joint_states`` of one joint.
 
-    Stamps ``t``, ``t_recv`` (s), ``q`` (rad), ``qd`` (rad/s), ``effort`` τ (N m);
-    ``skipped`` messages did not name the joint.
+    Attributes
+    ----------
+    t, t_recv : numpy.ndarray
+        Header and receive stamps (s).
+    q : numpy.ndarray
+        Position (rad).
+    qd : numpy.ndarray
+        Velocity (rad/s).
+    effort : numpy.ndarray
+        Drive torque τ (N m).
+    skipped : int
+        Messages that did not name the joint.
+
     """
 
     t: np.ndarray
@@ -104,7 +118,15 @@ class Temperature:
     """
     ``/joint_temperature``: housing temperature ``xi`` (°C).
 
-    Stamps ``t``, ``t_recv`` (s); sensor ``variance``.
+    Attributes
+    ----------
+    t, t_recv : numpy.ndarray
+        Header and receive stamps (s).
+    xi : numpy.ndarray
+        Housing temperature (°C).
+    variance : numpy.ndarray
+        The sensor's variance.
+
     """
 
     t: np.ndarray
@@ -118,7 +140,17 @@ class Temperature:
 
 @dataclass(frozen=True)
 class LinkTorque:
-    """``/link_torque``: stamps ``t``, ``t_recv`` (s), measured τ_ext ``tau`` (N m)."""
+    """
+    ``/link_torque``: the measured τ_ext.
+
+    Attributes
+    ----------
+    t, t_recv : numpy.ndarray
+        Header and receive stamps (s).
+    tau : numpy.ndarray
+        Measured τ_ext (N m).
+
+    """
 
     t: np.ndarray
     t_recv: np.ndarray
@@ -133,8 +165,18 @@ class JointCommand:
     """
     ``/joint_command``: commanded ``effort`` (N m), desired ``q_d``, ``qd_d``.
 
-    ``q_d`` and ``qd_d`` are NaN where the message has no reference; ``skipped``
-    messages did not name the joint.
+    Attributes
+    ----------
+    t, t_recv : numpy.ndarray
+        Header and receive stamps (s).
+    effort : numpy.ndarray
+        Commanded torque (N m).
+    q_d, qd_d : numpy.ndarray
+        Desired position (rad) and velocity (rad/s); NaN where the message has
+        no reference.
+    skipped : int
+        Messages that did not name the joint.
+
     """
 
     t: np.ndarray
@@ -153,7 +195,15 @@ class ExternalTorque:
     """
     ``/external_torque``: estimated τ̂_ext ``effort`` (N m).
 
-    ``skipped`` messages did not name the joint.
+    Attributes
+    ----------
+    t, t_recv : numpy.ndarray
+        Header and receive stamps (s).
+    effort : numpy.ndarray
+        Estimated τ̂_ext (N m).
+    skipped : int
+        Messages that did not name the joint.
+
     """
 
     t: np.ndarray
@@ -165,7 +215,7 @@ class ExternalTorque:
         return len(self.t)
 
 
-def zero_order_hold(t_src, x_src, t):
+def zero_order_hold(t_src: ArrayLike, x_src: ArrayLike, t: ArrayLike) -> np.ndarray:
     """
     Sample ``x_src(t_src)`` at ``t`` holding the last value (zero-order hold).
 
@@ -233,13 +283,13 @@ class Recording:
     path: str
     joint_name: str
     joint_states: JointStates
-    temperature: Temperature = None
-    link_torque: LinkTorque = None
-    joint_command: JointCommand = None
-    external_torque: ExternalTorque = None
-    topics: dict = field(default_factory=dict)
-    unordered: dict = field(default_factory=dict)
-    duplicates: dict = field(default_factory=dict)
+    temperature: Temperature | None = None
+    link_torque: LinkTorque | None = None
+    joint_command: JointCommand | None = None
+    external_torque: ExternalTorque | None = None
+    topics: dict[str, tuple[str, int]] = field(default_factory=dict)
+    unordered: dict[str, int] = field(default_factory=dict)
+    duplicates: dict[str, int] = field(default_factory=dict)
 
     @property
     def t0(self):
@@ -251,9 +301,19 @@ class Recording:
         """Joint-state time span (s)."""
         return float(self.joint_states.t[-1] - self.joint_states.t[0])
 
-    def temperature_at(self, t=None):
+    def temperature_at(self, t: ArrayLike | None = None) -> np.ndarray:
         """
-        Housing temperature ξ at ``t`` (default: the joint-state stamps), zero-order hold.
+        Return the housing temperature ξ at ``t``, zero-order hold.
+
+        Parameters
+        ----------
+        t : array_like, optional
+            Times (s); default the joint-state stamps.
+
+        Returns
+        -------
+        numpy.ndarray
+            Temperature (°C) at each time.
 
         Raises
         ------
@@ -267,15 +327,16 @@ class Recording:
         t = self.joint_states.t if t is None else t
         return zero_order_hold(self.temperature.t, self.temperature.xi, t)
 
-    def series(self):
-        """Topic -> data class of every topic present (the input :func:`write_recording` takes)."""
+    def series(self) -> dict[str, JointStates | Temperature | LinkTorque | JointCommand
+                             | ExternalTorque]:
+        """Return topic -> data class of every topic present (:func:`write_recording` takes it)."""
         pairs = (('/joint_states', self.joint_states), ('/joint_temperature', self.temperature),
                  ('/link_torque', self.link_torque), ('/joint_command', self.joint_command),
                  ('/external_torque', self.external_torque))
         return {k: v for k, v in pairs if v is not None}
 
-    def summary(self):
-        """Duration, counts, mean rates and largest gaps per topic, as a JSON-able dict."""
+    def summary(self) -> dict:
+        """Return duration, counts, mean rates and largest gaps per topic, as a JSON-able dict."""
         topics = {}
         for topic, data in self.series().items():
             entry = _span_stats(data.t)

@@ -83,7 +83,7 @@ def _unit(quantity, unit, where):
     return name
 
 
-def parse_column(quantity, text, where):
+def parse_column(quantity: str, text: str | int, where: str) -> tuple[int | str, str | None]:
     """
     Parse a column spec ``COL[:unit]`` of one quantity.
 

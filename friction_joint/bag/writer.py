@@ -26,6 +26,8 @@ with CRCs, data-section and summary CRCs: what rosbags' writer followed by
 :func:`~friction_joint.bag.checksums.seal_recording` gave, byte for byte), and
 ``metadata.yaml`` is written as rosbags writes it.
 """
+from __future__ import annotations
+
 from dataclasses import fields
 import io
 import os
@@ -308,7 +310,9 @@ def _bagfile_information(typestore, topics, name, custom_data):
     return info
 
 
-def write_recording(path, topics, joint_name=None, *, custom_data=None):
+def write_recording(path: str | os.PathLike, topics: Recording | dict, *,
+                    joint_name: str | None = None,
+                    custom_data: dict[str, str] | None = None) -> str:
     """
     Write a recording (rosbag2 directory, or a single ``.mcap`` file) from arrays.
 

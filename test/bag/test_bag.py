@@ -235,7 +235,7 @@ def test_temperature_on_joint_state_times(tmp_path):
     rec = read_recording(tmp_path / 'rec')
     np.testing.assert_array_equal(rec.temperature_at(),
                                   [20, 20, 20, 20, 20, 20, 21, 21, 21, 21, 22, 22])
-    assert rec.temperature_at([100.0]) == [22.0]
+    assert rec.temperature_at(t=[100.0]) == [22.0]
 
 
 # --------------------------------------------------------------------------- bad input
