@@ -189,3 +189,10 @@ def check_outputs(clone):
     with open(clone / 'tribometer_diagnosis' / 'report.json') as fh:
         report = json.load(fh)
     assert 'presliding' in report['named_causes'] and 'thermal' in report['untestable']
+    # the fleet monitor flags exactly the joints the simulated fleet made wear
+    with open(clone / 'fleet' / 'truth.json') as fh:
+        truth = {j: d['wear'] for j, d in json.load(fh)['joints'].items()}
+    with open(clone / 'fleet_report' / 'fleet.json') as fh:
+        flagged = {j: d['wear'] for j, d in json.load(fh)['joints'].items()}
+    assert flagged == truth and any(truth.values()), (flagged, truth)
+    assert (clone / 'fleet_report' / 'report.html').stat().st_size > 10000
