@@ -281,9 +281,9 @@ def test_diagnose_force_leaves_no_stale_figures(diag_recording, tmp_path):
     (out / 'report.json').write_text('{"named_causes": ["thermal"]}\n')
     assert diagnose(diag_recording, out, '--force') == 0
     assert json.loads((out / 'report.json').read_text())['named_causes'] == []
-    assert sorted(os.listdir(out)) == ['extended.yaml', 'gains.png', 'report.json',
-                                       'report.md', 'residual_scan.png', 'torque.png',
-                                       'velocity.png']
+    assert sorted(os.listdir(out)) == ['extended.yaml', 'gains.png', 'report.html',
+                                       'report.json', 'report.md', 'residual_scan.png',
+                                       'torque.png', 'velocity.png']
     assert stat.S_IMODE((out / 'report.json').stat().st_mode) == normal_mode()
     assert leftovers(tmp_path) == []
 
