@@ -104,9 +104,18 @@ HIDEABLE = tuple(name for name, e in REGISTRY.items() if e.hideable)
 UNREPRESENTABLE = {name: e.reason for name, e in REGISTRY.items() if not e.representable}
 
 
-def effect(name):
+def effect(name: str) -> Effect:
     """
     Return the :class:`Effect` called ``name``.
+
+    Parameters
+    ----------
+    name : str
+        A name of :data:`REGISTRY`.
+
+    Returns
+    -------
+    Effect
 
     Raises
     ------

@@ -33,9 +33,13 @@ misread, so before any byte is read:
 Errors are one line naming the file and the problem, raised as the caller's
 exception class (the caller knows what the file was for).
 """
+from __future__ import annotations
+
+from collections.abc import Iterator
 import contextlib
 import os
 import stat
+from typing import BinaryIO
 
 from .exceptions import InputFileError
 
@@ -99,7 +103,9 @@ def _check_stat(path, st, what, limit, error):
                     f'of {what} file')
 
 
-def check_input(path, *, kind='text', what=None, limit=None, error=InputFileError):
+def check_input(path: str | os.PathLike, *, kind: str = 'text', what: str | None = None,
+                limit: int | None = None,
+                error: type[Exception] = InputFileError) -> os.stat_result:
     """
     Check that ``path`` is a readable regular file within the size limit of its kind.
 
@@ -140,9 +146,19 @@ def check_input(path, *, kind='text', what=None, limit=None, error=InputFileErro
     return st
 
 
-def check_input_dir(path, *, what='a recording', error=InputFileError):
+def check_input_dir(path: str | os.PathLike, *, what: str = 'a recording',
+                    error: type[Exception] = InputFileError) -> os.stat_result:
     """
     Check that ``path`` is a directory that can be listed and entered.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The directory.
+    what : str
+        What the directory is, in errors.
+    error : type
+        Exception class raised (one line naming the directory).
 
     Returns
     -------
@@ -168,12 +184,21 @@ def check_input_dir(path, *, what='a recording', error=InputFileError):
 
 
 @contextlib.contextmanager
-def open_input(path, *, kind='text', what=None, limit=None, error=InputFileError):
+def open_input(path: str | os.PathLike, *, kind: str = 'text', what: str | None = None,
+               limit: int | None = None,
+               error: type[Exception] = InputFileError) -> Iterator[BinaryIO]:
     """
     Open an input file for binary reading after :func:`check_input`.
 
     The file is opened with ``O_NONBLOCK`` (a FIFO swapped in after the check does not
     block) and its descriptor checked again, then switched back to blocking reads.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The input file.
+    kind, what, limit, error
+        As for :func:`check_input`.
 
     Yields
     ------
@@ -205,9 +230,17 @@ def open_input(path, *, kind='text', what=None, limit=None, error=InputFileError
         yield fh
 
 
-def read_input(path, *, kind='text', what=None, limit=None, error=InputFileError):
+def read_input(path: str | os.PathLike, *, kind: str = 'text', what: str | None = None,
+               limit: int | None = None, error: type[Exception] = InputFileError) -> bytes:
     """
     Read a whole input file (at most its kind's limit) after :func:`check_input`.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The input file.
+    kind, what, limit, error
+        As for :func:`check_input`.
 
     Returns
     -------

@@ -43,102 +43,25 @@ output is missing.  Files are written with mode
 ``error`` exceptions (default :class:`~friction_joint.exceptions.OutputError`)
 naming the path.
 """
+from __future__ import annotations
+
+from collections.abc import Iterable, Sequence
 import contextlib
 import dataclasses
-import io
-import json
-import math
 import os
 import re
 import stat
 import tempfile
 
-import numpy as np
-
 from ._staging import owner_record, remove_path, signals_held, stale_stage
 from .exceptions import OutputError
+from .results import ExperimentResult, json_bytes, json_clean, render_png, result_files
 
 __all__ = ['json_clean', 'json_bytes', 'render_png', 'ExperimentResult', 'result_files',
            'OutputSet', 'publish_outputs']
 
 _FILE = 'file'
 _DIRECTORY = 'directory'
-
-
-@dataclasses.dataclass
-class ExperimentResult:
-    """
-    Numbers and figures of one experiment run.
-
-    Attributes
-    ----------
-    summary : dict
-        Plain numbers (written as JSON).
-    figures : dict
-        File name -> ``(draw(fig), (width, height))``: the figures drawn from
-        the run, rendered by :func:`result_files` (or :func:`render_png`).
-
-    """
-
-    summary: dict
-    figures: dict = dataclasses.field(default_factory=dict)
-
-    def to_dict(self):
-        """Return the summary as plain JSON types."""
-        return json_clean(self.summary)
-
-
-def json_clean(obj):
-    """Plain JSON types; non-finite floats become null."""
-    if isinstance(obj, dict):
-        return {str(k): json_clean(v) for k, v in obj.items()}
-    if isinstance(obj, (list, tuple, np.ndarray)):
-        return [json_clean(v) for v in obj]
-    if isinstance(obj, (float, np.floating)):
-        return float(obj) if math.isfinite(obj) else None
-    if isinstance(obj, (np.integer, np.bool_)):
-        return obj.item()
-    return obj
-
-
-def json_bytes(obj):
-    """``obj`` as indented JSON (UTF-8 bytes)."""
-    return (json.dumps(json_clean(obj), indent=2, allow_nan=False) + '\n').encode('utf-8')
-
-
-def render_png(draw, size, dpi=100):
-    """Render ``draw(fig)`` on a new Agg figure of ``size`` inches; returns PNG bytes."""
-    from matplotlib.backends.backend_agg import FigureCanvasAgg
-    from matplotlib.figure import Figure
-    fig = Figure(figsize=size)
-    FigureCanvasAgg(fig)
-    draw(fig)
-    fig.tight_layout()
-    buf = io.BytesIO()
-    fig.savefig(buf, format='png', dpi=dpi)
-    return buf.getvalue()
-
-
-def result_files(result, json_name='summary.json'):
-    """
-    Render the figures of ``result`` and its JSON summary: ``[(file name, bytes), ...]``.
-
-    Parameters
-    ----------
-    result : ExperimentResult
-        Or anything with ``summary`` and ``figures``.
-    json_name : str
-        Name of the JSON file, which comes last.
-
-    Returns
-    -------
-    list of tuple
-        ``(name, PNG bytes)`` per figure, then ``(json_name, JSON bytes)``.
-
-    """
-    files = [(name, render_png(draw, size)) for name, (draw, size) in result.figures.items()]
-    files.append((json_name, json_bytes(result.summary)))
-    return files
 
 
 @dataclasses.dataclass
@@ -246,7 +169,9 @@ class OutputSet:
 
     """
 
-    def __init__(self, *, force=False, inputs=(), error=OutputError):
+    def __init__(self, *, force: bool = False,
+                 inputs: Iterable[str | os.PathLike | tuple[str, str | os.PathLike | None]] = (),
+                 error: type[Exception] = OutputError) -> None:
         self.force = bool(force)
         self.error = error
         self.inputs = []
@@ -269,12 +194,40 @@ class OutputSet:
 
     # ---------------------------------------------------------------- declare ---
 
-    def add_file(self, path, *, label='--out'):
-        """Declare a file output; returns its absolute path."""
+    def add_file(self, path: str | os.PathLike, *, label: str = '--out') -> str:
+        """
+        Declare a file output; returns its absolute path.
+
+        Parameters
+        ----------
+        path : str or os.PathLike
+            The output.
+        label : str
+            Its option in error messages.
+
+        Returns
+        -------
+        str
+
+        """
         return self._add(path, _FILE, label)
 
-    def add_directory(self, path, *, label='--out'):
-        """Declare a directory output (replaced as a whole); returns its absolute path."""
+    def add_directory(self, path: str | os.PathLike, *, label: str = '--out') -> str:
+        """
+        Declare a directory output (replaced as a whole); returns its absolute path.
+
+        Parameters
+        ----------
+        path : str or os.PathLike
+            The output.
+        label : str
+            Its option in error messages.
+
+        Returns
+        -------
+        str
+
+        """
         return self._add(path, _DIRECTORY, label)
 
     def _add(self, path, kind, label):
@@ -299,7 +252,7 @@ class OutputSet:
                 return t
         raise self.error(f'{path} is not a declared output')
 
-    def check(self):
+    def check(self) -> None:
         """
         Check every declared output; raise ``error`` naming the problem.
 
@@ -393,17 +346,39 @@ class OutputSet:
                             owner_record(os.getpid()).encode('utf-8'), target.path)
         return target
 
-    def staging_path(self, path):
+    def staging_path(self, path: str | os.PathLike) -> str:
         """
         Return where to build output ``path``: a path in its staging directory, not yet existing.
 
         For commands that produce an output on disk themselves (a recording, a
         whole result tree); :meth:`publish` moves it into place.
+
+        Parameters
+        ----------
+        path : str or os.PathLike
+            A declared output.
+
+        Returns
+        -------
+        str
+
         """
         return self._stage(self._target(path)).staged
 
-    def final_path(self, path):
-        """Return where ``path`` (inside a staged output) will be once published; else ``path``."""
+    def final_path(self, path: str | os.PathLike) -> str:
+        """
+        Return where ``path`` (inside a staged output) will be once published; else ``path``.
+
+        Parameters
+        ----------
+        path : str or os.PathLike
+            A path.
+
+        Returns
+        -------
+        str
+
+        """
         full = os.path.abspath(os.fspath(path))
         for t in self._targets:
             if t.stage is not None and (full == t.staged or full.startswith(t.staged + os.sep)):
@@ -418,15 +393,35 @@ class OutputSet:
         except OSError as exc:
             raise self.error(f'cannot write {shown}: {_why(exc)}') from None
 
-    def write_file(self, path, data):
-        """Stage the content (bytes or str) of file output ``path``."""
+    def write_file(self, path: str | os.PathLike, data: bytes | str) -> None:
+        """
+        Stage the content of file output ``path``.
+
+        Parameters
+        ----------
+        path : str or os.PathLike
+            A declared file output.
+        data : bytes or str
+            The content (str: written as UTF-8).
+
+        """
         t = self._stage(self._target(path))
         if t.kind != _FILE:
             raise self.error(f'{t.named()} is a directory output, not a file')
         self._write(t.staged, data.encode('utf-8') if isinstance(data, str) else data, t.path)
 
-    def write_directory(self, path, files):
-        """Stage directory output ``path`` with ``[(file name, bytes), ...]``."""
+    def write_directory(self, path: str | os.PathLike, files: Iterable[tuple[str, bytes]]) -> None:
+        """
+        Stage directory output ``path`` with its files.
+
+        Parameters
+        ----------
+        path : str or os.PathLike
+            A declared directory output.
+        files : iterable of tuple
+            ``(file name, bytes)`` pairs.
+
+        """
         t = self._stage(self._target(path))
         if t.kind != _DIRECTORY:
             raise self.error(f'{t.named()} is a file output, not a directory')
@@ -443,7 +438,7 @@ class OutputSet:
 
     # ---------------------------------------------------------------- publish ---
 
-    def publish(self):
+    def publish(self) -> list[str]:
         """
         Move every staged output into place (old ones replaced), all or nothing.
 
@@ -496,7 +491,7 @@ class OutputSet:
                 kept.append(t.old or t.abspath)
         return kept
 
-    def discard(self):
+    def discard(self) -> None:
         """Remove the staging directories (old outputs replaced by publishing with them)."""
         with signals_held():
             for t in self._targets:
@@ -509,7 +504,11 @@ class OutputSet:
             self._made = []
 
 
-def publish_outputs(targets, *, force=False, inputs=(), error=OutputError):
+def publish_outputs(targets: Sequence[tuple[str | os.PathLike, bytes | str | list]], *,
+                    force: bool = False,
+                    inputs: Iterable[str | os.PathLike
+                                     | tuple[str, str | os.PathLike | None]] = (),
+                    error: type[Exception] = OutputError) -> list[str]:
     """
     Write a set of outputs together or not at all (see :class:`OutputSet`).
 

@@ -34,6 +34,7 @@ UPPER_CASE constant has one home: one module assigns it, the others import it.
 """
 import ast
 import dataclasses
+import functools
 import importlib
 import inspect
 import re
@@ -85,13 +86,16 @@ PENDING_CALLERS = {
     ('friction_joint.control.DisturbanceObserver.__init__', 'dt'):
         'ros/nodes/estimator.py, test/ros/test_nodes.py, test/ros/test_node_inputs.py',
     ('friction_joint.testbed.Plant.step', 'tau_contact'): 'ros/nodes/joint_sim.py',
+    ('friction_joint.bag.Recording.temperature_at', 't'): 'test/ros/test_record_replay.py',
+    ('friction_joint.bag.iter_messages', 'topics'): 'ros/replay.py',
     ('friction_joint.control.DisturbanceObserver.__init__', 'friction'):
         'ros/nodes/estimator.py, test/ros/test_nodes.py, test/ros/test_node_inputs.py',
 }
 #: numpydoc codes checked: no docstring, summary line, the Parameters section
 NUMPYDOC_CODES = ('GL08', 'SS01', 'SS02', 'SS03', 'SS05', 'PR01', 'PR02', 'PR03')
-#: the names of the cli subcommand protocol, one per subcommand module by design
-PROTOCOL_CONSTANTS = ('NAME', 'HELP', 'DESCRIPTION')
+#: names every module of a protocol defines for itself: the cli subcommands' NAME, HELP and
+#: DESCRIPTION, and the parameter tables of a node that ros/nodes/usage.py reads
+PROTOCOL_CONSTANTS = ('NAME', 'HELP', 'DESCRIPTION', 'DEFAULTS', 'VALIDATORS', 'DESCRIPTORS')
 
 
 def _generated(func):
@@ -206,10 +210,18 @@ def test_numpydoc(name):
     assert not errors, f'{name}:\n' + '\n'.join(errors)
 
 
-def _trees():
+@functools.lru_cache(maxsize=1)
+def _parsed():
+    out = []
     for module, path in package_modules():
         with open(path, encoding='utf-8') as fh:
-            yield module, ast.parse(fh.read(), filename=path)
+            out.append((module, ast.parse(fh.read(), filename=path)))
+    return out
+
+
+def _trees():
+    """Yield ``(module, syntax tree)`` of every module of the package, parsed once."""
+    yield from _parsed()
 
 
 def _is_base(node):

@@ -17,7 +17,8 @@ Diagnosis: what a friction model gets wrong on measured data, and the extension 
 
 * :mod:`~friction_joint.diagnosis.data`: recordings -> measured friction torque on bins;
 * :mod:`~friction_joint.diagnosis.structures`: candidate model structures, linear
-  least squares with grids over their nonlinear parameters, block cross-validation;
+  least squares with grids over their nonlinear parameters;
+  :mod:`~friction_joint.diagnosis.crossval`: their block cross-validation;
 * :mod:`~friction_joint.diagnosis.testability`: which candidates the data can tell
   (:func:`untestable`: a one-line reason per untestable effect);
 * :mod:`~friction_joint.diagnosis.refine`: bounded continuous refinement of the
@@ -38,13 +39,14 @@ Diagnosis: what a friction model gets wrong on measured data, and the extension 
 * :mod:`~friction_joint.diagnosis.report`: figures, ``report.md`` and the files
   of the ``diagnose`` command (:func:`run_diagnose`).
 """
+from .crossval import cross_validate_structures
 from .data import DiagnosisData, load_data
 from .gears import extended_model
 from .pipeline import (ALPHA, base_structure, diagnose, Diagnosis, EFFECTS, extend, MIN_GAIN,
                        UNREPRESENTABLE)
 from .report import run_diagnose
 from .scan import residual_scan
-from .structures import CandidateStructure, cross_validate_structures
+from .structures import CandidateStructure
 from .testability import untestable
 
 __all__ = ['EFFECTS', 'ALPHA', 'MIN_GAIN', 'Diagnosis', 'diagnose', 'base_structure', 'extend',

@@ -131,7 +131,7 @@ def compare(cur, cand):
     """
     Return the paired one-sided test of a candidate's per-block held-out MSE (a dict).
 
-    ``cur`` and ``cand`` are :class:`~friction_joint.diagnosis.structures.CVResult`
+    ``cur`` and ``cand`` are :class:`~friction_joint.diagnosis.crossval.CVResult`
     of the current model and the candidate on the same blocks.
     """
     d = np.log(cur.mse / np.maximum(cand.mse, 1e-300))

@@ -108,16 +108,25 @@ Cross-validation blocks
 The used bins are split into :data:`N_BLOCKS` contiguous time blocks of
 equal size (over all recordings, in the order given).
 """
+from __future__ import annotations
+
+from collections.abc import Callable, Sequence
 import dataclasses
 import math
+import os
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from .criterion import reblock
 from .._filters import zero_phase_derivatives
 from ..bag import read_recording
-from ..bag.stamps import gap_summary, piece_on_grid, split_pieces, uniform_grid
+from ..bag.stamps import BRIDGE_MARGIN, gap_summary, piece_on_grid, split_pieces, uniform_grid
 from ..exceptions import ExcitationError, PreslidingDataError, RecordingError
+
+if TYPE_CHECKING:
+    from ..bag import Recording
+    from ..gear import GearParams
 
 __all__ = ['BIN', 'V_STICK_FRACTION', 'V_NOISE', 'STICK_MARGIN', 'STILL_WINDOW', 'MIN_STILL',
            'N_BLOCKS', 'DiagnosisData', 'load_data', 'derivative_noise_gain']
@@ -147,8 +156,6 @@ N_BLOCKS = 10
 MIN_PIECE = 1.0
 #: samples this close (s) to the start or end of a piece are not used (filter edge effects)
 EDGE = 0.1
-#: samples this many derivative-filter time constants (1 / cutoff) around a bridged gap: unused
-BRIDGE_MARGIN = 2.0
 
 
 @dataclasses.dataclass
@@ -156,25 +163,43 @@ class DiagnosisData:
     """
     Full-rate samples and bin averages of one or more recordings.
 
-    Full-rate arrays (all pieces concatenated): ``t``, ``q`` (encoder), ``qf``
-    (zero-phase filtered position), ``qd``, ``qdd``, ``effort``, ``tau_ext``,
-    ``xi``, ``tl`` (= |tau_ext|), ``piece`` (piece index), ``dt`` (per sample),
-    ``bin_of`` (bin index of each sample, -1 if unused), ``block_of`` (CV block
-    of each sample, by time), ``bridged`` (sample in or next to a bridged gap of the
-    stamps: interpolated, never in a bin).
+    Attributes
+    ----------
+    t, q, qf, qd, qdd, effort, tau_ext, xi, tl : ndarray
+        Full-rate arrays (all pieces concatenated): time, position (encoder), zero-phase
+        filtered position, velocity, acceleration, drive torque, external torque,
+        temperature, load (= |tau_ext|).
+    piece, dt, bin_of, block_of : ndarray
+        Per sample: piece index, step, bin index (-1 if unused), CV block (by time).
+    y, count, t_bin, block : ndarray
+        Bin arrays (used bins only): mean friction torque with the base inertia, samples,
+        mean time, CV block.
+    n_blocks : int
+        Number of CV blocks.
+    inertia, mgl_sim : float
+        The base gear's inertia and the lever's m g l the torque was corrected with.
+    link_torque : bool
+        tau_ext is measured (``/link_torque``), not the lever model.
+    recordings : list of Recording
+        The recordings read.
+    has_temperature : bool
+        Every recording has ``/joint_temperature``.
+    v_stick, resolution, friction_level, stroke : float
+        Scales (module docstring): rad/s, rad, Nm, rad.
+    bridged : ndarray of bool or None
+        Sample in or next to a bridged gap of the stamps (interpolated, never in a bin).
+    gaps : dict or None
+        The gaps of the stamps (:func:`friction_joint.bag.stamps.gap_summary`: bridged,
+        longest bridged, split).
+    velocity_noise, quantisation_noise, standstill_noise : float
+        Velocity noise (rad/s, standard deviations): the larger of the encoder step
+        through the derivative filter and the noise where the joint stands still (0
+        when it never does).
+    standstill_fraction : float
+        Fraction of the samples at standstill.
+    cutoff : float
+        The derivative filter's cut-off (Hz, the highest over the pieces).
 
-    Bin arrays (used bins only): ``y`` (mean friction torque with the base
-    inertia), ``count``, ``t_bin``, ``block``.
-
-    Scales (module docstring): ``v_stick`` (rad/s), ``resolution`` (rad),
-    ``friction_level`` (Nm), ``stroke`` (rad), the velocity noise (rad/s, standard
-    deviations) ``velocity_noise`` (the larger of ``quantisation_noise``, the
-    encoder step through the derivative filter, and ``standstill_noise``, measured
-    where the joint stands still, 0 when it never does), ``standstill_fraction`` (of
-    the samples), ``cutoff`` (Hz, the derivative filter's, the highest over the pieces);
-    ``has_temperature``: every
-    recording has ``/joint_temperature``.  ``gaps``: the gaps of the stamps
-    (:func:`friction_joint.bag.stamps.gap_summary`: bridged, longest bridged, split).
     """
 
     t: np.ndarray
@@ -198,14 +223,14 @@ class DiagnosisData:
     inertia: float
     mgl_sim: float
     link_torque: bool
-    recordings: list
+    recordings: list[Recording]
     has_temperature: bool = True
     v_stick: float = 2e-3
     resolution: float = 0.0
     friction_level: float = 1.0
     stroke: float = 0.0
-    bridged: np.ndarray = None
-    gaps: dict = None
+    bridged: np.ndarray | None = None
+    gaps: dict | None = None
     velocity_noise: float = 0.0
     quantisation_noise: float = 0.0
     standstill_noise: float = 0.0
@@ -216,8 +241,20 @@ class DiagnosisData:
     def n_bins(self):
         return len(self.y)
 
-    def average(self, f):
-        """Bin averages (used bins) of a full-rate array."""
+    def average(self, f: np.ndarray) -> np.ndarray:
+        """
+        Return the bin averages (used bins) of a full-rate array.
+
+        Parameters
+        ----------
+        f : ndarray
+            A full-rate array.
+
+        Returns
+        -------
+        ndarray
+
+        """
         sel = self.bin_of >= 0
         return np.bincount(self.bin_of[sel], weights=f[sel], minlength=self.n_bins) / self.count
 
@@ -231,7 +268,9 @@ def _pieces(t, qd, path):
             if b - a >= 2 and t[b - 1] - t[a] >= MIN_PIECE], cut
 
 
-def load_data(paths, gear, joint_name=None, n_blocks=N_BLOCKS, progress=None):
+def load_data(paths: Sequence[str | os.PathLike], gear: GearParams, *,
+              joint_name: str | None = None, n_blocks: int = N_BLOCKS,
+              progress: Callable[[str], None] | None = None) -> DiagnosisData:
     """
     Read recordings into :class:`DiagnosisData`.
 
@@ -248,6 +287,10 @@ def load_data(paths, gear, joint_name=None, n_blocks=N_BLOCKS, progress=None):
         Number of contiguous cross-validation blocks (default :data:`N_BLOCKS`).
     progress : callable, optional
         Progress callback (currently not called).
+
+    Returns
+    -------
+    DiagnosisData
 
     Raises
     ------
@@ -299,7 +342,7 @@ def load_data(paths, gear, joint_name=None, n_blocks=N_BLOCKS, progress=None):
             te = np.interp(t, rec.link_torque.t, rec.link_torque.tau)
         else:
             te = gear.lever_torque(q)
-        xi = (rec.temperature_at(t) if _temperature(rec) is not None
+        xi = (rec.temperature_at(t=t) if _temperature(rec) is not None
               else np.full(len(t), xi_none))
         for k, v in (('t', t), ('q', q), ('qf', qf), ('qd', qd), ('qdd', qdd),
                      ('effort', effort), ('tau_ext', te), ('xi', xi),

@@ -23,15 +23,22 @@ range the data cover (:func:`~friction_joint.diagnosis.structures.fit_range`);
 structure that fits physically, so an extension that cannot be fitted
 physically is reported as such and never aborts the report.
 """
+from __future__ import annotations
+
 import dataclasses
+from typing import TYPE_CHECKING
 import warnings
 
 import numpy as np
 
 from . import structures as dm
+from .crossval import fit_all
 from .gravity import corrected_lever
 from ..exceptions import GearConfigError, GearConfigWarning
 from ..gear import gear_from_dict, GMSParams, LuGreParams, passivity_bound, RippleParams
+
+if TYPE_CHECKING:
+    from ..gear import GearParams
 
 __all__ = ['sim_gear', 'extended_gear', 'extended_model', 'PASSIVITY_MARGIN']
 
@@ -146,7 +153,8 @@ def _validated(base, changes, quiet=False):
         return gear_from_dict(data_d, source='extended model', given=new.given)
 
 
-def extended_model(base, structures, ctx, y):
+def extended_model(base: GearParams, structures: list[dm.CandidateStructure], ctx: dm.Context,
+                   y: np.ndarray) -> dict:
     """
     Fit the last physical structure of a greedy sequence on all data; never raises.
 
@@ -173,7 +181,7 @@ def extended_model(base, structures, ctx, y):
     """
     reason = None
     for j in range(len(structures) - 1, -1, -1):
-        s, beta, names, _ = dm.fit_all([structures[j]], ctx, y)
+        s, beta, names, _ = fit_all([structures[j]], ctx, y)
         coef = dm.coefficients(s, beta, names, ctx)
         try:
             gear = extended_gear(base, s, coef, ctx)
@@ -181,6 +189,6 @@ def extended_model(base, structures, ctx, y):
             reason = reason or f'no physical fit on all data: {exc}'
             continue
         return {'gear': gear, 'structure': s, 'coef': coef, 'kept': j, 'reason': reason}
-    s, beta, names, _ = dm.fit_all([structures[0]], ctx, y)
+    s, beta, names, _ = fit_all([structures[0]], ctx, y)
     return {'gear': base, 'structure': structures[0],
             'coef': dm.coefficients(s, beta, names, ctx), 'kept': -1, 'reason': reason}

@@ -95,13 +95,19 @@ held-out RMSE, per-round tables, timing), ``extended.yaml`` (a gear file of
 the final model fitted on all data, loadable by every node), ``report.md``
 and figures; all written atomically (:mod:`friction_joint.output`).
 """
+from __future__ import annotations
+
+from collections.abc import Callable, Sequence
 import dataclasses
+import os
 import time
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from . import criterion as cr
 from . import structures as dm
+from .crossval import cross_validate_structures, fit_all
 from .data import load_data
 from .gears import extended_model
 from .gravity import gravity_untestable, linear_device
@@ -111,6 +117,11 @@ from .velocity import fold_gears, simulate_windows, WINDOW
 from ..effects import effect as _effect, EFFECTS, UNREPRESENTABLE
 from ..exceptions import ExcitationError, GearConfigError
 from ..output import json_clean
+
+if TYPE_CHECKING:
+    from .crossval import CVResult
+    from .data import DiagnosisData
+    from ..gear import GearParams
 
 __all__ = ['EFFECTS', 'UNREPRESENTABLE', 'ALPHA', 'MIN_GAIN', 'MIN_EXPLAINED', 'WINDOW',
            'Diagnosis', 'diagnose', 'base_structure', 'extend']
@@ -127,8 +138,20 @@ POSITION_BANDS = 4
 MAX_ROUNDS = 8
 
 
-def base_structure(gear):
-    """Return a gear file's :class:`~friction_joint.diagnosis.structures.CandidateStructure`."""
+def base_structure(gear: GearParams) -> dm.CandidateStructure:
+    """
+    Return a gear file's :class:`~friction_joint.diagnosis.structures.CandidateStructure`.
+
+    Parameters
+    ----------
+    gear : GearParams
+        The gear.
+
+    Returns
+    -------
+    CandidateStructure
+
+    """
     f = gear.friction
     s = dm.CandidateStructure(nfc=len(f.fc), nfv=len(f.fv), nfc_load=len(f.fc_load),
                               nfv_load=len(f.fv_load))
@@ -150,11 +173,23 @@ def base_structure(gear):
     return s
 
 
-def extend(s, effect):
+def extend(s: dm.CandidateStructure,
+           effect: str) -> tuple[dm.CandidateStructure, str | None] | None:
     """
     Return ``(structure, nonlinear parameter to grid)`` of ``s`` extended by ``effect``.
 
-    None if the structure has it already.
+    Parameters
+    ----------
+    s : CandidateStructure
+        The structure.
+    effect : str
+        A name of :data:`EFFECTS`.
+
+    Returns
+    -------
+    tuple or None
+        None if the structure has the effect already.
+
     """
     if effect == 'thermal':
         return s.with_(nfc=s.nfc + 1, nfv=s.nfv + 1, nfs=s.nfs + 1 if s.nfs else 0), None
@@ -207,32 +242,53 @@ def _g_nom(ctx, s, beta, names):
 def _refine(s, ctx, y):
     """Nonlinear parameters of ``s`` by grid on all data (one coordinate sweep)."""
     for p in _nl_params(s):
-        s, beta, names, _ = dm.fit_all(dm.grid_of(s, p, ctx), ctx, y)
-    s, beta, names, pred = dm.fit_all([s], ctx, y)
+        s, beta, names, _ = fit_all(dm.grid_of(s, p, ctx), ctx, y)
+    s, beta, names, pred = fit_all([s], ctx, y)
     return s, beta, names, pred
 
 
 @dataclasses.dataclass
 class Diagnosis:
-    """Everything a diagnosis found (see :func:`diagnose`)."""
+    """
+    Everything a diagnosis found (see :func:`diagnose`).
+
+    Attributes
+    ----------
+    report : dict
+        The ``report.json`` content.
+    gear, data : GearParams, DiagnosisData
+        The extended gear (the base when nothing was added) and the data.
+    base, ctx : CandidateStructure, Context
+        The base structure and the design context.
+    rounds : list of dict
+        The greedy rounds.
+    base_cv, final_cv : CVResult
+        Cross-validation of the base and the final structure.
+    velocity, scan : dict
+        Open-loop velocity of held-out windows; the residual scan
+        (:func:`~friction_joint.diagnosis.scan.residual_scan`, or None).
+
+    """
 
     report: dict
-    gear: object
-    data: object
-    base: object
-    ctx: object
-    rounds: list
-    base_cv: object
-    final_cv: object
+    gear: GearParams
+    data: DiagnosisData
+    base: dm.CandidateStructure
+    ctx: dm.Context
+    rounds: list[dict]
+    base_cv: CVResult
+    final_cv: CVResult
     velocity: dict
-    scan: dict = None
+    scan: dict | None = None
 
-    def to_dict(self):
+    def to_dict(self) -> dict:
         """Return the report (``report.json`` content, plain JSON types)."""
         return json_clean(self.report)
 
 
-def diagnose(paths, base, effects=EFFECTS, joint_name=None, progress=None):
+def diagnose(paths: Sequence[str | os.PathLike], base: GearParams, *,
+             effects: Sequence[str] = EFFECTS, joint_name: str | None = None,
+             progress: Callable[[str], None] | None = None) -> Diagnosis:
     """
     Diagnose ``base`` against recordings.
 
@@ -534,9 +590,9 @@ def _confound_entry(entry, pairs):
 
 
 def _refit(s, ctx, y):
-    _, beta, names, _ = dm.fit_all([s], ctx, y)
+    _, beta, names, _ = fit_all([s], ctx, y)
     return beta, names, ctx
 
 
 def _cv(s, param, ctx, y, block, k):
-    return dm.cross_validate_structures(dm.grid_of(s, param, ctx), ctx, y, block, k)
+    return cross_validate_structures(dm.grid_of(s, param, ctx), ctx, y, block, k)

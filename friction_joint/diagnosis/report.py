@@ -27,6 +27,9 @@ Figures (PNG bytes, rendered with :func:`friction_joint.output.render_png`):
 * ``residual_scan.png``: the open residual scan
   (:func:`~friction_joint.diagnosis.scan.draw_scan`).
 """
+from __future__ import annotations
+
+from collections.abc import Callable, Sequence
 import math
 import os
 import tempfile
@@ -397,8 +400,10 @@ def _html(md, figs):
         return markdown_to_html(md, base_dir=tmp, title='friction_joint diagnose report')
 
 
-def run_diagnose(paths, model_path, out, *, effects=EFFECTS, joint_name=None, progress=None,
-                 force=False):
+def run_diagnose(paths: Sequence[str | os.PathLike], model_path: str | os.PathLike,
+                 out: str | os.PathLike, *, effects: Sequence[str] = EFFECTS,
+                 joint_name: str | None = None, progress: Callable[[str], None] | None = None,
+                 force: bool = False) -> list[str]:
     """
     Diagnose and write the result directory ``out`` as a whole; returns the paths written.
 
@@ -407,6 +412,25 @@ def run_diagnose(paths, model_path, out, *, effects=EFFECTS, joint_name=None, pr
     remains), an ``out`` that is, contains or lies in an input always.  Everything
     is computed and rendered first, then ``out`` is built next to its place and
     renamed into it (:class:`~friction_joint.output.OutputSet`).
+
+    Parameters
+    ----------
+    paths : sequence of str or os.PathLike
+        Recordings.
+    model_path : str or os.PathLike
+        The base gear file.
+    out : str or os.PathLike
+        The result directory.
+    effects, joint_name, progress
+        As for :func:`~friction_joint.diagnosis.diagnose`.
+    force : bool
+        Replace an existing ``out``.
+
+    Returns
+    -------
+    list of str
+        The paths written.
+
     """
     start = time.perf_counter()
     inputs = [('--model', model_path)] + [('recording', p) for p in paths]

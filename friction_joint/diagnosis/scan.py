@@ -25,7 +25,7 @@ named effects) per 10 ms bin, against:
   twice the median travel of a bin (shorter periods are averaged out within
   a bin) to the stroke: the strongest period is reported;
 * ``velocity`` and ``acceleration`` (signed);
-* ``temperature_rate``: d xi / dt (smoothed over :data:`RATE_WINDOW` s);
+* ``temperature_rate``: d xi / dt (smoothed over :data:`TEMPERATURE_RATE_WINDOW` s);
 * ``dwell``: the time the joint stood still before the breakaway, for the
   first :data:`BREAKAWAY_BINS` bins after every breakaway (the residual
   times sign(qd) there).
@@ -70,12 +70,15 @@ velocity'``, its members in ``group``), tested once: by the fit on position
 (the richest: any period) when position is in the group and testable, else
 by the first testable member's.
 """
+from __future__ import annotations
+
 import numpy as np
 
-from .data import BIN
+from .data import BIN, DiagnosisData
 
 __all__ = ['N_PERM', 'N_QUANT', 'SCAN_ALPHA', 'SCAN_MIN_EXPLAINED', 'BREAKAWAY_BINS',
-           'RATE_WINDOW', 'BUFFER', 'CORR_FLOOR', 'MIN_UNITS', 'MIN_COVERAGE', 'COLLINEAR',
+           'TEMPERATURE_RATE_WINDOW', 'BUFFER', 'CORR_FLOOR', 'MIN_UNITS', 'MIN_COVERAGE',
+           'COLLINEAR',
            'residual_scan', 'draw_scan', 'scan_png', 'markdown_lines', 'position_periodogram']
 
 #: random block orders of the permutation test
@@ -100,7 +103,7 @@ COLLINEAR = 0.95
 #: bins after a breakaway whose residual is scanned against the dwell time
 BREAKAWAY_BINS = 5
 #: window (s) of the temperature-rate smoothing
-RATE_WINDOW = 10.0
+TEMPERATURE_RATE_WINDOW = 10.0
 #: fewest bins a variable needs to be scanned
 MIN_BINS = 50
 #: zero padding of the position periodogram
@@ -372,7 +375,7 @@ def _temperature_rate(data):
     for p in np.unique(data.piece):
         m = np.flatnonzero(data.piece == p)
         dt = data.dt[m[0]]
-        n = max(1, int(round(RATE_WINDOW / dt)))
+        n = max(1, int(round(TEMPERATURE_RATE_WINDOW / dt)))
         xi = data.xi[m]
         c = np.cumsum(np.r_[0.0, xi])
         lo = np.clip(np.arange(len(m)) - n // 2, 0, len(m))
@@ -407,7 +410,7 @@ def _dwell(data):
     return dw, sel
 
 
-def residual_scan(data, r):
+def residual_scan(data: DiagnosisData, r: np.ndarray) -> dict:
     """
     Scan the residual ``r`` (per bin) against the variables of the module docstring.
 
@@ -470,10 +473,10 @@ def residual_scan(data, r):
 #: scatter points per panel of the figure at most (evenly spaced in time)
 MAX_POINTS = 1500
 #: axis labels of the scanned variables
-LABELS = {'time': 'sliding time (s)', 'position': 'cycles per rad (1 / period)',
-          'velocity': 'velocity qd (rad/s)', 'acceleration': 'acceleration qdd (rad/s^2)',
-          'temperature_rate': 'temperature rate d xi/dt (degC/s)',
-          'dwell': 'dwell time before the breakaway (s)'}
+_LABELS = {'time': 'sliding time (s)', 'position': 'cycles per rad (1 / period)',
+           'velocity': 'velocity qd (rad/s)', 'acceleration': 'acceleration qdd (rad/s^2)',
+           'temperature_rate': 'temperature rate d xi/dt (degC/s)',
+           'dwell': 'dwell time before the breakaway (s)'}
 
 
 def _binned_means(x, r):
@@ -522,14 +525,14 @@ def draw_scan(fig, scan):
             a.set_title(name, fontsize=9)
             continue
         if 'periods' in pdata:
-            a.set_xlabel(LABELS['position'], fontsize=8)
+            a.set_xlabel(_LABELS['position'], fontsize=8)
             a.plot(1.0 / pdata['periods'], pdata['power'] / max(pdata['power'].max(), 1e-300),
                    '-', color='C0', lw=0.8)
             a.axvline(1.0 / pdata['period'], color='C3', ls=':', lw=1)
             a.set_ylabel('periodogram of the residual (of its peak)', fontsize=8)
         else:
             first = entry.get('group', [name])[0]
-            a.set_xlabel(LABELS.get(first, first), fontsize=8)
+            a.set_xlabel(_LABELS.get(first, first), fontsize=8)
             pick = np.unique(np.linspace(0, len(pdata['x']) - 1, MAX_POINTS).astype(int))
             a.plot(pdata['x'][pick], pdata['r'][pick], '.', ms=1.0, color='0.6')
             xm, rm = _binned_means(pdata['x'], pdata['r'])

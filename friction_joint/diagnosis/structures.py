@@ -62,18 +62,19 @@ range.  The unconstrained solution is kept when it satisfies this; otherwise
 the quadratic problem is solved with the inequalities (SLSQP).  v_s > 0 and
 delta_v in [0.3, 1.7] hold by their grids and the refinement's bounds.
 """
+from __future__ import annotations
+
 import dataclasses
 import math
 
 import numpy as np
 
-from .refine import Refiner
 from .ripple import ripple_cycles
 from .._jit import njit
 
-__all__ = ['CandidateStructure', 'design', 'column_groups', 'solve', 'solve_physical', 'CVResult',
-           'cross_validate_structures', 'fit_all', 'grid_of', 'coefficients', 'presliding_state',
-           'fit_range', 'drift_basis', 'DRIFT_ORDER', 'accumulated_travel', 'ripple_cycles']
+__all__ = ['CandidateStructure', 'design', 'column_groups', 'solve', 'solve_physical', 'grid_of',
+           'coefficients', 'presliding_state', 'fit_range', 'drift_basis', 'DRIFT_ORDER',
+           'accumulated_travel', 'ripple_cycles', 'constraints', 'Context']
 
 #: floats the context's cache of design column groups holds at most
 CACHE_FLOATS = 10_000_000
@@ -98,7 +99,31 @@ GMS_RATIOS = np.array([0.6, 0.25, 0.1, 0.05])
 
 @dataclasses.dataclass(frozen=True)
 class CandidateStructure:
-    """A model structure: polynomial lengths, flags and nonlinear parameter values."""
+    """
+    A model structure: polynomial lengths, flags and nonlinear parameter values.
+
+    Attributes
+    ----------
+    nfc, nfv, nfs : int
+        Lengths of the temperature polynomials of F_c, F_v, F_s (``nfs`` 0: no Stribeck).
+    nfc_load, nfv_load, nfs_load : int
+        Lengths of their load polynomials.
+    dv_free : bool
+        The viscous exponent delta_v is fitted (else 1).
+    ripple : int
+        Position-ripple harmonics.
+    offset, inertia, presliding : bool
+        Direction offset, an inertia error and pre-sliding (LuGre or GMS) are modelled.
+    drift : int
+        Order of the drift over accumulated travel.
+    gravity : bool
+        A lever gravity error is modelled.
+    vs, dv, cyc : float
+        Nonlinear parameters: v_s (rad/s), delta_v, ripple cycles per turn.
+    ps : tuple
+        Pre-sliding ``(model, stiffness)``.
+
+    """
 
     nfc: int = 1
     nfv: int = 1
@@ -117,9 +142,22 @@ class CandidateStructure:
     vs: float = 0.05
     dv: float = 1.0
     cyc: float = 160.0
-    ps: tuple = ('lugre', 2e4)
+    ps: tuple[str, float] = ('lugre', 2e4)
 
-    def with_(self, **kw):
+    def with_(self, **kw: float | bool | tuple) -> CandidateStructure:
+        """
+        Return a copy with some fields changed.
+
+        Parameters
+        ----------
+        **kw : float, bool or tuple
+            Field name -> new value.
+
+        Returns
+        -------
+        CandidateStructure
+
+        """
         return dataclasses.replace(self, **kw)
 
 
@@ -450,83 +488,6 @@ def solve_physical(g, b, a):
                                           'jac': lambda z: a_s}],
                             options={'maxiter': 200, 'ftol': 1e-12})
     return res.x / sc
-
-
-@dataclasses.dataclass
-class CVResult:
-    """Held-out errors of one structure over K blocks."""
-
-    sse: np.ndarray          # held-out SSE per block
-    n: np.ndarray            # bins per block
-    structures: list         # structure chosen per fold
-    pred: np.ndarray         # held-out prediction per bin
-    betas: list              # coefficients per fold
-    names: list              # column names per fold
-
-    @property
-    def mse(self):
-        return self.sse / self.n
-
-    @property
-    def rmse(self):
-        return float(np.sqrt(self.sse.sum() / self.n.sum()))
-
-
-def _penalty(s, ctx):
-    """
-    Training-error factor that makes the grid prefer simpler explanations.
-
-    A ripple at N cycles per turn (whose 2nd harmonic is the 2 N tooth-engagement ripple)
-    must fit 2 % better than one at 2 N.
-    """
-    return 1.02 if s.ripple and abs(s.cyc - 2.0 * ctx.gear_ratio) > 1e-9 else 1.0
-
-
-def _refiner(ctx, y, block, k):
-    return Refiner(ctx, y, block, k, {'design': design, 'solve': solve_physical,
-                                      'constraints': constraints, 'penalty': _penalty})
-
-
-def cross_validate_structures(structures, ctx, y, block, k):
-    """
-    K-fold contiguous-block CV of a grid of structures, refined per fold.
-
-    Per fold the grid point with the least training error wins and the
-    gridded parameter is refined continuously on the training blocks
-    (:class:`~friction_joint.diagnosis.refine.Refiner`); the held-out block
-    never takes part in the choice.  A single structure (no grid) keeps its
-    nonlinear parameters (fitted on all data by :func:`fit_all`).
-    """
-    ref = _refiner(ctx, y, block, k)
-    one = len(structures) == 1             # the parameters of a structure are fitted already
-    sse = np.zeros(k)
-    n = np.bincount(block, minlength=k).astype(float)
-    chosen, betas, names = [], [], []
-    pred = np.empty_like(y)
-    for f in range(k):
-        if one:
-            s = structures[0]
-            beta, (x, nm) = ref.train(s, f)[1], ref.normal(s)[:2]
-        else:
-            s, beta, x, nm = ref.best(structures, f)
-        m = ref.rows[f]
-        pred[m] = x[m] @ beta
-        sse[f] = float(np.sum((y[m] - pred[m]) ** 2))
-        chosen.append(s)
-        betas.append(beta)
-        names.append(nm)
-    return CVResult(sse, n, chosen, pred, betas, names)
-
-
-def fit_all(structures, ctx, y):
-    """
-    Fit on all bins: the best grid point, its nonlinear parameters refined continuously.
-
-    Returns ``(structure, beta, names, prediction)``.
-    """
-    ref = _refiner(ctx, y, np.zeros(len(y), int), 1)
-    s, beta, x, names = ref.best(structures)
-    return s, beta, names, x @ beta
 
 
 def _raw_poly(c, xc, xs):

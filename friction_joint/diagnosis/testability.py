@@ -44,11 +44,18 @@ sliding threshold, position resolution), none in rad/s, Nm or Nm/rad:
 * ``drift``: an accumulated travel of at least :data:`DRIFT_STROKES` strokes
   (so the travel is not confounded with the position).
 """
+from __future__ import annotations
+
+from collections.abc import Sequence
 import math
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from .ripple import ripple_untestable
+
+if TYPE_CHECKING:
+    from .data import DiagnosisData
 
 __all__ = ['MIN_XI_SPAN', 'LOAD_SPAN', 'SPEED_RATIO', 'MIN_REVERSALS', 'INERTIA_SPAN',
            'MIN_DIRECTION', 'DRIFT_STROKES', 'untestable', 'acceleration_noise',
@@ -74,7 +81,7 @@ def _span(x):
     return float(np.percentile(x, 97.5) - np.percentile(x, 2.5))
 
 
-def untestable(data, gear_ratio, effects):
+def untestable(data: DiagnosisData, gear_ratio: float, effects: Sequence[str]) -> dict[str, str]:
     """
     Return ``{effect: reason}`` for the effects of ``effects`` the data cannot tell.
 

@@ -20,9 +20,13 @@ scipy has no derivative-free bounded search that evaluates the poll points as
 one batch, and the objective (a batch of LuGre/GMS simulations) is cheapest
 evaluated that way.
 """
+from __future__ import annotations
+
+from collections.abc import Callable
 import dataclasses
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from ..output import json_clean
 
@@ -64,13 +68,16 @@ class PatternSearchResult:
     success: bool
     message: str
 
-    def to_dict(self):
+    def to_dict(self) -> dict:
         """Return the result as plain JSON types."""
         return json_clean(dataclasses.asdict(self))
 
 
-def pattern_search(fun, x0, lower, upper, *, step=0.5, min_step=1e-3, max_step=None,
-                   expand=2.0, contract=0.5, scale=None, max_iter=1000, max_evals=20000):
+def pattern_search(fun: Callable[[np.ndarray], np.ndarray], x0: ArrayLike, lower: ArrayLike,
+                   upper: ArrayLike, *, step: float = 0.5, min_step: float = 1e-3,
+                   max_step: float | None = None, expand: float = 2.0, contract: float = 0.5,
+                   scale: ArrayLike | None = None, max_iter: int = 1000,
+                   max_evals: int = 20000) -> PatternSearchResult:
     """
     Minimise ``fun`` over a box by generalized (compass) pattern search.
 

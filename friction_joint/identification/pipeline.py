@@ -60,6 +60,9 @@ STRUCTURE.yaml's coefficient *values* are not used, only its list lengths
 lever (tau_ext when a recording has no ``/link_torque``).  A structure file
 without a ``delta_v`` key means linear viscous friction: delta_v stays 1.
 """
+from __future__ import annotations
+
+from collections.abc import Callable, Sequence
 import dataclasses
 import datetime
 import importlib.util
@@ -73,11 +76,11 @@ import numpy as np
 from .plateaus import DETECTION, find_plateaus, Plateaus
 from .static_fit import StaticIdentifier
 from .._filters import zero_phase_derivatives
-from ..bag import read_recording
-from ..bag.stamps import gap_summary, piece_on_grid, split_pieces
-from ..exceptions import (ExcitationError, FrictionJointError, GearConfigError,
+from ..bag import read_recording, Recording
+from ..bag.stamps import BRIDGE_MARGIN, gap_summary, piece_on_grid, split_pieces
+from ..exceptions import (ArgumentError, ExcitationError, FrictionJointError, GearConfigError,
                           GearConfigWarning, RecordingError)
-from ..gear import format_gear, load_gear, parse_gear
+from ..gear import format_gear, GearParams, load_gear, parse_gear
 from ..gear.strict_yaml import read_yaml_document
 from ..output import ExperimentResult, json_clean, OutputSet, result_files
 
@@ -87,18 +90,15 @@ __all__ = ['IdentificationRun', 'identify_recordings', 'run_identify',
 #: step 3: a pre-sliding fit whose RMS torque error exceeds this fraction of the RMS
 #: measured friction torque is rejected (the structure's values are kept)
 MAX_PRESLIDING_ERROR = 0.10
-#: step 3: samples this many derivative-filter time constants (1 / cut-off) around a bridged
-#: gap of the stamps are unreliable; a pre-sliding segment that holds one is left out
-BRIDGE_MARGIN = 2.0
 #: cut-off (Hz) of the zero-phase derivatives of step 3
 CUTOFF = 100.0
 
 
 class IdentificationRun:
     """
-    Everything one identification produced.
+    Everything one identification produced; the parameters are kept as attributes.
 
-    Attributes
+    Parameters
     ----------
     identifier : StaticIdentifier
         Steps 1 and 2 (fitted).
@@ -118,8 +118,9 @@ class IdentificationRun:
 
     """
 
-    def __init__(self, identifier, gear, recordings, plateaus, presliding, timings, *,
-                 gaps=None):
+    def __init__(self, identifier: StaticIdentifier, gear: GearParams, recordings: list[Recording],
+                 plateaus: Plateaus, presliding: dict, timings: dict[str, float], *,
+                 gaps: dict | None = None) -> None:
         self.identifier = identifier
         self.gear = gear
         self.recordings = recordings
@@ -128,12 +129,12 @@ class IdentificationRun:
         self.timings = timings
         self.gaps = gaps
 
-    def to_dict(self):
+    def to_dict(self) -> dict:
         """Return :meth:`report` (plain JSON types)."""
         return json_clean(self.report())
 
-    def report(self):
-        """``identification.json`` content."""
+    def report(self) -> dict:
+        """Return the ``identification.json`` content."""
         rep = self.identifier.report()
         rep['recordings'] = [{'path': r.path, 'duration_s': r.duration,
                               'samples': len(r.joint_states),
@@ -208,7 +209,7 @@ def _presliding_pieces(recording, gear):
             tau_ext = gear.lever_torque(q)
         tau_r = effort - tau_ext - gear.inertia * qdd
         out.append({'t': tt, 'q': q, 'qd': qd, 'tau_r': tau_r,
-                    'xi': recording.temperature_at(tt), 'tau_l': np.abs(tau_ext),
+                    'xi': recording.temperature_at(t=tt), 'tau_l': np.abs(tau_ext),
                     'bridged': ~ok})
     return out
 
@@ -225,7 +226,7 @@ def _step3(gear, recordings, mode, progress):
         reason = ('friction_joint.identification.presliding is not available: the pre-sliding '
                   'parameters are kept from the structure file')
         if mode == 'require':
-            raise FrictionJointError(f'step 3: {reason}')
+            raise ArgumentError(f'step 3: {reason}')
         return gear, {'status': 'skipped', 'reason': reason}
     from .presliding import fit_presliding
     from .presliding_data import EXPERIMENT_ADVICE, presliding_segments
@@ -357,8 +358,10 @@ def _explain(result, pieces, recordings, gear, models):
     return {'why': why, 'advice': note['advice']}
 
 
-def identify_recordings(paths, structure, *, orders=None, joint_name=None, detection=None,
-                        presliding='auto', progress=None):
+def identify_recordings(paths: Sequence[str | os.PathLike], structure: str | GearParams, *,
+                        orders: str | dict[str, int] | None = None, joint_name: str | None = None,
+                        detection: dict | None = None, presliding: str = 'auto',
+                        progress: Callable[[str], None] | None = None) -> IdentificationRun:
     """
     Identify a gear from recordings (steps 1-3); the engine of the command.
 
@@ -387,7 +390,7 @@ def identify_recordings(paths, structure, *, orders=None, joint_name=None, detec
 
     """
     if presliding not in ('auto', 'skip', 'require'):
-        raise FrictionJointError(f'presliding must be auto, skip or require, got {presliding!r}')
+        raise ArgumentError(f'presliding must be auto, skip or require, got {presliding!r}')
     timings = {}
     fixed = ()
     if isinstance(structure, str):
@@ -405,7 +408,7 @@ def identify_recordings(paths, structure, *, orders=None, joint_name=None, detec
     for path in paths:
         rec = _read(path, structure.joint_name)
         recordings.append(rec)
-        part = find_plateaus(rec, structure, detection)
+        part = find_plateaus(rec, structure, options=detection)
         parts.append(part)
         if progress:
             src = 'link torque sensor' if part.torque_source[0] == 'link_torque' else \
@@ -507,8 +510,12 @@ def _gear_bytes(gear, header):
     return text.encode('utf-8')
 
 
-def run_identify(paths, model_path, out, *, orders=None, report_dir=None, presliding='auto',
-                 joint_name=None, progress=None, force=False, relocate=None):
+def run_identify(paths: Sequence[str | os.PathLike], model_path: str | os.PathLike,
+                 out: str | os.PathLike, *, orders: str | dict[str, int] | None = None,
+                 presliding: str = 'auto', joint_name: str | None = None,
+                 progress: Callable[[str], None] | None = None,
+                 report_dir: str | os.PathLike | None = None, force: bool = False,
+                 relocate: Callable[[str], str] | None = None) -> list[str]:
     """
     Run the identification and write GEAR.yaml and its report directory, one set of outputs.
 
@@ -564,7 +571,7 @@ def run_identify(paths, model_path, out, *, orders=None, report_dir=None, presli
         if relocate is not None:
             rep = _relocated(rep, relocate)
         outputs.write_directory(report_dir, result_files(ExperimentResult(rep, figures),
-                                                         'identification.json'))
+                                                         json_name='identification.json'))
         header = _header(run, [where(os.path.abspath(x)) for x in paths], model_path)
         outputs.write_file(out, _gear_bytes(run.gear, header))
         written = outputs.publish()

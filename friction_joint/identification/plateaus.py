@@ -64,14 +64,23 @@ Per plateau
   keeps correlated noise (filtering, ripple) from looking like independent
   samples.
 """
+from __future__ import annotations
+
+from collections.abc import Iterable
 import dataclasses
 import math
+from typing import TYPE_CHECKING
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from ..bag import check_samples, check_values
 from ..bag.stamps import piece_on_grid, split_pieces
 from ..exceptions import ExcitationError, RecordingError
+
+if TYPE_CHECKING:
+    from ..bag import Recording
+    from ..gear import GearParams
 
 __all__ = ['DETECTION', 'Plateaus', 'find_plateaus', 'plateaus_from_arrays']
 
@@ -148,25 +157,54 @@ class Plateaus:
     t1: np.ndarray
     n: np.ndarray
     source: np.ndarray
-    sources: tuple = ()
-    torque_source: tuple = ()
+    sources: tuple[str, ...] = ()
+    torque_source: tuple[str, ...] = ()
 
     def __len__(self):
         return len(self.qd)
 
     @classmethod
-    def empty(cls, sources=(), torque_source=()):
+    def empty(cls, *, sources: Iterable[str] = (),
+              torque_source: Iterable[str] = ()) -> Plateaus:
+        """
+        Return no plateaus.
+
+        Parameters
+        ----------
+        sources : iterable of str
+            The recordings looked at.
+        torque_source : iterable of str
+            Per source, where tau_ext came from.
+
+        Returns
+        -------
+        Plateaus
+
+        """
         return cls(**{f: np.zeros(0, dtype=int if f in ('n', 'source') else float)
                       for f in _FIELDS}, sources=tuple(sources),
                    torque_source=tuple(torque_source))
 
     @classmethod
-    def from_arrays(cls, qd, tau_r, xi, load=0.0, **extra):
+    def from_arrays(cls, qd: ArrayLike, tau_r: ArrayLike, xi: ArrayLike, *, load: ArrayLike = 0.0,
+                    **extra: ArrayLike | tuple[str, ...]) -> Plateaus:
         """
-        Plateaus from plain arrays (e.g. hand-made or from another tool).
+        Build plateaus from plain arrays (e.g. hand-made or from another tool).
 
-        ``qd``, ``tau_r``, ``xi`` and ``load`` (tau_L, default 0) broadcast to one
-        length; other fields default to 0 (``load2``/``load3`` to load^2, load^3).
+        Parameters
+        ----------
+        qd, tau_r, xi : array_like
+            Velocity (rad/s), friction torque (Nm), temperature (degC), broadcast to one
+            length.
+        load : array_like
+            tau_L (Nm).
+        **extra : array_like or tuple of str
+            Other fields by name; default 0 (``load2``/``load3``: load^2, load^3).
+
+        Returns
+        -------
+        Plateaus
+
         """
         qd = np.atleast_1d(np.asarray(qd, dtype=float))
         n = len(qd)
@@ -188,13 +226,37 @@ class Plateaus:
         return cls(qd=qd, tau_r=col(tau_r), xi=col(xi), load=load, n=nn, source=src,
                    sources=tuple(sources), torque_source=tuple(torque_source), **data)
 
-    def select(self, mask):
-        """Return the plateaus where ``mask`` (bool array or indices) is set."""
+    def select(self, mask: ArrayLike) -> Plateaus:
+        """
+        Return the plateaus where ``mask`` is set.
+
+        Parameters
+        ----------
+        mask : array_like
+            Bool array or indices.
+
+        Returns
+        -------
+        Plateaus
+
+        """
         return dataclasses.replace(self, **{f: getattr(self, f)[mask] for f in _FIELDS})
 
     @staticmethod
-    def concatenate(parts):
-        """Join plateau sets (``source`` indices are renumbered)."""
+    def concatenate(parts: Iterable[Plateaus]) -> Plateaus:
+        """
+        Join plateau sets (``source`` indices are renumbered).
+
+        Parameters
+        ----------
+        parts : iterable of Plateaus
+            The sets.
+
+        Returns
+        -------
+        Plateaus
+
+        """
         parts = list(parts)
         if not parts:
             return Plateaus.empty()
@@ -208,8 +270,8 @@ class Plateaus:
         return Plateaus(**{f: np.concatenate(v) for f, v in cols.items()},
                         sources=tuple(sources), torque_source=tuple(tsrc))
 
-    def to_dict(self):
-        """Plain lists (JSON)."""
+    def to_dict(self) -> dict[str, list]:
+        """Return plain lists (JSON)."""
         out = {f: getattr(self, f).tolist() for f in _FIELDS}
         out['sources'] = list(self.sources)
         out['torque_source'] = list(self.torque_source)
@@ -298,8 +360,10 @@ def _segments(t, qd, tau_r, opt):
     return segs
 
 
-def plateaus_from_arrays(t, q, qd, effort, xi, tau_ext, *, inertia, options=None, source='arrays',
-                         torque_source='given', check=True):
+def plateaus_from_arrays(t: ArrayLike, q: ArrayLike, qd: ArrayLike, effort: ArrayLike,
+                         xi: ArrayLike, tau_ext: ArrayLike, *, inertia: float,
+                         options: dict | None = None, source: str = 'arrays',
+                         torque_source: str = 'given', check: bool = True) -> Plateaus:
     """
     Find plateaus in sampled arrays (the engine of :func:`find_plateaus`).
 
@@ -355,7 +419,7 @@ def plateaus_from_arrays(t, q, qd, effort, xi, tau_ext, *, inertia, options=None
         check_samples(source, t, {'q': q, 'qd': qd, 'effort': effort, 'xi': xi,
                                   'tau_ext': tau_ext}, position=('q', 'qd'))
     if n < 3:
-        return Plateaus.empty((source,), (torque_source,))
+        return Plateaus.empty(sources=(source,), torque_source=(torque_source,))
     cut = split_pieces(t, qd, gap=opt['gap_factor'])
     rows = []
     for a, b in cut.ranges:
@@ -384,16 +448,17 @@ def plateaus_from_arrays(t, q, qd, effort, xi, tau_ext, *, inertia, options=None
                 float(te[sl].mean()), float(qq[sl].mean()),
                 float(tt[i0]), float(tt[i1 - 1]), len(sl), 0))
     if not rows:
-        return Plateaus.empty((source,), (torque_source,))
+        return Plateaus.empty(sources=(source,), torque_source=(torque_source,))
     cols = list(zip(*rows))
     data = {f: np.array(c, dtype=int if f in ('n', 'source') else float)
             for f, c in zip(_FIELDS, cols)}
     return Plateaus(**data, sources=(source,), torque_source=(torque_source,))
 
 
-def find_plateaus(recording, structure, options=None):
+def find_plateaus(recording: Recording, structure: GearParams, *,
+                  options: dict | None = None) -> Plateaus:
     """
-    Constant-velocity plateaus of one recording.
+    Find the constant-velocity plateaus of one recording.
 
     Parameters
     ----------
@@ -423,7 +488,7 @@ def find_plateaus(recording, structure, options=None):
     if recording.temperature is None or len(recording.temperature) == 0:
         raise RecordingError(f'{recording.path}: no /joint_temperature samples: the '
                              'identification needs the gear housing temperature')
-    xi = recording.temperature_at(js.t)
+    xi = recording.temperature_at(t=js.t)
     if recording.link_torque is not None and len(recording.link_torque) > 1:
         lt = recording.link_torque
         tau_ext = np.interp(js.t, lt.t, lt.tau)

@@ -124,18 +124,22 @@ position) is shorter than that.  A commanded position (``/joint_command``)
 with such swings that the measured one does not show means the joint did not
 follow them (it stuck).  The advice gives swings in that range.
 """
+from __future__ import annotations
+
 import dataclasses
 import math
 import time
 import warnings
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from .pattern_search import pattern_search
 from .presliding_data import (batch_frictions, BatchData, check_presliding_excitation,
                               default_settle, EXPERIMENT_ADVICE, gear_with, initial_params,
-                              PARAMETERS, prepare_batch)
-from ..exceptions import ExcitationError, FrictionJointError, GearConfigWarning
+                              prepare_batch, PRESLIDING_PARAMETERS, Segment)
+from ..exceptions import ArgumentError, ExcitationError, GearConfigWarning
+from ..gear import GearParams
 from ..models.static import StaticFriction
 from ..output import json_clean
 
@@ -198,17 +202,17 @@ class PreslidingFit:
     """
 
     model: str
-    params: dict
-    initial: dict
-    stderr: dict
-    rel_stderr: dict
-    interval: dict
+    params: dict[str, float]
+    initial: dict[str, float]
+    stderr: dict[str, float]
+    rel_stderr: dict[str, float]
+    interval: dict[str, tuple[float, float]]
     correlation: np.ndarray
-    gear: object
-    segments: list
+    gear: GearParams
+    segments: list[Segment]
     report: dict
 
-    def to_dict(self):
+    def to_dict(self) -> dict:
         """Return the fit's numbers as plain JSON types (not the gear and segments)."""
         return json_clean({'model': self.model, 'params': self.params, 'initial': self.initial,
                            'stderr': self.stderr, 'rel_stderr': self.rel_stderr,
@@ -222,8 +226,8 @@ def _bounds(names, start, bounds):
         if bounds and nm in bounds:
             a, b = (float(v) for v in bounds[nm])
             if not 0.0 < a < b:
-                raise FrictionJointError(f'bounds[{nm!r}] must be 0 < lower < upper, '
-                                         f'got {bounds[nm]}')
+                raise ArgumentError(f'bounds[{nm!r}] must be 0 < lower < upper, '
+                                    f'got {bounds[nm]}')
         else:
             down, up = DEFAULT_BOUNDS[nm]
             a, b = start[nm] / down, start[nm] * up
@@ -307,9 +311,12 @@ def _interval(value, se_log):
     return (float(value * math.exp(-se_log)), float(value * math.exp(se_log)))
 
 
-def fit_presliding(t, qd, tau_r, xi, tau_l, gear, *, model='lugre', segments=None, q=None,
-                   free=None, bounds=None, init='sliding', burn_in=0.0, v_max=None, step=0.5,
-                   min_step=2e-3, max_evals=4000, fd_step=0.05):
+def fit_presliding(t: ArrayLike, qd: ArrayLike, tau_r: ArrayLike, xi: ArrayLike, tau_l: ArrayLike,
+                   gear: GearParams, *, model: str = 'lugre', segments: list | None = None,
+                   q: ArrayLike | None = None, free: list[str] | None = None,
+                   bounds: dict | None = None, init: str = 'sliding', burn_in: float = 0.0,
+                   v_max: float | None = None, step: float = 0.5, min_step: float = 2e-3,
+                   max_evals: int = 4000, fd_step: float = 0.05) -> PreslidingFit:
     """
     Fit the pre-sliding parameters of LuGre or GMS with the static curve fixed.
 
@@ -337,7 +344,7 @@ def fit_presliding(t, qd, tau_r, xi, tau_l, gear, *, model='lugre', segments=Non
         curve) is subtracted from tau_r: LuGre and GMS do not contain it,
         and an unremoved ripple of a few hundredths of a Nm biases the fit.
     free : sequence of str, optional
-        Parameters to fit (default all of :data:`PARAMETERS` [model]); the
+        Parameters to fit (default all of :data:`PRESLIDING_PARAMETERS` [model]); the
         others keep the gear's values.
     bounds : dict, optional
         ``{name: (lower, upper)}`` search bounds; default a factor 10 around
@@ -370,16 +377,16 @@ def fit_presliding(t, qd, tau_r, xi, tau_l, gear, *, model='lugre', segments=Non
 
     """
     t0 = time.perf_counter()
-    if model not in PARAMETERS:
-        raise FrictionJointError(f"model must be 'lugre' or 'gms', got {model!r}")
+    if model not in PRESLIDING_PARAMETERS:
+        raise ArgumentError(f"model must be 'lugre' or 'gms', got {model!r}")
     if init not in ('sliding', 'rest'):
-        raise FrictionJointError(f"init must be 'sliding' or 'rest', got {init!r}")
+        raise ArgumentError(f"init must be 'sliding' or 'rest', got {init!r}")
     start = initial_params(gear, model)
-    names = tuple(PARAMETERS[model] if free is None else free)
-    unknown = [nm for nm in names if nm not in PARAMETERS[model]]
+    names = tuple(PRESLIDING_PARAMETERS[model] if free is None else free)
+    unknown = [nm for nm in names if nm not in PRESLIDING_PARAMETERS[model]]
     if unknown or not names:
-        raise FrictionJointError(f'free parameters of {model} are {PARAMETERS[model]}, '
-                                 f'got {names}')
+        raise ArgumentError(f'free parameters of {model} are {PRESLIDING_PARAMETERS[model]}, '
+                            f'got {names}')
     prepared, dt, segs = prepare_batch(t, qd, tau_r, xi, tau_l, segments, init=init, gear=gear,
                                        q=q)
     check_presliding_excitation(prepared, gear, v_max)
@@ -447,16 +454,23 @@ def fit_presliding(t, qd, tau_r, xi, tau_l, gear, *, model='lugre', segments=Non
         correlation=corr, gear=fitted_gear, segments=segs, report=report)
 
 
-def presliding_rmse(gear, t, qd, tau_r, xi, tau_l, *, model='lugre', segments=None, q=None,
-                    init='sliding', burn_in=0.0):
+def presliding_rmse(gear: GearParams, t: ArrayLike, qd: ArrayLike, tau_r: ArrayLike,
+                    xi: ArrayLike, tau_l: ArrayLike, *, model: str = 'lugre',
+                    segments: list | None = None, q: ArrayLike | None = None,
+                    init: str = 'sliding', burn_in: float = 0.0) -> float:
     """
-    RMS torque error (Nm) of a gear's LuGre or GMS model on (held-out) data.
+    Return the RMS torque error (Nm) of a gear's LuGre or GMS model on (held-out) data.
 
-    Same data conventions as :func:`fit_presliding` (``q`` removes the
-    gear's position ripple); no excitation check.
+    Parameters
+    ----------
+    gear : GearParams
+        The gear evaluated.
+    t, qd, tau_r, xi, tau_l, model, segments, q, init, burn_in
+        As in :func:`fit_presliding` (``q`` removes the position ripple); no excitation check.
+
     """
-    if model not in PARAMETERS:
-        raise FrictionJointError(f"model must be 'lugre' or 'gms', got {model!r}")
+    if model not in PRESLIDING_PARAMETERS:
+        raise ArgumentError(f"model must be 'lugre' or 'gms', got {model!r}")
     prepared, dt, _ = prepare_batch(t, qd, tau_r, xi, tau_l, segments, init=init, gear=gear, q=q)
     data = BatchData(prepared, dt, burn_in)
     return float(np.sqrt(data.mse([gear.friction], model)[0]))

@@ -20,23 +20,30 @@ fits only the samples near velocity reversals; :func:`presliding_segments`
 finds them, :func:`prepare_batch` turns them into the arrays the batched
 LuGre/GMS simulation of :func:`batch_frictions` runs on.
 """
+from __future__ import annotations
+
 import dataclasses
 import math
+from typing import TYPE_CHECKING
 
 import numpy as np
+from numpy.typing import ArrayLike
 
-from ..exceptions import ExcitationError, FrictionJointError, PreslidingDataError
+from ..exceptions import ArgumentError, ExcitationError, GearConfigError, PreslidingDataError
 from ..models.gms import GMS
 from ..models.lugre import LuGre
 from ..models.static import StaticFriction
 
-__all__ = ['PARAMETERS', 'EXPERIMENT_ADVICE', 'Segment', 'presliding_segments', 'default_v_max',
-           'default_settle', 'initial_params', 'batch_frictions', 'gear_with', 'prepare_batch',
-           'check_presliding_excitation', 'BatchData']
+if TYPE_CHECKING:
+    from ..gear import GearParams
+
+__all__ = ['PRESLIDING_PARAMETERS', 'EXPERIMENT_ADVICE', 'Segment', 'presliding_segments',
+           'default_v_max', 'default_settle', 'initial_params', 'batch_frictions', 'gear_with',
+           'prepare_batch', 'check_presliding_excitation', 'BatchData']
 
 
 #: free parameters of each model, in the order of the search vector
-PARAMETERS = {'lugre': ('sigma0', 'sigma1'), 'gms': ('k_total', 'c')}
+PRESLIDING_PARAMETERS = {'lugre': ('sigma0', 'sigma1'), 'gms': ('k_total', 'c')}
 
 #: the experiment that determines the pre-sliding parameters (used in error messages)
 EXPERIMENT_ADVICE = ('run slow motions with velocity reversals: a slow slide in one direction '
@@ -118,10 +125,10 @@ def default_settle(gear, model, xi):
     fs = _curve_at(gear, xi)['fs']
     if model == 'lugre':
         if f.lugre is None:
-            raise FrictionJointError('the gear has no friction.lugre section to start from')
+            raise GearConfigError('the gear has no friction.lugre section to start from')
         return 10.0 * fs / f.lugre.sigma0
     if f.gms is None:
-        raise FrictionJointError('the gear has no friction.gms section to start from')
+        raise GearConfigError('the gear has no friction.gms section to start from')
     return 3.0 * max(a * fs / k for a, k in zip(f.gms.alpha, f.gms.k))
 
 
@@ -156,10 +163,13 @@ class Segment:
         return self.stop - self.start
 
 
-def presliding_segments(t, qd, *, gear=None, model='lugre', xi=None, v_max=None, v_noise=None,
-                        settle=None, min_samples=30, from_rest=False, split=True):
+def presliding_segments(t: ArrayLike, qd: ArrayLike, *, gear: GearParams | None = None,
+                        model: str = 'lugre', xi: ArrayLike | None = None,
+                        v_max: float | None = None, v_noise: float | None = None,
+                        settle: float | None = None, min_samples: int = 30,
+                        from_rest: bool = False, split: bool = True) -> list[Segment]:
     """
-    Windows around slow velocity reversals, each starting in a known state.
+    Find windows around slow velocity reversals, each starting in a known state.
 
     Parameters
     ----------
@@ -204,10 +214,10 @@ def presliding_segments(t, qd, *, gear=None, model='lugre', xi=None, v_max=None,
     t = _check_series('t', t)
     qd = _check_series('qd', qd, t.size)
     dt = _sample_time(t)
-    if model not in PARAMETERS:
-        raise FrictionJointError(f"model must be 'lugre' or 'gms', got {model!r}")
+    if model not in PRESLIDING_PARAMETERS:
+        raise ArgumentError(f"model must be 'lugre' or 'gms', got {model!r}")
     if gear is None and (v_max is None or settle is None):
-        raise FrictionJointError('give a gear or both v_max and settle')
+        raise ArgumentError('give a gear or both v_max and settle')
     if xi is None:
         xi_m = 0.5 * sum(gear.friction.temperature_range) if gear is not None else 30.0
     else:
@@ -306,12 +316,12 @@ def initial_params(gear, model):
     f = gear.friction
     if model == 'lugre':
         if f.lugre is None:
-            raise FrictionJointError('the gear has no friction.lugre section (sigma0, sigma1) to '
-                                     'start the LuGre fit from')
+            raise GearConfigError('the gear has no friction.lugre section (sigma0, sigma1) to '
+                                  'start the LuGre fit from')
         return {'sigma0': f.lugre.sigma0, 'sigma1': f.lugre.sigma1}
     if f.gms is None:
-        raise FrictionJointError('the gear has no friction.gms section (k, c) to start the GMS '
-                                 'fit from')
+        raise GearConfigError('the gear has no friction.gms section (k, c) to start the GMS '
+                              'fit from')
     return {'k_total': float(sum(f.gms.k)), 'c': f.gms.c}
 
 

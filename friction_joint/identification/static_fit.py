@@ -61,11 +61,16 @@ Object API::
     ident.results                       # rows: parameter, power, value, se
     ident.gear                          # GearParams with the identified coefficients
 """
+from __future__ import annotations
+
+from collections.abc import Callable, Iterable
 import dataclasses
 import math
 import time
+from typing import TYPE_CHECKING
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from .static_problem import (block_folds, CoefficientLayout, covariance, fit_structure,
                              load_reference, Problem, single_init, temperature_range,
@@ -76,16 +81,34 @@ from ..exceptions import ExcitationError, GearConfigError
 from ..gear.schema import TEMPERATURE_BOUNDS
 from ..models.static import PARAMETERS, StaticFriction
 
+if TYPE_CHECKING:
+    from .plateaus import Plateaus
+    from ..gear import GearParams
+
 __all__ = ['StaticIdentifier', 'cross_validate_orders', 'select_orders']
 
 
-def cross_validate_orders(plateaus, structure, folds=5, theta_full=None, seed=0):
+def cross_validate_orders(plateaus: Plateaus, structure: StaticStructure, *, folds: int = 5,
+                          theta_full: np.ndarray | None = None, seed: int = 0) -> float:
     """
-    Held-out RMS (Nm) of a structure by k-fold cross-validation over plateaus.
+    Return the held-out RMS (Nm) of a structure by k-fold cross-validation over plateaus.
 
     Each fold is left out in turn, the structure refitted (all coefficients at
     once, started from ``theta_full`` when given) on the rest, and the left-out
     plateaus predicted.
+
+    Parameters
+    ----------
+    plateaus : Plateaus
+        The data.
+    structure : StaticStructure
+        The model structure.
+    folds : int
+        Number of folds (blocks of consecutive plateaus).
+    theta_full : ndarray, optional
+        The fit on all plateaus, the start of each fold's fit; default fitted here.
+    seed : int
+        Seed of the fold assignment.
 
     Returns
     -------
@@ -110,8 +133,10 @@ def cross_validate_orders(plateaus, structure, folds=5, theta_full=None, seed=0)
     return math.sqrt(sq / max(count, 1))
 
 
-def select_orders(plateaus, structure, *, max_order=2, max_load_order=2, threshold=0.05, folds=5,
-                  progress=None):
+def select_orders(plateaus: Plateaus, structure: StaticStructure, *, max_order: int = 2,
+                  max_load_order: int = 2, threshold: float = 0.05, folds: int = 5,
+                  progress: Callable[[str], None] | None = None
+                  ) -> tuple[StaticStructure, list[dict]]:
     """
     Choose per-parameter polynomial orders by held-out error (``--orders auto``).
 
@@ -125,6 +150,21 @@ def select_orders(plateaus, structure, *, max_order=2, max_load_order=2, thresho
     than ``threshold`` of held-out RMS (an order raised early may have become
     unnecessary).  Lower orders are preferred unless clearly better.
 
+    Parameters
+    ----------
+    plateaus : Plateaus
+        The data.
+    structure : StaticStructure
+        The structure whose parameters are selected (its orders are not used).
+    max_order, max_load_order : int
+        Highest temperature and load orders tried.
+    threshold : float
+        Relative held-out RMS a raise must gain (and a removal may cost).
+    folds : int
+        Folds of the cross-validation.
+    progress : callable, optional
+        ``progress(message)`` per round.
+
     Returns
     -------
     structure : StaticStructure
@@ -133,12 +173,12 @@ def select_orders(plateaus, structure, *, max_order=2, max_load_order=2, thresho
         Every candidate tried: ``orders``, ``load_orders``, ``cv_rms``, ``accepted``.
 
     """
-    cur = structure.with_orders(dict.fromkeys(structure.params, 0),
-                                dict.fromkeys(PARAMETERS, 0))
+    cur = structure.with_orders(orders=dict.fromkeys(structure.params, 0),
+                                load_orders=dict.fromkeys(PARAMETERS, 0))
     check_excitation(plateaus, cur)
     t_range, load_ref = temperature_range(plateaus), load_reference(plateaus)
     _, th, _, _ = fit_structure(cur, plateaus, t_range, load_ref, stepwise=False)
-    best = cross_validate_orders(plateaus, cur, folds, th)
+    best = cross_validate_orders(plateaus, cur, folds=folds, theta_full=th)
     trace = [{'orders': dict(cur.orders), 'load_orders': dict(cur.load_orders), 'cv_rms': best,
               'accepted': True}]
     if progress:
@@ -153,7 +193,7 @@ def select_orders(plateaus, structure, *, max_order=2, max_load_order=2, thresho
             except ExcitationError:
                 continue
             _, th, _, _ = fit_structure(cand, plateaus, t_range, load_ref, stepwise=False)
-            cv = cross_validate_orders(plateaus, cand, folds, th)
+            cv = cross_validate_orders(plateaus, cand, folds=folds, theta_full=th)
             results.append((cv, cand))
             trace.append({'orders': dict(cand.orders), 'load_orders': dict(cand.load_orders),
                           'cv_rms': cv, 'accepted': False})
@@ -165,7 +205,7 @@ def select_orders(plateaus, structure, *, max_order=2, max_load_order=2, thresho
         cands = []
         for p in cur.params:
             if cur.orders[p] < max_order:
-                cands.append(cur.with_orders({p: cur.orders[p] + 1}))
+                cands.append(cur.with_orders(orders={p: cur.orders[p] + 1}))
         for p in ('fc', 'fv'):
             if p in cur.orders and cur.load_orders.get(p, 0) < max_load_order:
                 cands.append(cur.with_orders(load_orders={p: cur.load_orders.get(p, 0) + 1}))
@@ -183,7 +223,8 @@ def select_orders(plateaus, structure, *, max_order=2, max_load_order=2, thresho
             progress(f'orders auto: keep {cur.describe()} ({cv:.4f} Nm)')
     # backward pass: drop an order again where the higher one is not clearly better
     while True:
-        cands = [cur.with_orders({p: cur.orders[p] - 1}) for p in cur.params if cur.orders[p] > 0]
+        cands = [cur.with_orders(orders={p: cur.orders[p] - 1})
+                 for p in cur.params if cur.orders[p] > 0]
         cands += [cur.with_orders(load_orders={p: cur.load_orders[p] - 1})
                   for p in cur.load_params]
         results = score(cands, 'try without one order:')
@@ -219,8 +260,8 @@ class StaticIdentifier:
     progress : callable, optional
         ``progress(message)`` for long fits.
 
-    Attributes (after :meth:`fit`)
-    -------------------------------
+    Attributes
+    ----------
     gear : GearParams
         The structure with the identified coefficients and
         ``temperature_range`` set to the recorded temperature range.
@@ -235,11 +276,17 @@ class StaticIdentifier:
     info : dict
         Steps, iterations, timings, node values, order selection trace.
 
+    Notes
+    -----
+    The attributes are set by :meth:`fit`.
+
     """
 
-    def __init__(self, structure, orders=None, fixed=(), progress=None):
+    def __init__(self, structure: GearParams, *, orders: str | dict[str, int] | None = None,
+                 fixed: Iterable[str] = (),
+                 progress: Callable[[str], None] | None = None) -> None:
         self.structure_gear = structure
-        self.base = StaticStructure.from_gear(structure, fixed)
+        self.base = StaticStructure.from_gear(structure, fixed=fixed)
         self.orders = orders
         self.progress = progress
         self.gear = None
@@ -257,14 +304,24 @@ class StaticIdentifier:
                   [k for k in load if k not in PARAMETERS]
             if bad:
                 raise GearConfigError(f'orders: unknown or absent parameter(s) {", ".join(bad)}')
-            return self.base.with_orders(temp, load)
+            return self.base.with_orders(orders=temp, load_orders=load)
         if self.orders is not None:
             raise GearConfigError(f"orders must be None, 'auto' or a dict, got {self.orders!r}")
         return self.base
 
-    def fit(self, plateaus):
+    def fit(self, plateaus: Plateaus) -> StaticIdentifier:
         """
-        Fit plateaus (a :class:`~friction_joint.identification.plateaus.Plateaus`); returns self.
+        Fit plateaus; returns self.
+
+        Parameters
+        ----------
+        plateaus : Plateaus
+            The data (:func:`~friction_joint.identification.find_plateaus`).
+
+        Returns
+        -------
+        StaticIdentifier
+            ``self``, fitted.
 
         Raises
         ------
@@ -276,8 +333,9 @@ class StaticIdentifier:
         self.info = {}
         t0 = time.perf_counter()
         if self.orders == 'auto':
-            check_excitation(plateaus, self.base.with_orders(dict.fromkeys(self.base.params, 0),
-                                                             dict.fromkeys(PARAMETERS, 0)))
+            check_excitation(plateaus, self.base.with_orders(
+                orders=dict.fromkeys(self.base.params, 0),
+                load_orders=dict.fromkeys(PARAMETERS, 0)))
         s = self._structure(plateaus)
         self.info['time_order_selection_s'] = time.perf_counter() - t0
         check_excitation(plateaus, s)
@@ -326,7 +384,8 @@ class StaticIdentifier:
         pooled = single_init(s, plateaus)
         labels, groups = group_table(plateaus)
         vals = []
-        single = s.with_orders(dict.fromkeys(s.params, 0), dict.fromkeys(PARAMETERS, 0))
+        single = s.with_orders(orders=dict.fromkeys(s.params, 0),
+                               load_orders=dict.fromkeys(PARAMETERS, 0))
         for g in range(labels.max() + 1):
             m = labels == g
             sub = plateaus.select(m)
@@ -388,7 +447,7 @@ class StaticIdentifier:
         """
         labels, _ = group_table(plateaus)
         out = []
-        single = self.structure.with_orders(dict.fromkeys(self.structure.params, 0))
+        single = self.structure.with_orders(orders=dict.fromkeys(self.structure.params, 0))
         for g in range(labels.max() + 1 if len(labels) else 0):
             m = labels == g
             sub = plateaus.select(m)
@@ -427,13 +486,38 @@ class StaticIdentifier:
         if self.gear is None:
             raise RuntimeError('call fit() first')
 
-    def predict(self, qd, xi, tau_l=0.0):
-        """Return the identified model's static friction torque, Nm (xi clipped to its range)."""
+    def predict(self, qd: ArrayLike, xi: ArrayLike, tau_l: ArrayLike = 0.0) -> np.ndarray:
+        """
+        Return the identified model's static friction torque, Nm (xi clipped to its range).
+
+        Parameters
+        ----------
+        qd, xi, tau_l : array_like
+            Velocity (rad/s), temperature (degC), load (Nm).
+
+        Returns
+        -------
+        ndarray
+            The torque (Nm).
+
+        """
         self._need_fit()
         return StaticFriction(self.gear.friction).torque(qd, xi, tau_l)
 
-    def predict_parameters(self, xi, tau_l=0.0):
-        """Return the evaluated curve parameters (fc, fs, fv, vs, delta_v) at xi, tau_l."""
+    def predict_parameters(self, xi: ArrayLike, tau_l: ArrayLike = 0.0) -> dict[str, np.ndarray]:
+        """
+        Return the evaluated curve parameters (fc, fs, fv, vs, delta_v) at xi, tau_l.
+
+        Parameters
+        ----------
+        xi, tau_l : array_like
+            Temperature (degC), load (Nm).
+
+        Returns
+        -------
+        dict of str to ndarray
+
+        """
         self._need_fit()
         return StaticFriction(self.gear.friction).parameters(np.atleast_1d(xi), tau_l)
 
@@ -458,7 +542,7 @@ class StaticIdentifier:
                              'se': None, 'unit': 'fixed'})
         return rows
 
-    def results_table(self):
+    def results_table(self) -> str:
         """Return the :attr:`results` as aligned text."""
         lines = [f'{"parameter":<14}{"power":<9}{"value":>14}{"std. error":>14}  unit']
         for r in self.results:
@@ -467,8 +551,8 @@ class StaticIdentifier:
                          f'{r["unit"]}')
         return '\n'.join(lines)
 
-    def report(self):
-        """JSON-able summary: parameters, standard errors, RMS, plateaus, timings."""
+    def report(self) -> dict:
+        """Return a JSON-able summary: parameters, standard errors, RMS, plateaus, timings."""
         self._need_fit()
         step_rms = {}
         for st in self.info.get('steps', []):

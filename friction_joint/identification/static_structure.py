@@ -19,12 +19,20 @@ A :class:`StaticStructure` says which coefficients a static model has (the
 list lengths of a gear file, docs/interfaces.md: gear parameter files); :func:`check_excitation`
 names what to record when plateaus cannot determine one of them.
 """
+from __future__ import annotations
+
+from collections.abc import Iterable
 import dataclasses
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from ..exceptions import ExcitationError, GearConfigError
 from ..models.static import PARAMETERS
+
+if TYPE_CHECKING:
+    from .plateaus import Plateaus
+    from ..gear import GearParams
 
 __all__ = ['LOWER', 'UPPER', 'PARAMETER_UNITS', 'GROUP_WIDTH', 'MIN_GROUP', 'SPEED_TOL',
            'StaticStructure', 'temperature_groups', 'distinct_levels', 'group_table',
@@ -69,15 +77,15 @@ class StaticStructure:
 
     """
 
-    orders: dict
-    load_orders: dict
-    fixed: dict
+    orders: dict[str, int]
+    load_orders: dict[str, int]
+    fixed: dict[str, list[float]]
     stribeck: bool
     delta_s: float = 2.0
     velocity_scale: float = 1.0
 
     @classmethod
-    def from_gear(cls, gear, fixed=()):
+    def from_gear(cls, gear: GearParams, *, fixed: Iterable[str] = ()) -> StaticStructure:
         """
         Return the structure of a gear file.
 
@@ -88,6 +96,10 @@ class StaticStructure:
         fixed : iterable of str
             Parameters of :data:`PARAMETERS` kept at the file's values (e.g. ``delta_v``
             when the file has no ``delta_v`` key: linear viscous friction).
+
+        Returns
+        -------
+        StaticStructure
 
         """
         f = gear.friction
@@ -108,8 +120,23 @@ class StaticStructure:
                                   f'curve parameter ({", ".join(PARAMETERS)})')
         return cls(orders, load, fix, stribeck, f.delta_s, f.velocity_scale)
 
-    def with_orders(self, orders=None, load_orders=None):
-        """Return a copy with some orders changed."""
+    def with_orders(self, *, orders: dict[str, int] | None = None,
+                    load_orders: dict[str, int] | None = None) -> StaticStructure:
+        """
+        Return a copy with some orders changed.
+
+        Parameters
+        ----------
+        orders : dict, optional
+            Parameter -> new temperature polynomial order.
+        load_orders : dict, optional
+            Parameter -> new load polynomial order.
+
+        Returns
+        -------
+        StaticStructure
+
+        """
         o = dict(self.orders)
         o.update(orders or {})
         lo = dict(self.load_orders)
@@ -125,7 +152,7 @@ class StaticStructure:
     def load_params(self):
         return [p for p in PARAMETERS if self.load_orders.get(p, 0) > 0]
 
-    def describe(self):
+    def describe(self) -> str:
         """
         Say in words what is fitted, e.g. ``fc linear in temperature, fv constant, ...``.
 
@@ -187,7 +214,7 @@ def group_table(plateaus):
     return labels, groups
 
 
-def check_excitation(plateaus, structure):
+def check_excitation(plateaus: Plateaus, structure: StaticStructure) -> None:
     """
     Raise :class:`ExcitationError` if the plateaus cannot determine the structure's coefficients.
 
@@ -195,6 +222,14 @@ def check_excitation(plateaus, structure):
     coefficients; distinct temperatures for each temperature order; low-speed
     plateaus for the Stribeck parameters; a velocity range for delta_v and F_v;
     distinct loads for each load order.  The message says what to record.
+
+    Parameters
+    ----------
+    plateaus : Plateaus
+        The data.
+    structure : StaticStructure
+        The model structure.
+
     """
     src = ', '.join(plateaus.sources) or 'the data'
     n = len(plateaus)

@@ -51,7 +51,7 @@ MAX_INPUT_SPEED = 10_000.0 * 2.0 * math.pi / 60.0
 #: time in which the drive is assumed able to bring the joint from rest to its speed scale, s
 ACCELERATION_TIME = 0.1
 #: absolute zero, degC
-UNITS = {'position': 'rad', 'velocity': 'rad/s', 'torque': 'Nm', 'temperature': 'degC'}
+_UNITS = {'position': 'rad', 'velocity': 'rad/s', 'torque': 'Nm', 'temperature': 'degC'}
 
 
 class InputLimits:
@@ -124,7 +124,7 @@ class InputLimits:
         quantity : {'position', 'velocity', 'torque', 'temperature'}
             What ``value`` is.
         value : float
-            The value, in the unit of :data:`UNITS`.
+            The value (rad, rad/s, Nm or degC).
 
         Returns
         -------
@@ -132,7 +132,7 @@ class InputLimits:
             The reason, one line, or None for a plausible value.
 
         """
-        unit = UNITS[quantity]
+        unit = _UNITS[quantity]
         if not math.isfinite(value):
             return f'{quantity} {value:g} {unit} is not finite'
         if quantity == 'temperature':

@@ -20,7 +20,7 @@ Block errors, gains and the bad block's place and size are drawn at random
 """
 from friction_joint.diagnosis.criterion import (adequacy, compare, confounds, headline, holm,
                                                 LARGE_GAIN, n_blocks, prefer)
-from friction_joint.diagnosis.structures import CVResult
+from friction_joint.diagnosis.crossval import CVResult
 import numpy as np
 import pytest
 

@@ -25,7 +25,7 @@ import os
 from pathlib import Path
 
 import friction_joint
-from friction_joint.diagnosis import structures
+from friction_joint.diagnosis import crossval, structures
 from friction_joint.diagnosis.data import load_data
 from friction_joint.diagnosis.pipeline import diagnose
 from friction_joint.experiments.hidden import apply_effects, EFFECT_RANGES, simulate_recording
@@ -74,16 +74,16 @@ def test_delta_v_between_grid_points_is_recovered(tmp_path):
     grid = structures.grid_of(structures.CandidateStructure(dv_free=True), 'dv', ctx)
     nearest = min(abs(s.dv - dv) for s in grid)
     assert nearest > TOL * dv, f'{what}: the draw is on the grid'
-    s, _, _, _ = structures.fit_all(grid, ctx, data.y)
+    s, _, _, _ = crossval.fit_all(grid, ctx, data.y)
     assert abs(s.dv - dv) <= TOL * dv, f'{what}: fitted delta_v {s.dv:.4f}'
-    cv = structures.cross_validate_structures(grid, ctx, data.y, data.block, data.n_blocks)
+    cv = crossval.cross_validate_structures(grid, ctx, data.y, data.block, data.n_blocks)
     folds = [c.dv for c in cv.structures]
     assert all(abs(f - dv) <= TOL * dv for f in folds), f'{what}: per fold {folds}'
     # a fold refines on its training blocks only: spoiling its held-out block changes nothing
     y = data.y.copy()
     held = data.block == 0
     y[held] += np.sign(y[held]) * np.abs(y[held]) ** 0.5
-    spoilt = structures.cross_validate_structures(grid, ctx, y, data.block, data.n_blocks)
+    spoilt = crossval.cross_validate_structures(grid, ctx, y, data.block, data.n_blocks)
     assert spoilt.structures[0] == cv.structures[0], f'{what}: {spoilt.structures[0]}'
     assert spoilt.structures[1] != cv.structures[1], f'{what}: {spoilt.structures[1]}'
 

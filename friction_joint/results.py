@@ -1,0 +1,156 @@
+# Copyright 2026 friction_joint maintainers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+"""
+Results as files: experiment results, plain JSON and figures rendered in memory.
+
+:class:`ExperimentResult` holds a run's numbers and figure closures;
+:func:`result_files` turns it into ``[(file name, bytes), ...]`` for an
+:class:`~friction_joint.output.OutputSet`.  matplotlib is imported only when a
+figure is rendered.
+"""
+from __future__ import annotations
+
+from collections.abc import Callable
+import dataclasses
+import io
+import json
+import math
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+if TYPE_CHECKING:
+    from matplotlib.figure import Figure
+
+__all__ = ['json_clean', 'json_bytes', 'render_png', 'ExperimentResult', 'result_files']
+
+
+@dataclasses.dataclass
+class ExperimentResult:
+    """
+    Numbers and figures of one experiment run.
+
+    Attributes
+    ----------
+    summary : dict
+        Plain numbers (written as JSON).
+    figures : dict
+        File name -> ``(draw(fig), (width, height))``: the figures drawn from
+        the run, rendered by :func:`result_files` (or :func:`render_png`).
+
+    """
+
+    summary: dict
+    figures: dict[str, tuple[Callable[[Figure], None], tuple[float, float]]] = \
+        dataclasses.field(default_factory=dict)
+
+    def to_dict(self) -> dict:
+        """Return the summary as plain JSON types."""
+        return json_clean(self.summary)
+
+
+def json_clean(obj: object) -> object:
+    """
+    Return ``obj`` as plain JSON types; non-finite floats become null.
+
+    Parameters
+    ----------
+    obj : object
+        Dicts, lists, tuples, numpy arrays and scalars, nested.
+
+    Returns
+    -------
+    object
+
+    """
+    if isinstance(obj, dict):
+        return {str(k): json_clean(v) for k, v in obj.items()}
+    if isinstance(obj, (list, tuple, np.ndarray)):
+        return [json_clean(v) for v in obj]
+    if isinstance(obj, (float, np.floating)):
+        return float(obj) if math.isfinite(obj) else None
+    if isinstance(obj, (np.integer, np.bool_)):
+        return obj.item()
+    return obj
+
+
+def json_bytes(obj: object) -> bytes:
+    """
+    Return ``obj`` as indented JSON (UTF-8 bytes).
+
+    Parameters
+    ----------
+    obj : object
+        What :func:`json_clean` takes.
+
+    Returns
+    -------
+    bytes
+
+    """
+    return (json.dumps(json_clean(obj), indent=2, allow_nan=False) + '\n').encode('utf-8')
+
+
+def render_png(draw: Callable[[Figure], None], size: tuple[float, float], *,
+               dpi: float = 100) -> bytes:
+    """
+    Render ``draw(fig)`` on a new Agg figure of ``size`` inches.
+
+    Parameters
+    ----------
+    draw : callable
+        ``draw(fig)`` draws on a matplotlib figure.
+    size : tuple of float
+        ``(width, height)`` in inches.
+    dpi : float
+        Resolution.
+
+    Returns
+    -------
+    bytes
+        The PNG file.
+
+    """
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
+    fig = Figure(figsize=size)
+    FigureCanvasAgg(fig)
+    draw(fig)
+    fig.tight_layout()
+    buf = io.BytesIO()
+    fig.savefig(buf, format='png', dpi=dpi)
+    return buf.getvalue()
+
+
+def result_files(result: ExperimentResult, *,
+                 json_name: str = 'summary.json') -> list[tuple[str, bytes]]:
+    """
+    Render the figures of ``result`` and its JSON summary: ``[(file name, bytes), ...]``.
+
+    Parameters
+    ----------
+    result : ExperimentResult
+        Or anything with ``summary`` and ``figures``.
+    json_name : str
+        Name of the JSON file, which comes last.
+
+    Returns
+    -------
+    list of tuple
+        ``(name, PNG bytes)`` per figure, then ``(json_name, JSON bytes)``.
+
+    """
+    files = [(name, render_png(draw, size)) for name, (draw, size) in result.figures.items()]
+    files.append((json_name, json_bytes(result.summary)))
+    return files
