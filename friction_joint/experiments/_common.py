@@ -25,8 +25,8 @@ from ..output import json_clean
 
 __all__ = ['MODELS', 'MIN_SAMPLES', 'STEP_BYTES', 'MAX_STEPS', 'ExperimentData', 'Experiment',
            'json_key', 'n_steps', 'check_steps', 'check_scale', 'check_model', 'rmse', 'corr',
-           'LABELS', 'peak_window', 'reversal_peak_window', 'sign_changes', 'reversal_window',
-           'SumOfSines', 'closed_loop']
+           'MODEL_LABELS', 'peak_window', 'reversal_peak_window', 'sign_changes',
+           'reversal_window', 'SumOfSines', 'closed_loop']
 
 #: friction feed-forward / observer models compared
 MODELS = ('none', 'lugre', 'gms')
@@ -170,7 +170,7 @@ def corr(a, b):
 
 
 #: display name of each friction model in figures and progress messages
-LABELS = {'none': 'no friction model', 'lugre': 'LuGre', 'gms': 'GMS'}
+MODEL_LABELS = {'none': 'no friction model', 'lugre': 'LuGre', 'gms': 'GMS'}
 
 
 def _clip_window(t, t0, t1):

@@ -20,7 +20,7 @@ import time
 import numpy as np
 
 from ._common import (check_model, check_scale, check_steps, closed_loop, ExperimentData,
-                      json_key, LABELS, MODELS, n_steps, reversal_peak_window, rmse)
+                      json_key, MODEL_LABELS, MODELS, n_steps, reversal_peak_window, rmse)
 from .warmup import warm_up
 from ..control.controller import Controller, SineTrajectory
 from ..control.gains import gain_design, loop_metrics
@@ -193,7 +193,8 @@ def compensation(model, truth, duration_scale=1.0, *, gains=None, progress=None)
             progress(f'{tk} degC: {runs} tracking runs of {n * dt:.1f} s (a = '
                      + ', '.join(amps) + ' rad; feed-forward none, LuGre, GMS) in '
                      f'{time.perf_counter() - wall:.1f} s; max error at a = {amps[0]} rad: '
-                     + ', '.join(f'{LABELS[m]} {summary["max_error_pct"][m][tk][amps[0]]:.1f} %'
+                     + ', '.join(f'{MODEL_LABELS[m]} '
+                                 f'{summary["max_error_pct"][m][tk][amps[0]]:.1f} %'
                                  for m in MODELS))
 
     for (tk, ak, kind), (t, e) in traces.items():

@@ -29,7 +29,7 @@ import math
 
 import numpy as np
 
-from ._common import json_key, LABELS, MODELS, reversal_window
+from ._common import json_key, MODEL_LABELS, MODELS, reversal_window
 from .paper import PAPER
 
 __all__ = ['STYLES', 'COLORS', 'SETTLING_LABEL', 'grid_on', 'paper_suptitle', 'add_headroom',
@@ -148,7 +148,7 @@ def _chirp(fig, res):
         curves = [(t, meas['qd'], dict(STYLES['measured'], label='measured'))]
         for m in models:
             curves.append((t, sims[m].qd, dict(
-                STYLES[m], label=(f'{LABELS[m]} (RMSE '
+                STYLES[m], label=(f'{MODEL_LABELS[m]} (RMSE '
                                   f'{summary["velocity_rmse"][m][key]:.3f} rad/s)'))))
         for tt, y, style in curves:
             a1.plot(tt, y, **style)
@@ -163,7 +163,7 @@ def _chirp(fig, res):
                                  title='zoom: break-away at the first velocity reversal')
         a2.plot(t, meas['tau_r'], **STYLES['truth'], label='true friction (incl. ripple)')
         for m in models:
-            a2.plot(t, sims[m].tau_r, **STYLES[m], label=LABELS[m])
+            a2.plot(t, sims[m].tau_r, **STYLES[m], label=MODEL_LABELS[m])
         a2.set_ylabel('friction torque (Nm)')
         a2.set_title(f'{p[2]}friction torque: true and estimated by the models',
                      fontsize='medium')
@@ -195,7 +195,7 @@ def _compensation_errors(fig, res):
                 t, e = traces[(tk, ak, kind)]
                 pct = summary['max_error_pct'][kind][tk][ak]
                 curves.append((t, 1e3 * e, dict(STYLES[kind],
-                                                label=f'{LABELS[kind]} (max {pct:.1f} %)')))
+                                                label=f'{MODEL_LABELS[kind]} (max {pct:.1f} %)')))
             for t, y, style in curves:
                 ax.plot(t, y, **style)
             ax.axvspan(0.0, settle, color='0.85', lw=0, label=SETTLING_LABEL)
@@ -211,7 +211,7 @@ def _compensation_errors(fig, res):
             zoom = summary['zoom'][tk][ak]
             _, loc = zoom_inset(ax, zoom['window_s'], curves, scale_by=(1, 2), width=0.46,
                                 height=0.36,
-                                title=f'zoom: largest {LABELS[zoom["model"]]} error '
+                                title=f'zoom: largest {MODEL_LABELS[zoom["model"]]} error '
                                       f'(t = {zoom["time_s"]:.2f} s)')
             ax.legend(fontsize='x-small', loc=loc)
             grid_on(ax)
@@ -234,14 +234,14 @@ def _compensation_bars(fig, res):
     for kind in ('lugre', 'gms'):
         v = PAPER['compensated_' + kind].value
         ax.plot([x0, x1], [v, v], color=STYLES[kind]['color'], ls=':', lw=1.6,
-                label=f'paper, {LABELS[kind]}: {v:g} %')
+                label=f'paper, {MODEL_LABELS[kind]}: {v:g} %')
     for i, kind in enumerate(MODELS):
         mx = [summary['max_error_pct'][kind][tk][ak] for tk, ak in cases]
         rm = [100.0 * summary['rmse'][kind][tk][ak] / float(ak) for tk, ak in cases]
         pos = x + (i - 1) * w
         ax.bar(pos, mx, w * 0.9, color=STYLES[kind]['color'], alpha=0.75,
                hatch='//' if kind == 'gms' else None, edgecolor='white', lw=0,
-               label=f'{LABELS[kind]}: max error')
+               label=f'{MODEL_LABELS[kind]}: max error')
         ax.bar(pos, rm, w * 0.22, color='k',
                label='RMSE (thin bars)' if i == len(MODELS) - 1 else None)
         for p_, v_ in zip(pos, mx):
@@ -281,15 +281,15 @@ def _estimation(fig, res):
     a0.plot(t, r['tau_link'], color='0.6', lw=0.5, label='link torque sensor')
     a0.plot(t, r['tau_ext'], **STYLES['truth'], label=r'applied $\tau_{ext}$ (true)')
     for kind in MODELS:
-        a0.plot(t, r['estimates'][kind], **STYLES[kind], label=f'estimate, {LABELS[kind]}')
+        a0.plot(t, r['estimates'][kind], **STYLES[kind], label=f'estimate, {MODEL_LABELS[kind]}')
     a0.set_ylabel('external torque (Nm)')
-    ctrl = LABELS[summary['controller_friction']]
+    ctrl = MODEL_LABELS[summary['controller_friction']]
     a0.set_title(f'disturbance observer eq. 15, $\\beta$ = {summary["beta"]:g} rad/s, gravity '
                  f'as unknown load; controller eq. 17 with {ctrl} feed-forward',
                  fontsize='medium')
     curves = []
     for kind in MODELS:
-        label = (f'{LABELS[kind]} (RMS {summary["rms_error"][kind]:.2f} Nm, '
+        label = (f'{MODEL_LABELS[kind]} (RMS {summary["rms_error"][kind]:.2f} Nm, '
                  f'{summary["rms_error_pct"][kind]:.1f} %)')
         curves.append((t, r['estimates'][kind] - r['tau_ext'],
                        dict(STYLES[kind], label=label)))
@@ -305,7 +305,7 @@ def _estimation(fig, res):
     inset, loc1 = zoom_inset(a1, zoom['window_s'], curves, scale_by=(1, 2), width=0.4,
                              height=0.38,
                              title=f'zoom: the largest LuGre/GMS error, '
-                                   f'{zoom["max_error"]:.2f} Nm ({LABELS[zoom["model"]]}) '
+                                   f'{zoom["max_error"]:.2f} Nm ({MODEL_LABELS[zoom["model"]]}) '
                                    f'at t = {zoom["time_s"]:.2f} s')
     inset.axhline(bnd, **bound)
     inset.axhline(-bnd, **bound)
