@@ -323,3 +323,14 @@ def test_summary_markdown_gives_outputs_with_units(presliding_result):
     assert any(line.startswith('| 60 | no peak') for line in rows)   # None: said in words
     pre = '\n'.join(classic_report.summary_markdown('presliding', presliding_result.summary))
     assert '| N/m |' in pre and '| µm |' in pre
+
+
+def test_a_result_is_an_object_with_plain_json_and_a_figure(presliding_result):
+    from matplotlib.figure import Figure
+    assert isinstance(presliding_result, classic.ClassicResult)
+    assert presliding_result.name == 'presliding'
+    doc = json.loads(json.dumps(presliding_result.to_dict(), allow_nan=False))
+    assert doc['stiffness'] == presliding_result.summary['stiffness']
+    fig = Figure()
+    presliding_result.plot(fig)
+    assert len(fig.axes) == 3 and 'Pre-sliding' in fig._suptitle.get_text()
