@@ -481,7 +481,7 @@ def simulate_recording(truth_gear, path=None, *, duration=90.0, seed=0, base_gea
     rate = sim['rate']
     dt = 1.0 / rate
     every = max(1, int(round(rate / conf['publish_rate'])))
-    kp, kd = pd_gains(base.inertia, conf['rise_time'], conf['overshoot'])
+    kp, kd = pd_gains(base.inertia, rise_time=conf['rise_time'], overshoot=conf['overshoot'])
     if gain_scale != 1.0:
         gk = np.broadcast_to(np.asarray(gain_scale, dtype=float), (2,))
         kp, kd = kp * float(gk[0]), kd * float(gk[1])
@@ -508,7 +508,7 @@ def simulate_recording(truth_gear, path=None, *, duration=90.0, seed=0, base_gea
             gear = truth_gear.replace({'thermal': {
                 'ambient': xi0 if ambient is None else ambient, 'initial': xi0}})
         plant = Plant(gear, xi0=xi0, seed=int(seed) * 101 + b, q0=float(q_ref[0]))
-        ctrl = Controller(base, kp, kd, 'none', dt)
+        ctrl = Controller(base, kp, kd, friction='none', dt=dt)
         n = len(q_ref)
         record_segment(plant, lambda s, k: ctrl(s.q, s.qd, s.xi, q_ref[k], qd_ref[k], qdd_ref[k]),
                        q_ref, qd_ref, every, t_off, out=out, temp_t=temp_t, temp_xi=temp_xi)

@@ -47,8 +47,8 @@ from ..models.static import StaticFriction
 
 __all__ = ['against_truth_markdown', 'identification_figures']
 
-LABELS = {'fc': r'$F_c$ (Nm)', 'fs': r'$F_s$ (Nm)', 'fv': r'$F_v$ (Nm/(rad/s)$^{\delta_v}$)',
-          'vs': r'$v_s$ (rad/s, $\kappa\dot q$)', 'delta_v': r'$\delta_v$'}
+_LABELS = {'fc': r'$F_c$ (Nm)', 'fs': r'$F_s$ (Nm)', 'fv': r'$F_v$ (Nm/(rad/s)$^{\delta_v}$)',
+           'vs': r'$v_s$ (rad/s, $\kappa\dot q$)', 'delta_v': r'$\delta_v$'}
 
 
 #: caption of Fig. 3 (b): what the markers are and why they may differ from the polynomials
@@ -199,7 +199,7 @@ def identification_figures(ident, recordings=(), presliding=None):
             if gx:
                 ax.plot([], [], 'o', color='0.4', label='single-temperature fits')
             ax.set_xlabel('temperature (degC)')
-            ax.set_title(LABELS[n])
+            ax.set_title(_LABELS[n])
             ax.legend(fontsize='x-small')
             _grid(ax)
         fig.suptitle('(b) curve parameters against temperature (velocities in units of '

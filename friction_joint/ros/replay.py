@@ -198,7 +198,7 @@ def replay(bag, *, rate=1.0, topics=None, clock=True, loop=False, wait=2.0, sett
         while not stop.is_set():
             now_clock = -1
             t0_bag = t0_wall = None
-            for topic, _, bag_ns, raw in iter_messages(bag, selected):
+            for topic, _, bag_ns, raw in iter_messages(bag, topics=selected):
                 if stop.is_set():
                     break
                 if rate > 0:

@@ -198,7 +198,7 @@ def test_estimators_outlive_poisoned_states(spawn, ros_node):
                   + b.describe())
     for key, kind in (('a', 'static'), ('b', 'gms')):
         model = load_gear(MODEL)
-        obs = DisturbanceObserver(model, 60.0, 1.0 / 3000.0, kind)
+        obs = DisturbanceObserver(model, beta=60.0, dt=1.0 / 3000.0, friction=kind)
         expected = [obs(tau[k], q[k], qd[k], 30.0) for k in range(n)]
         live = np.array([got[key][ns] for ns in clean])
         np.testing.assert_allclose(live[:250], expected[:250], rtol=0, atol=1e-9,
@@ -388,7 +388,7 @@ def test_states_before_the_first_temperature_wait_for_it(ros_env, monkeypatch):
         assert [stamp_ns(m) for m in sent] == stamps[:30]
         for k in range(30, 40):
             node.on_state(joint_state(stamps[k], [q[k]], [qd[k]], [tau[k]]))
-        obs = DisturbanceObserver(load_gear(MODEL), 60.0, dt, 'lugre')
+        obs = DisturbanceObserver(load_gear(MODEL), beta=60.0, dt=dt, friction='lugre')
         expected = [obs(tau[k], q[k], qd[k], 30.0) for k in range(40)]
         np.testing.assert_allclose([m.effort[0] for m in sent], expected, rtol=0, atol=1e-12)
     with node_here(EstimatorNode, MODEL, sync='false') as node:
@@ -658,7 +658,7 @@ def test_estimator_survives_the_storm_and_agrees_with_offline_after_1_s(storm):
         est.describe()[-3000:]
     live = np.array([ext[ns] for ns in clean])
     assert np.all(np.isfinite(live))
-    obs = DisturbanceObserver(load_gear(MODEL), 60.0, 1.0 / RATE, 'lugre')
+    obs = DisturbanceObserver(load_gear(MODEL), beta=60.0, dt=1.0 / RATE, friction='lugre')
     offline = np.array([obs(t, q, qd, 30.0) for t, q, qd in zip(storm['tau'], storm['q'],
                                                                 storm['qd'])])
     after = int(RATE * SETTLE_S)                            # 1 s after the storm

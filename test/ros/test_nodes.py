@@ -56,9 +56,10 @@ def offline_loop(n):
     """Run the same closed loop in one process: plant, eq. 17 controller, observer."""
     model, truth = load_gear(MODEL), load_gear(TRUTH)
     plant = Plant(truth, xi0=XI0)
-    ctrl = Controller(model, *pd_gains(model.inertia, 0.04, 0.06), 'lugre', plant.dt, 'measured')
-    obs = DisturbanceObserver(model, 60.0, plant.dt, 'lugre', gravity=False)
-    traj = SineTrajectory(0.4, 1.5)
+    ctrl = Controller(model, *pd_gains(model.inertia, rise_time=0.04, overshoot=0.06),
+                      friction='lugre', dt=plant.dt, ff_velocity='measured')
+    obs = DisturbanceObserver(model, beta=60.0, dt=plant.dt, friction='lugre', gravity=False)
+    traj = SineTrajectory(0.4, omega=1.5)
     s = plant.last
     q, effort, est = [s.q], [s.effort], [obs(s.effort, s.q, s.qd, s.xi)]
     for k in range(n):

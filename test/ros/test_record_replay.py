@@ -128,7 +128,7 @@ def test_record_duration_default_topics_read_back(ros_node, spawn, tmp_path):
     np.testing.assert_array_equal(data.joint_states.effort, -np.arange(300.0))
     np.testing.assert_allclose(data.joint_states.t, 100 + np.arange(300) * 1e-3)
     np.testing.assert_array_equal(data.temperature.xi, [30, 31, 32, 33, 34])
-    np.testing.assert_array_equal(data.temperature_at([100.7, 101.2]), [31, 32])
+    np.testing.assert_array_equal(data.temperature_at(t=[100.7, 101.2]), [31, 32])
     assert data.link_torque is None and data.joint_command is None
     assert read_recording(out).joint_name == 'other'
 

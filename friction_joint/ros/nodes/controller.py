@@ -119,12 +119,14 @@ class ControllerNode(PairedInput, Node):
         self.limits = InputLimits(self.gear)
         rate = sample_rate(self.p, self.gear)
         self.kp, self.kd = pd_gains(self.p['design_inertia'] or self.gear.inertia,
-                                    self.p['rise_time'], self.p['overshoot'])
+                                    rise_time=self.p['rise_time'],
+                                    overshoot=self.p['overshoot'])
         self.dt = 1.0 / rate
         self.ctrl = self._controller()
         self.ctrl(0.0, 0.0, warm_up_temperature(self.gear), 0.0)    # compile the kernels
         self.ctrl = self._controller()
-        self.traj = SineTrajectory(self.p['amplitude'], self.p['omega'], self.p['offset'])
+        self.traj = SineTrajectory(self.p['amplitude'], omega=self.p['omega'],
+                                   offset=self.p['offset'])
         self.pair = StampPairing(self.p['sync'])
         self.t0 = None
         self.last_ns = None
@@ -149,15 +151,16 @@ class ControllerNode(PairedInput, Node):
                                f'{self.limits.describe()}')
 
     def _controller(self):
-        return Controller(self.gear, self.kp, self.kd, self.p['friction_ff'], self.dt,
-                          self.p['ff_velocity'])
+        return Controller(self.gear, self.kp, self.kd, friction=self.p['friction_ff'],
+                          dt=self.dt, ff_velocity=self.p['ff_velocity'])
 
     def apply(self, name, value):
         self.p[name] = value
         if name in ('friction_ff', 'ff_velocity'):
             self.ctrl = self._controller()
         else:
-            self.traj = SineTrajectory(self.p['amplitude'], self.p['omega'], self.p['offset'])
+            self.traj = SineTrajectory(self.p['amplitude'], omega=self.p['omega'],
+                                       offset=self.p['offset'])
         self.get_logger().info(f'{name} set to {value!r}')
 
     def handle_state(self, msg):

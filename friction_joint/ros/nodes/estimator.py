@@ -116,7 +116,8 @@ class EstimatorNode(PairedInput, Node):
                                f'{self.limits.describe()}')
 
     def _observer(self):
-        return DisturbanceObserver(self.gear, self.p['beta'], self.dt, self.p['friction'],
+        return DisturbanceObserver(self.gear, beta=self.p['beta'], dt=self.dt,
+                                   friction=self.p['friction'],
                                    gravity=self.p['gravity'])
 
     def apply(self, name, value):

@@ -76,7 +76,7 @@ them).  In lockstep the state the loop waits on is re-sent every
 ``resend_period`` while the loop stalls (a controller or estimator killed
 and restarted has never seen it; logged after 5 s).
 ``wait_recorder`` (comma-separated topics, or ``loop`` for
-``LOOP_TOPICS`` and, in lockstep, ``/clock``) holds the first state until a
+``LOOP_TOPIC_NAMES`` and, in lockstep, ``/clock``) holds the first state until a
 recorder has announced on ``recorder_ready`` that it has matched a publisher
 on each of them (``friction_joint record`` does; see
 :mod:`~friction_joint.ros.qos`), so a recording started before the nodes
@@ -139,8 +139,8 @@ SPIN_EVERY = 20
 FINAL_WAIT = 20.0
 
 #: ``wait_recorder:=loop``: the topics of the closed loop a recording must have from its start
-LOOP_TOPICS = ('joint_states', 'joint_temperature', 'link_torque', 'joint_command',
-               'external_torque')
+LOOP_TOPIC_NAMES = ('joint_states', 'joint_temperature', 'link_torque', 'joint_command',
+                    'external_torque')
 
 
 class JointSimNode(Rejects, Node):
@@ -306,7 +306,7 @@ class JointSimNode(Rejects, Node):
     def recorder_topics(self):
         """Return the resolved topics of ``wait_recorder`` ('loop': the loop's topics)."""
         spec = self.p['wait_recorder'].strip()
-        names = LOOP_TOPICS if spec == 'loop' else [t.strip() for t in spec.split(',')]
+        names = LOOP_TOPIC_NAMES if spec == 'loop' else [t.strip() for t in spec.split(',')]
         topics = {self.resolve_topic_name(t) for t in names if t}
         if spec == 'loop' and self.lockstep:
             topics.add('/clock')
@@ -386,7 +386,7 @@ class JointSimNode(Rejects, Node):
 
     def advance(self):
         self.progress = time.monotonic()
-        s = self.plant.step(self.drive_torque(self.plant.last.qd), self.contact)
+        s = self.plant.step(self.drive_torque(self.plant.last.qd), tau_contact=self.contact)
         if self.n_end and self.plant.k >= self.n_end:
             self.done = True
         self.publish(s, temperature=True)
@@ -531,7 +531,7 @@ class JointSimNode(Rejects, Node):
     def on_tick(self):
         s = None
         for _ in range(self.per_tick):
-            s = self.plant.step(self.drive_torque(self.plant.last.qd), self.contact)
+            s = self.plant.step(self.drive_torque(self.plant.last.qd), tau_contact=self.contact)
         self.ticks += 1
         self.publish(s, temperature=(self.ticks % self.temp_every == 0))
         if self.n_end and self.plant.k >= self.n_end:
