@@ -26,12 +26,11 @@ place); an existing non-empty DIR is an error unless ``--force``, which
 replaces it as a whole; on an error nothing is written and the command exits
 with status 2.
 """
-import json
 import os
 
 from ._console import progress_printer
 from ..diagnosis import EFFECTS
-from ..exceptions import GearConfigError
+from ..exceptions import ArgumentError
 
 __all__ = ['NAME', 'HELP', 'DESCRIPTION', 'add_arguments', 'run', 'parse_effects']
 
@@ -69,19 +68,18 @@ def parse_effects(text):
     effs = tuple(e.strip() for e in text.split(',') if e.strip())
     bad = [e for e in effs if e not in EFFECTS]
     if bad or not effs:
-        raise GearConfigError(f'--effects: unknown effect(s) {", ".join(bad) or "(none given)"}; '
-                              f'known: {", ".join(EFFECTS)}')
+        raise ArgumentError(f'--effects: unknown effect(s) {", ".join(bad) or "(none given)"}; '
+                            f'known: {", ".join(EFFECTS)}')
     return effs
 
 
 def run(args):
     """Diagnose and write the result directory; prints the named causes."""
     from ..diagnosis.report import run_diagnose
-    written = run_diagnose(args.recordings, args.model, args.out,
-                           effects=parse_effects(args.effects), joint_name=args.joint,
-                           progress=progress_printer(args.quiet), force=args.force)
-    with open(written[-1], encoding='utf-8') as fh:
-        named = json.load(fh)['named_causes']
+    run_ = run_diagnose(args.recordings, args.model, args.out,
+                        effects=parse_effects(args.effects), joint_name=args.joint,
+                        progress=progress_printer(args.quiet), force=args.force)
+    named = run_.named_causes
     out = os.path.normpath(args.out)                 # DIR/ or DIR// named as DIR
     files = ('report.json', 'extended.yaml', 'report.md', 'report.html')
     print(f'named causes: {", ".join(named) or "none"}; wrote '

@@ -44,11 +44,12 @@ from .data import DiagnosisData, load_data
 from .gears import extended_model
 from .pipeline import (ALPHA, base_structure, diagnose, Diagnosis, EFFECTS, extend, MIN_GAIN,
                        UNREPRESENTABLE)
-from .report import run_diagnose
+from .report import DiagnoseRun, run_diagnose
 from .scan import residual_scan
 from .structures import CandidateStructure
 from .testability import untestable
 
 __all__ = ['EFFECTS', 'ALPHA', 'MIN_GAIN', 'Diagnosis', 'diagnose', 'base_structure', 'extend',
            'DiagnosisData', 'load_data', 'CandidateStructure', 'cross_validate_structures',
-           'untestable', 'extended_model', 'run_diagnose', 'residual_scan', 'UNREPRESENTABLE']
+           'untestable', 'extended_model', 'DiagnoseRun', 'run_diagnose', 'residual_scan',
+           'UNREPRESENTABLE']

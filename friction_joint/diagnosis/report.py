@@ -30,6 +30,7 @@ Figures (PNG bytes, rendered with :func:`friction_joint.output.render_png`):
 from __future__ import annotations
 
 from collections.abc import Callable, Sequence
+from dataclasses import dataclass
 import math
 import os
 import tempfile
@@ -40,14 +41,14 @@ import yaml
 
 from .criterion import effect_variables
 from .findings import candidate_summary, finding_lines, next_step_lines
-from .pipeline import diagnose, EFFECTS
+from .pipeline import diagnose, Diagnosis, EFFECTS
 from .scan import markdown_lines, scan_png
 from .structures import accumulated_travel
 from ..gear import gear_from_dict, load_gear
 from ..output import json_bytes, OutputSet, render_png
 from ..report_html import markdown_to_html
 
-__all__ = ['figures', 'markdown', 'CAUSE_VARIABLES', 'run_diagnose']
+__all__ = ['figures', 'markdown', 'CAUSE_VARIABLES', 'DiagnoseRun', 'run_diagnose']
 
 #: effect -> axis label of the variable its residual is plotted against
 CAUSE_VARIABLES = {
@@ -400,12 +401,35 @@ def _html(md, figs):
         return markdown_to_html(md, base_dir=tmp, title='friction_joint diagnose report')
 
 
+@dataclass(frozen=True)
+class DiagnoseRun:
+    """
+    What a ``diagnose`` run computed and wrote.
+
+    Attributes
+    ----------
+    diagnosis : Diagnosis
+        The result (its ``report`` is the content of ``report.json``).
+    written : list of str
+        The paths written, as given (``report.json`` last).
+
+    """
+
+    diagnosis: Diagnosis
+    written: list[str]
+
+    @property
+    def named_causes(self) -> list[str]:
+        """Return the missing effects named, in the order they were added."""
+        return list(self.diagnosis.report['named_causes'])
+
+
 def run_diagnose(paths: Sequence[str | os.PathLike], model_path: str | os.PathLike,
                  out: str | os.PathLike, *, effects: Sequence[str] = EFFECTS,
                  joint_name: str | None = None, progress: Callable[[str], None] | None = None,
-                 force: bool = False) -> list[str]:
+                 force: bool = False) -> DiagnoseRun:
     """
-    Diagnose and write the result directory ``out`` as a whole; returns the paths written.
+    Diagnose and write the result directory ``out`` as a whole.
 
     ``out`` is checked before the work: an existing non-empty ``out`` is an error
     unless ``force`` (then it is replaced as a whole, no file of an earlier run
@@ -428,8 +452,8 @@ def run_diagnose(paths: Sequence[str | os.PathLike], model_path: str | os.PathLi
 
     Returns
     -------
-    list of str
-        The paths written.
+    DiagnoseRun
+        The diagnosis and the paths written.
 
     """
     start = time.perf_counter()
@@ -474,4 +498,4 @@ def _diagnose_into(outputs, paths, model_path, out, start, *, effects, joint_nam
         for text in candidate_summary(rep):
             progress('not named: ' + text)
         progress('timing: ' + ', '.join(f'{k} {v:.2f} s' for k, v in rep['timing'].items()))
-    return paths_written
+    return DiagnoseRun(diagnosis=diag, written=paths_written)

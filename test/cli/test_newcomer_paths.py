@@ -19,6 +19,7 @@ The work is stubbed: only what the command prints is under test.
 """
 import json
 import os
+import types
 
 from friction_joint.cli import main
 import friction_joint.diagnosis.report as diagnosis_report
@@ -39,7 +40,8 @@ def test_diagnose_prints_normal_paths(tmp_path, capsys, monkeypatch, suffix):
         path = os.path.join(out, 'report.json')
         with open(path, 'w', encoding='utf-8') as fh:
             json.dump({'named_causes': ['thermal']}, fh)
-        return [path]
+        diag = types.SimpleNamespace(report={'named_causes': ['thermal']})
+        return diagnosis_report.DiagnoseRun(diagnosis=diag, written=[path])
     monkeypatch.setattr(diagnosis_report, 'run_diagnose', run_diagnose)
     out = str(tmp_path / 'report') + suffix
     assert main(['diagnose', 'rec.mcap', '--model', MODEL, '--out', out, '--quiet']) == 0
