@@ -30,7 +30,9 @@ Experiments on the simulated test bed and in the literature.
 * :mod:`~friction_joint.experiments.excitation`: the identification excitation
   (Section V-A) recorded on the test bed;
 * :mod:`~friction_joint.experiments.hidden`: recordings with a hidden effect,
-  for testing the diagnosis.
+  for testing the diagnosis;
+* :mod:`~friction_joint.experiments.fleet`: a simulated robot fleet, some joints
+  wearing, for testing the fleet monitor.
 """
 from ._common import ExperimentData
 from .chirp import chirp
@@ -38,6 +40,7 @@ from .classic import breakaway, ClassicResult, frictional_lag, presliding, stick
 from .compensation import compensation
 from .estimation import estimation
 from .excitation import simulate_identification
+from .fleet import simulate_fleet
 from .hidden import apply_effect, apply_effects, draw_effect, EFFECT_RANGES, simulate_recording
 from .paper import PAPER, PaperNumber
 from .runner import EXPERIMENTS, run_experiment
@@ -45,4 +48,5 @@ from .runner import EXPERIMENTS, run_experiment
 __all__ = ['chirp', 'compensation', 'estimation', 'ExperimentData', 'EXPERIMENTS',
            'run_experiment', 'ClassicResult', 'PAPER', 'PaperNumber', 'presliding',
            'frictional_lag', 'breakaway', 'stick_slip', 'simulate_identification',
-           'EFFECT_RANGES', 'apply_effect', 'apply_effects', 'draw_effect', 'simulate_recording']
+           'EFFECT_RANGES', 'apply_effect', 'apply_effects', 'draw_effect', 'simulate_recording',
+           'simulate_fleet']
