@@ -30,6 +30,8 @@ The subpackages, one concept each (the tree is the architecture):
 * :mod:`~friction_joint.bag`: recordings (rosbag2 / MCAP) without ROS;
 * :mod:`~friction_joint.ros`: the only place that imports rclpy (nodes, record,
   replay, bring-up);
+* :mod:`~friction_joint.jobs`: the commands' work: load the inputs, compute with
+  the subpackages above, write one output set;
 * :mod:`~friction_joint.cli`: the only place that parses arguments;
 
 and the modules shared by all of them: :mod:`~friction_joint.gear` (gear

@@ -49,7 +49,7 @@ numpydoc_validate = pytest.importorskip('numpydoc.validate')
 PUBLIC = ('friction_joint.models', 'friction_joint.testbed', 'friction_joint.control',
           'friction_joint.gear', 'friction_joint.bag', 'friction_joint.identification',
           'friction_joint.diagnosis', 'friction_joint.effects', 'friction_joint.exceptions',
-          'friction_joint.output', 'friction_joint.inputs')
+          'friction_joint.output', 'friction_joint.inputs', 'friction_joint.jobs')
 
 _SIGNAL = ('a signal of the (qd, xi, tau_l) triple every friction model takes positionally, '
            'in that order; the default 0.0 is the unloaded gear')

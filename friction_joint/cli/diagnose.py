@@ -75,7 +75,7 @@ def parse_effects(text):
 
 def run(args):
     """Diagnose and write the result directory; prints the named causes."""
-    from ..diagnosis.report import run_diagnose
+    from ..jobs.diagnose import run_diagnose
     run_ = run_diagnose(args.recordings, args.model, args.out,
                         effects=parse_effects(args.effects), joint_name=args.joint,
                         progress=progress_printer(args.quiet), force=args.force)

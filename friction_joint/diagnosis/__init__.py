@@ -36,20 +36,19 @@ Diagnosis: what a friction model gets wrong on measured data, and the extension 
   physical ``extended.yaml`` (:func:`extended_model`);
 * :mod:`~friction_joint.diagnosis.scan`: the open residual scan of the final
   model's residual against time, position, velocity, ... (:func:`residual_scan`);
-* :mod:`~friction_joint.diagnosis.report`: figures, ``report.md`` and the files
-  of the ``diagnose`` command (:func:`run_diagnose`).
+* :mod:`~friction_joint.diagnosis.report`: figures and ``report.md`` (the
+  ``diagnose`` command's files are written by :mod:`friction_joint.jobs`).
 """
 from .crossval import cross_validate_structures
 from .data import DiagnosisData, load_data
 from .gears import extended_model
 from .pipeline import (ALPHA, base_structure, diagnose, Diagnosis, EFFECTS, extend, MIN_GAIN,
                        UNREPRESENTABLE)
-from .report import DiagnoseRun, run_diagnose
 from .scan import residual_scan
 from .structures import CandidateStructure
 from .testability import untestable
 
 __all__ = ['EFFECTS', 'ALPHA', 'MIN_GAIN', 'Diagnosis', 'diagnose', 'base_structure', 'extend',
            'DiagnosisData', 'load_data', 'CandidateStructure', 'cross_validate_structures',
-           'untestable', 'extended_model', 'DiagnoseRun', 'run_diagnose', 'residual_scan',
+           'untestable', 'extended_model', 'residual_scan',
            'UNREPRESENTABLE']

@@ -15,7 +15,7 @@
 """
 Figures and Markdown report of a diagnosis (:func:`friction_joint.diagnosis.pipeline.diagnose`).
 
-Figures (PNG bytes, rendered with :func:`friction_joint.output.render_png`):
+Figures (PNG bytes, rendered with :func:`friction_joint.results.render_png`):
 
 * ``torque.png``: measured friction torque vs the held-out predictions of the
   base and the extended model over time, and both residuals;
@@ -29,26 +29,17 @@ Figures (PNG bytes, rendered with :func:`friction_joint.output.render_png`):
 """
 from __future__ import annotations
 
-from collections.abc import Callable, Sequence
-from dataclasses import dataclass
 import math
-import os
-import tempfile
-import time
 
 import numpy as np
-import yaml
 
 from .criterion import effect_variables
 from .findings import candidate_summary, finding_lines, next_step_lines
-from .pipeline import diagnose, Diagnosis, EFFECTS
 from .scan import markdown_lines, scan_png
 from .structures import accumulated_travel
-from ..gear import gear_from_dict, load_gear
-from ..output import json_bytes, OutputSet, render_png
-from ..report_html import markdown_to_html
+from ..results import render_png
 
-__all__ = ['figures', 'markdown', 'CAUSE_VARIABLES', 'DiagnoseRun', 'run_diagnose']
+__all__ = ['figures', 'markdown', 'CAUSE_VARIABLES']
 
 #: effect -> axis label of the variable its residual is plotted against
 CAUSE_VARIABLES = {
@@ -383,119 +374,3 @@ def _confound_lines(rep):
                 f'{c["separate_by"]} would.  Of the two, {a} (a measured cause) is preferred.',
                 '']
     return out
-
-
-def _gear_yaml(gear, header):
-    text = yaml.safe_dump(gear.to_dict(), sort_keys=False, default_flow_style=None)
-    doc = yaml.safe_load(text)                    # must load like a gear file does
-    gear_from_dict(doc['/**']['ros__parameters'], source='extended.yaml')
-    return ''.join(f'# {ln}\n' for ln in header.splitlines()) + text
-
-
-def _html(md, figs):
-    """Return ``report.md`` as one self-contained HTML page, the figures embedded."""
-    with tempfile.TemporaryDirectory(prefix='friction_joint-report-') as tmp:
-        for name, data in figs:
-            with open(os.path.join(tmp, name), 'wb') as fh:
-                fh.write(data)
-        return markdown_to_html(md, base_dir=tmp, title='friction_joint diagnose report')
-
-
-@dataclass(frozen=True)
-class DiagnoseRun:
-    """
-    What a ``diagnose`` run computed and wrote.
-
-    Attributes
-    ----------
-    diagnosis : Diagnosis
-        The result (its ``report`` is the content of ``report.json``).
-    written : list of str
-        The paths written, as given (``report.json`` last).
-
-    """
-
-    diagnosis: Diagnosis
-    written: list[str]
-
-    @property
-    def named_causes(self) -> list[str]:
-        """Return the missing effects named, in the order they were added."""
-        return list(self.diagnosis.report['named_causes'])
-
-
-def run_diagnose(paths: Sequence[str | os.PathLike], model_path: str | os.PathLike,
-                 out: str | os.PathLike, *, effects: Sequence[str] = EFFECTS,
-                 joint_name: str | None = None, progress: Callable[[str], None] | None = None,
-                 force: bool = False) -> DiagnoseRun:
-    """
-    Diagnose and write the result directory ``out`` as a whole.
-
-    ``out`` is checked before the work: an existing non-empty ``out`` is an error
-    unless ``force`` (then it is replaced as a whole, no file of an earlier run
-    remains), an ``out`` that is, contains or lies in an input always.  Everything
-    is computed and rendered first, then ``out`` is built next to its place and
-    renamed into it (:class:`~friction_joint.output.OutputSet`).
-
-    Parameters
-    ----------
-    paths : sequence of str or os.PathLike
-        Recordings.
-    model_path : str or os.PathLike
-        The base gear file.
-    out : str or os.PathLike
-        The result directory.
-    effects, joint_name, progress
-        As for :func:`~friction_joint.diagnosis.diagnose`.
-    force : bool
-        Replace an existing ``out``.
-
-    Returns
-    -------
-    DiagnoseRun
-        The diagnosis and the paths written.
-
-    """
-    start = time.perf_counter()
-    inputs = [('--model', model_path)] + [('recording', p) for p in paths]
-    with OutputSet(force=force, inputs=inputs) as outputs:
-        outputs.add_directory(out)
-        outputs.check()
-        return _diagnose_into(outputs, paths, model_path, out, start,
-                              effects=effects, joint_name=joint_name, progress=progress)
-
-
-def _diagnose_into(outputs, paths, model_path, out, start, *, effects, joint_name, progress):
-    base = load_gear(model_path)
-    diag = diagnose(paths, base, effects=effects, joint_name=joint_name, progress=progress)
-    gaps = getattr(diag.data, 'gaps', None)
-    if gaps is not None:
-        diag.report['data']['gaps'] = gaps
-        if progress and (gaps['bridged'] or gaps['split']):
-            progress(f'gaps in the stamps: {gaps["bridged"]} bridged (longest '
-                     f'{1e3 * gaps["longest_bridged_s"]:.1f} ms), {gaps["split"]} split')
-    t0 = time.perf_counter()
-    figs = figures(diag)
-    diag.report['timing']['report_s'] = time.perf_counter() - t0
-    rep = diag.report
-    header = (f'Extended by "friction_joint diagnose" from {os.path.abspath(model_path)}\n'
-              f'named causes: {", ".join(rep["named_causes"]) or "none"}\n'
-              f'held-out torque RMSE {rep["baseline"]["torque_rmse"]:.4f} -> '
-              f'{rep["extended"]["torque_rmse"]:.4f} Nm\n'
-              'recordings: ' + ', '.join(os.path.abspath(p) for p in paths))
-    gear_text = _gear_yaml(diag.gear, header)
-    rep['model_file'] = os.path.abspath(model_path)
-    rep['extended_file'] = os.path.abspath(os.path.join(out, 'extended.yaml'))
-    rep['timing']['total_s'] = time.perf_counter() - start
-    md = markdown(diag, [n for n, _ in figs], model_path, out_dir=os.path.normpath(out))
-    targets = figs + [('report.md', md.encode('utf-8')),
-                      ('report.html', _html(md, figs).encode('utf-8')),
-                      ('extended.yaml', gear_text.encode('utf-8')),
-                      ('report.json', json_bytes(rep))]
-    outputs.write_directory(out, targets)
-    paths_written = outputs.publish()
-    if progress:
-        for text in candidate_summary(rep):
-            progress('not named: ' + text)
-        progress('timing: ' + ', '.join(f'{k} {v:.2f} s' for k, v in rep['timing'].items()))
-    return DiagnoseRun(diagnosis=diag, written=paths_written)

@@ -29,8 +29,9 @@ from pathlib import Path
 
 import friction_joint
 from friction_joint.bag import write_recording
-from friction_joint.diagnosis import diagnose, run_diagnose
+from friction_joint.diagnosis import diagnose
 from friction_joint.experiments.hidden import apply_effects, draw_effect, simulate_recording
+from friction_joint.jobs import run_diagnose
 import numpy as np
 
 ROOT = Path(__file__).resolve().parents[2]

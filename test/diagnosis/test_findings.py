@@ -37,11 +37,11 @@ import re
 
 import friction_joint
 from friction_joint.bag import read_recording
-from friction_joint.diagnosis import run_diagnose
 from friction_joint.diagnosis.findings import effect_finding, next_step_lines, SENTENCES
 from friction_joint.experiments.hidden import (apply_effect, draw_effect, segment_temperatures,
                                                simulate_recording)
 from friction_joint.experiments.hidden_plant import draw_plant
+from friction_joint.jobs import run_diagnose
 import numpy as np
 import pytest
 

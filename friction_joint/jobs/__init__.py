@@ -1,0 +1,28 @@
+# Copyright 2026 friction_joint maintainers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""
+The commands' work: load the inputs, compute with the subpackages, write one output set.
+
+The subpackages compute (and draw, in memory); a job reads the files a
+command names, calls them, and writes the command's outputs all or nothing
+(:class:`~friction_joint.output.OutputSet`).  The command line
+(:mod:`friction_joint.cli`) parses arguments and calls a job.
+
+* :mod:`~friction_joint.jobs.diagnose`: ``friction_joint diagnose``
+  (:func:`run_diagnose`, returning a :class:`DiagnoseRun`).
+"""
+from .diagnose import DiagnoseRun, run_diagnose
+
+__all__ = ['DiagnoseRun', 'run_diagnose']
