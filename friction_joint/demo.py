@@ -50,8 +50,8 @@ from .experiments.compensation import COMPENSATION
 from .experiments.runner import run_experiment
 from .experiments.testbed_report import testbed_markdown
 from .gear import load_gear
-from .identification.pipeline import run_identify
 from .identification.report import against_truth_markdown
+from .jobs.identify import run_identify
 from .output import OutputSet
 from .report_html import write_html_report
 

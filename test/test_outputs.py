@@ -223,7 +223,7 @@ def test_identify_failed_gear_rename_keeps_the_old_set(ident_inputs, tmp_path, m
 
 def test_identify_inside_a_staged_directory_names_final_paths(ident_inputs, tmp_path):
     """As in ``demo``: built in a staging directory, the files name where they end up."""
-    from friction_joint.identification.pipeline import run_identify
+    from friction_joint.jobs.identify import run_identify
     from friction_joint.output import OutputSet
     structure, bag = ident_inputs
     out = tmp_path / 'demo_out'

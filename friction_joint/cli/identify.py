@@ -93,7 +93,7 @@ def parse_orders(text):
 
 def run(args):
     """Identify and write the gear file and its report."""
-    from ..identification.pipeline import run_identify
+    from ..jobs.identify import run_identify
     paths = run_identify(args.recordings, args.model, args.out, orders=parse_orders(args.orders),
                          report_dir=args.report, presliding=args.presliding,
                          joint_name=args.joint, progress=progress_printer(args.quiet),

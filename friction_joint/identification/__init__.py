@@ -24,11 +24,12 @@ Identification of the friction model from recordings (seed Section V-A, three st
   :mod:`~friction_joint.identification.pattern_search`,
   :mod:`~friction_joint.identification.presliding`: step 3, the LuGre/GMS
   pre-sliding parameters;
-* :mod:`~friction_joint.identification.pipeline`: recordings -> gear file;
+* :mod:`~friction_joint.identification.pipeline`: recordings -> identified gear
+  (written by :mod:`friction_joint.jobs.identify`);
   :mod:`~friction_joint.identification.report`: its figures.
 """
 from .pattern_search import pattern_search, PatternSearchResult
-from .pipeline import IdentificationRun, identify_recordings, run_identify
+from .pipeline import IdentificationRun, identify_recordings
 from .plateaus import DETECTION, find_plateaus, Plateaus, plateaus_from_arrays
 from .presliding import fit_presliding, presliding_rmse, PreslidingFit
 from .presliding_data import EXPERIMENT_ADVICE, presliding_segments, Segment
@@ -39,4 +40,4 @@ __all__ = ['Plateaus', 'find_plateaus', 'plateaus_from_arrays', 'DETECTION', 'St
            'check_excitation', 'StaticIdentifier', 'cross_validate_orders', 'select_orders',
            'PatternSearchResult', 'pattern_search', 'Segment', 'presliding_segments',
            'EXPERIMENT_ADVICE', 'PreslidingFit', 'fit_presliding', 'presliding_rmse',
-           'IdentificationRun', 'identify_recordings', 'run_identify']
+           'IdentificationRun', 'identify_recordings']

@@ -21,8 +21,11 @@ command names, calls them, and writes the command's outputs all or nothing
 (:mod:`friction_joint.cli`) parses arguments and calls a job.
 
 * :mod:`~friction_joint.jobs.diagnose`: ``friction_joint diagnose``
-  (:func:`run_diagnose`, returning a :class:`DiagnoseRun`).
+  (:func:`run_diagnose`, returning a :class:`DiagnoseRun`);
+* :mod:`~friction_joint.jobs.identify`: ``friction_joint identify``
+  (:func:`run_identify`).
 """
 from .diagnose import DiagnoseRun, run_diagnose
+from .identify import run_identify
 
-__all__ = ['DiagnoseRun', 'run_diagnose']
+__all__ = ['DiagnoseRun', 'run_diagnose', 'run_identify']

@@ -22,8 +22,8 @@ import os
 import types
 
 from friction_joint.cli import main
-import friction_joint.identification.pipeline as identification_pipeline
 import friction_joint.jobs.diagnose as diagnosis_report
+import friction_joint.jobs.identify as identification_pipeline
 import pytest
 
 MODEL = os.path.join(os.path.dirname(__file__), '..', '..', 'config', 'csd25.yaml')
