@@ -64,33 +64,7 @@ POSITIONAL_DEFAULTS = {
 }
 #: (callable, parameter) -> the caller outside this API's subpackages that still passes it
 #: positionally; the parameter becomes keyword-only once the caller passes it by name
-PENDING_CALLERS = {
-    ('friction_joint.control.pd_gains', 'rise_time'):
-        'ros/nodes/controller.py, experiments/hidden.py, test/ros/test_nodes.py',
-    ('friction_joint.control.pd_gains', 'overshoot'):
-        'ros/nodes/controller.py, experiments/hidden.py, test/ros/test_nodes.py',
-    ('friction_joint.control.SineTrajectory.__init__', 'omega'):
-        'ros/nodes/controller.py, experiments/warmup.py, experiments/compensation.py, '
-        'test/ros/test_nodes.py',
-    ('friction_joint.control.SineTrajectory.__init__', 'offset'): 'ros/nodes/controller.py',
-    ('friction_joint.control.Controller.__init__', 'friction'):
-        'ros/nodes/controller.py, experiments/hidden.py, experiments/fleet.py, '
-        'test/ros/test_nodes.py',
-    ('friction_joint.control.Controller.__init__', 'dt'):
-        'ros/nodes/controller.py, experiments/hidden.py, experiments/fleet.py, '
-        'test/ros/test_nodes.py',
-    ('friction_joint.control.Controller.__init__', 'ff_velocity'):
-        'ros/nodes/controller.py, test/ros/test_nodes.py',
-    ('friction_joint.control.DisturbanceObserver.__init__', 'beta'):
-        'ros/nodes/estimator.py, test/ros/test_nodes.py, test/ros/test_node_inputs.py',
-    ('friction_joint.control.DisturbanceObserver.__init__', 'dt'):
-        'ros/nodes/estimator.py, test/ros/test_nodes.py, test/ros/test_node_inputs.py',
-    ('friction_joint.testbed.Plant.step', 'tau_contact'): 'ros/nodes/joint_sim.py',
-    ('friction_joint.bag.Recording.temperature_at', 't'): 'test/ros/test_record_replay.py',
-    ('friction_joint.bag.iter_messages', 'topics'): 'ros/replay.py',
-    ('friction_joint.control.DisturbanceObserver.__init__', 'friction'):
-        'ros/nodes/estimator.py, test/ros/test_nodes.py, test/ros/test_node_inputs.py',
-}
+PENDING_CALLERS: dict = {}
 #: numpydoc codes checked: no docstring, summary line, the Parameters section
 NUMPYDOC_CODES = ('GL08', 'SS01', 'SS02', 'SS03', 'SS05', 'PR01', 'PR02', 'PR03')
 #: names every module of a protocol defines for itself: the cli subcommands' NAME, HELP and

@@ -256,7 +256,7 @@ def recording_topics(path: str | os.PathLike) -> dict[str, tuple[str, int]]:
         _close(reader)
 
 
-def iter_messages(path: str | os.PathLike, topics: Iterable[str] | None = None
+def iter_messages(path: str | os.PathLike, *, topics: Iterable[str] | None = None
                   ) -> Iterator[tuple[str, str, int, bytes]]:
     """
     Yield the serialized messages of a recording in bag-time order.

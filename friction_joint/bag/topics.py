@@ -301,7 +301,7 @@ class Recording:
         """Joint-state time span (s)."""
         return float(self.joint_states.t[-1] - self.joint_states.t[0])
 
-    def temperature_at(self, t: ArrayLike | None = None) -> np.ndarray:
+    def temperature_at(self, *, t: ArrayLike | None = None) -> np.ndarray:
         """
         Return the housing temperature ξ at ``t``, zero-order hold.
 

@@ -61,7 +61,7 @@ def _unit_step(tn, zeta):
     return 1.0 - math.exp(-zeta * tn) * (math.cos(wd * tn) + zeta / wd * math.sin(wd * tn))
 
 
-def pd_gains(inertia: float, rise_time: float = 0.04,
+def pd_gains(inertia: float, *, rise_time: float = 0.04,
              overshoot: float = 0.06) -> tuple[float, float]:
     """
     Return the PD gains of eq. 17 from a 10-90 % rise time and a maximum overshoot.
@@ -135,7 +135,7 @@ class SineTrajectory:
 
     """
 
-    def __init__(self, amplitude: float, omega: float = 1.5, offset: float = 0.0) -> None:
+    def __init__(self, amplitude: float, *, omega: float = 1.5, offset: float = 0.0) -> None:
         self.a, self.w, self.offset = float(amplitude), float(omega), float(offset)
 
     def __call__(self, t):
@@ -163,7 +163,7 @@ class Controller:
 
     """
 
-    def __init__(self, gear: GearParams, kp: float, kd: float, friction: str = 'lugre',
+    def __init__(self, gear: GearParams, kp: float, kd: float, *, friction: str = 'lugre',
                  dt: float = 1.0 / 3000.0, ff_velocity: str = 'measured') -> None:
         if ff_velocity not in ('measured', 'desired'):
             raise ArgumentError("ff_velocity must be 'measured' or 'desired', "

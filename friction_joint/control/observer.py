@@ -77,8 +77,8 @@ class DisturbanceObserver:
 
     """
 
-    def __init__(self, gear: GearParams, beta: float = 60.0, dt: float = 1.0 / 3000.0,
-                 friction: str = 'lugre', *, gravity: bool = False,
+    def __init__(self, gear: GearParams, *, beta: float = 60.0, dt: float = 1.0 / 3000.0,
+                 friction: str = 'lugre', gravity: bool = False,
                  method: str = 'bilinear') -> None:
         if not beta > 0:
             raise ArgumentError(f'observer cut-off beta must be > 0, got {beta}')

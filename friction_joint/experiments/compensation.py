@@ -45,7 +45,7 @@ def tracking_run(model, warm, *, kp, kd, kind, amp, n, ff_velocity='measured'):
     """Track a sin(omega t) from the warmed-up plant ``warm`` (copied, at rest at q = 0)."""
     plant = copy.deepcopy(warm)
     ctrl = Controller(model, kp, kd, friction=kind, dt=plant.dt, ff_velocity=ff_velocity)
-    sine = SineTrajectory(amp, COMPENSATION['omega'])
+    sine = SineTrajectory(amp, omega=COMPENSATION['omega'])
     t0 = plant.t
     r = closed_loop(plant, ctrl, lambda t: sine(t - t0), n)
     r['t'] = r['t'] - t0

@@ -116,13 +116,13 @@ def estimation(model, truth, duration_scale=1.0, *, gains=None):
     n_settle = check_steps(c['settle'] * scale, plant.dt, 'estimation settling')
     n_steps((n - n_settle) * plant.dt, plant.dt, 'estimation evaluation window')
     ctrl = Controller(model, kp, kd, friction=c['controller'], dt=plant.dt)
-    observers = {kind: DisturbanceObserver(model, c['beta'], plant.dt, friction=kind,
+    observers = {kind: DisturbanceObserver(model, beta=c['beta'], dt=plant.dt, friction=kind,
                                            gravity=False)
                  for kind in MODELS}
     sweep = [b for b in c['beta_sweep'] if b != c['beta']]
     for b in sweep:
-        observers[f'lugre@{b:g}'] = DisturbanceObserver(model, b, plant.dt, friction='lugre',
-                                                        gravity=False)
+        observers[f'lugre@{b:g}'] = DisturbanceObserver(model, beta=b, dt=plant.dt,
+                                                        friction='lugre', gravity=False)
     r = closed_loop(plant, ctrl, ref, n, observers)
     w = slice(n_settle, None)
     te = r['tau_ext'][w]

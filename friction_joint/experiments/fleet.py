@@ -270,7 +270,7 @@ def fleet_recording(gear, joint, rec, path=None, cfg=None):
     every = max(1, int(round(c['rate'] / c['publish_rate'])))
     plant = Plant(truth, xi0=rec['xi'], seed=rec['seed'], q0=float(q_ref[0]))
     kp, kd = pd_gains(gear.inertia)
-    ctrl = Controller(truth, kp, kd, 'none', dt)
+    ctrl = Controller(truth, kp, kd, friction='none', dt=dt)
     out = {k: [] for k in ('t', 'q', 'qd', 'effort', 'tau', 'cmd', 'q_d', 'qd_d')}
     temp_t, temp_xi = [], []
     record_segment(plant, lambda s, k: ctrl(s.q, s.qd, s.xi, q_ref[k], qd_ref[k], qdd_ref[k]),

@@ -80,7 +80,7 @@ def warm_up(plant, controller, target):
     t_start = plant.t
     s = plant.last
     if s.xi_true < target:
-        sine = SineTrajectory(c['amplitude'], c['omega'])
+        sine = SineTrajectory(c['amplitude'], omega=c['omega'])
         half = math.pi / c['omega']
         ref = sine(s.t - t_start)
         end = None

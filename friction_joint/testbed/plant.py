@@ -247,7 +247,7 @@ class Plant:
                       q_true=q, qd_true=qd, tau_applied=tau_app, tau_r=tau_r, tau_ext=tau_ext,
                       xi_true=xi)
 
-    def step(self, tau_cmd: float, tau_contact: float = 0.0) -> Sample:
+    def step(self, tau_cmd: float, *, tau_contact: float = 0.0) -> Sample:
         """
         Apply ``tau_cmd`` for one step, plus a contact torque, and measure.
 
@@ -317,7 +317,7 @@ class Plant:
         names = Sample.__slots__
         out = {k: np.empty(n) for k in names}
         for i in range(n):
-            s = self.step(tau_cmd[i], contact[i])
+            s = self.step(tau_cmd[i], tau_contact=contact[i])
             for k in names:
                 out[k][i] = getattr(s, k)
         return out

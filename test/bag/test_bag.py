@@ -120,10 +120,10 @@ def test_bag_messages_in_receive_time_order(tmp_path):
     write_recording(tmp_path / 'rec', _topics(n=300))
     stamps = [s for _, _, s, _ in iter_messages(tmp_path / 'rec')]
     assert stamps == sorted(stamps) and len(stamps) == 300 * 4 + 150 + 2
-    only = list(iter_messages(tmp_path / 'rec', ['/joint_temperature']))
+    only = list(iter_messages(tmp_path / 'rec', topics=['/joint_temperature']))
     assert [m[:2] for m in only] == [('/joint_temperature', 'sensor_msgs/msg/Temperature')] * 2
     with pytest.raises(RecordingError, match='/nope'):
-        list(iter_messages(tmp_path / 'rec', ['/nope']))
+        list(iter_messages(tmp_path / 'rec', topics=['/nope']))
 
 
 def test_single_mcap_file_and_recording_round_trip(tmp_path):

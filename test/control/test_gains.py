@@ -51,8 +51,9 @@ def test_design_on_its_own_inertia_meets_the_specification():
 
 def test_presets_and_parsing():
     assert gain_design('paper') is GAIN_PRESETS['paper']
-    assert GAIN_PRESETS['full-inertia'].gains(0.22) == pd_gains(0.22, 0.04, 0.06)
-    assert gain_design('J=0.03').gains(0.22) == pd_gains(0.03, 0.04, 0.06)
+    assert GAIN_PRESETS['full-inertia'].gains(0.22) == pd_gains(0.22, rise_time=0.04,
+                                                                overshoot=0.06)
+    assert gain_design('J=0.03').gains(0.22) == pd_gains(0.03, rise_time=0.04, overshoot=0.06)
     assert gain_design('kp=40, kd=1.5').gains(0.22) == (40.0, 1.5)
     paper = GAIN_PRESETS['paper'].to_dict(0.22)
     assert paper['design_inertia'] == 0.016 and paper['kp'] == pytest.approx(41.197, abs=1e-3)

@@ -61,8 +61,8 @@ def observer_state(obs):
 @pytest.mark.parametrize('kind', KINDS)
 def test_observer_refuses_non_finite_samples_without_a_trace(kind):
     data = clean(900)
-    ref = DisturbanceObserver(MODEL, 60.0, DT, kind)
-    obs = DisturbanceObserver(MODEL, 60.0, DT, kind)
+    ref = DisturbanceObserver(MODEL, beta=60.0, dt=DT, friction=kind)
+    obs = DisturbanceObserver(MODEL, beta=60.0, dt=DT, friction=kind)
     bad = [(NAN, 0.1, 0.2, 30.0), (0.0, INF, 0.2, 30.0), (0.0, 0.1, -INF, 30.0),
            (0.0, 0.1, 0.2, NAN), (0.0, 0.1, 1e308, 30.0), (1e308, 0.1, 1e308, 30.0)]
     out_ref, out, answers, finite = [], [], [], []
@@ -81,8 +81,8 @@ def test_observer_refuses_non_finite_samples_without_a_trace(kind):
 def test_observer_overflow_inside_resets_to_finite_and_recovers(kind):
     """Finite inputs that overflow in the friction model (huge velocity) reset the observer."""
     data = clean(3 * 3000)
-    ref = DisturbanceObserver(MODEL, 60.0, DT, kind)
-    obs = DisturbanceObserver(MODEL, 60.0, DT, kind)
+    ref = DisturbanceObserver(MODEL, beta=60.0, dt=DT, friction=kind)
+    obs = DisturbanceObserver(MODEL, beta=60.0, dt=DT, friction=kind)
     out_ref, out = [], []
     for k, row in enumerate(data):
         if k == 600:
@@ -105,8 +105,8 @@ def controller_rows(n):
 @pytest.mark.parametrize('kind', KINDS)
 def test_controller_refuses_non_finite_samples_without_a_trace(kind):
     gains = pd_gains(MODEL.inertia)
-    ref = Controller(MODEL, *gains, kind, DT)
-    ctrl = Controller(MODEL, *gains, kind, DT)
+    ref = Controller(MODEL, *gains, friction=kind, dt=DT)
+    ctrl = Controller(MODEL, *gains, friction=kind, dt=DT)
     rows = controller_rows(900)
     bad = [(NAN, 0.2, 30.0, 0.0), (0.1, INF, 30.0, 0.0), (0.1, 0.2, NAN, 0.0),
            (0.1, 0.2, 30.0, -INF), (0.1, 1e308, 30.0, 0.0)]
@@ -124,8 +124,8 @@ def test_controller_refuses_non_finite_samples_without_a_trace(kind):
 @pytest.mark.parametrize('kind', ['static', 'lugre', 'gms'])
 def test_controller_feed_forward_overflow_resets_and_recovers(kind):
     gains = pd_gains(MODEL.inertia)
-    ref = Controller(MODEL, *gains, kind, DT)
-    ctrl = Controller(MODEL, *gains, kind, DT)
+    ref = Controller(MODEL, *gains, friction=kind, dt=DT)
+    ctrl = Controller(MODEL, *gains, friction=kind, dt=DT)
     out_ref, out = [], []
     for k, row in enumerate(controller_rows(3 * 3000)):
         if k == 600:

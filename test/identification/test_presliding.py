@@ -65,7 +65,7 @@ def _reference(components):
 def _record(truth, model, components, duration, seed):
     """Closed-loop run on the test bed; measured arrays plus the derived friction torque."""
     plant = Plant(truth, model=model, xi0=30.0, seed=seed)
-    kp, kd = pd_gains(truth.inertia, 0.01, 0.06)           # stiff: tracks to ~0.5 mrad
+    kp, kd = pd_gains(truth.inertia, rise_time=0.01, overshoot=0.06)   # stiff: ~0.5 mrad
     ctrl = Controller(truth, kp, kd, friction='none', dt=plant.dt)
     ref = _reference(components)
     n = int(round(duration / plant.dt))

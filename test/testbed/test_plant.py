@@ -125,7 +125,7 @@ def test_gains_meet_rise_time_and_overshoot(seed):
     rise = rng.uniform(0.03, 0.08)
     overshoot = rng.uniform(0.02, 0.15)
     g = frictionless(inertia=inertia)
-    kp, kd = pd_gains(inertia, rise, overshoot)
+    kp, kd = pd_gains(inertia, rise_time=rise, overshoot=overshoot)
     for ideal, tol_rise, tol_os in ((True, 0.02, 0.005), (False, 0.05, 0.015)):
         p = Plant(g, ideal_sensors=ideal, seed=seed)
         c = Controller(g, kp, kd, friction='none', dt=p.dt)
@@ -145,9 +145,9 @@ def test_controller_dt_argument_advances_the_friction_state():
     rng = np.random.default_rng(11)
     period = 1.0 / 3000.0
     k = int(rng.integers(2, 6))                  # a real-time loop that skipped k - 1 states
-    a = Controller(model, 500.0, 10.0, 'lugre', dt=period)
-    b = Controller(model, 500.0, 10.0, 'lugre', dt=k * period)
-    c = Controller(model, 500.0, 10.0, 'lugre', dt=period)
+    a = Controller(model, 500.0, 10.0, friction='lugre', dt=period)
+    b = Controller(model, 500.0, 10.0, friction='lugre', dt=k * period)
+    c = Controller(model, 500.0, 10.0, friction='lugre', dt=period)
     for i in range(5):
         args = (0.1 + 0.01 * i, 0.05, 30.0, 0.12, 0.3, 0.0)
         ta, tb, tc = a(*args, dt=k * period), b(*args), c(*args)
@@ -156,9 +156,10 @@ def test_controller_dt_argument_advances_the_friction_state():
 
 
 def test_pd_gains_rejects_bad_specs():
-    for args in ((0.1, 0.04, 0.0), (0.1, 0.04, 1.2), (0.1, -1.0, 0.06), (-0.1, 0.04, 0.06)):
+    for inertia, rise, overshoot in ((0.1, 0.04, 0.0), (0.1, 0.04, 1.2), (0.1, -1.0, 0.06),
+                                     (-0.1, 0.04, 0.06)):
         with pytest.raises(FrictionJointError):
-            pd_gains(*args)
+            pd_gains(inertia, rise_time=rise, overshoot=overshoot)
 
 
 @pytest.mark.parametrize('seed', [5, 6])
@@ -198,7 +199,7 @@ def test_observer_with_exact_friction_model_sees_only_the_contact():
         contact = 3.0 if 1.0 <= t < 3.0 else 0.0
         qd_ = 0.8 * math.sin(1.5 * t)
         s = p.step(c(s.q, s.qd, s.xi, qd_, 1.2 * math.cos(1.5 * t), -1.8 * math.sin(1.5 * t)),
-                   contact)
+                   tau_contact=contact)
         e1, e2 = with_f(s.effort, s.q, s.qd, s.xi), without(s.effort, s.q, s.qd, s.xi)
         if t > 0.3:
             err_with.append(e1 - s.tau_ext + truth.mgl * math.sin(s.q_true))
@@ -223,7 +224,7 @@ def test_plant_refuses_non_finite_inputs_and_keeps_running():
         if k in (100, 400):
             for bad in ((float('nan'), 0.0), (0.0, float('inf')), (float('-inf'), 1.0)):
                 try:
-                    p.step(*bad)
+                    p.step(bad[0], tau_contact=bad[1])
                 except SimulationError as exc:
                     errors.append(str(exc))
         out_ref.append(ref.step(c).q)
@@ -237,7 +238,7 @@ def test_runaway_error_names_the_contact_torque():
     from friction_joint.exceptions import SimulationError
     truth = load_gear('config/csd25_truth.yaml')
     with pytest.raises(SimulationError) as info:
-        Plant(truth).step(0.0, 1e308)
+        Plant(truth).step(0.0, tau_contact=1e308)
     assert 'contact torque 1e+308 Nm' in str(info.value)
     assert 'no longer finite' in str(info.value)
 
