@@ -38,7 +38,7 @@ and the modules shared by all of them: :mod:`~friction_joint.gear` (gear
 parameter files), :mod:`~friction_joint.effects` (the friction effects a model may
 lack, one registry), :mod:`~friction_joint.exceptions`, :mod:`~friction_joint.output`
 (atomic result files), :mod:`~friction_joint.report_html` (a Markdown report as
-one self-contained HTML file) and :mod:`~friction_joint.demo` (the main job).
+one self-contained HTML file).
 """
 import importlib
 

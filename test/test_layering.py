@@ -75,7 +75,7 @@ def _parse(path):
 
 def test_every_module_outside_ros_imports_without_rclpy():
     names = [m for m, _ in _outside_ros() if not m.endswith('__main__')]
-    assert 'friction_joint.cli.record' in names and 'friction_joint.demo' in names
+    assert 'friction_joint.cli.record' in names and 'friction_joint.jobs.demo' in names
     proc = subprocess.run([sys.executable, '-c', BLOCKED_IMPORT, ','.join(ROS_ONLY)],
                           input=json.dumps(names), capture_output=True, text=True, cwd=ROOT,
                           timeout=300)

@@ -35,13 +35,13 @@ import sys
 import time
 import uuid
 
-from friction_joint import demo
 from friction_joint.bag import read_recording, write_recording
 from friction_joint.cli import main
 from friction_joint.exceptions import FrictionJointError
 from friction_joint.experiments import classic, runner
 from friction_joint.experiments.hidden import simulate_recording
 from friction_joint.gear import load_gear, save_gear
+from friction_joint.jobs import demo
 from friction_joint.models.static import StaticFriction
 import numpy as np
 import pytest

@@ -12,7 +12,7 @@
 # See the License for the specific language governing permissions and
 # limitations under the License.
 
-"""``friction_joint demo --out DIR``: the main job (see :mod:`friction_joint.demo`)."""
+"""``friction_joint demo --out DIR``: the main job (see :mod:`friction_joint.jobs.demo`)."""
 import os
 
 from ._console import progress_printer
@@ -50,7 +50,7 @@ def add_arguments(parser):
 
 def run(args):
     """Run the demo; prints the report's path and the other things written."""
-    from ..demo import run_demo
+    from ..jobs.demo import run_demo
     path = run_demo(args.out, model=args.model, truth=args.truth,
                     duration_scale=args.duration_scale, force=args.force,
                     progress=progress_printer(args.quiet))

@@ -23,9 +23,19 @@ command names, calls them, and writes the command's outputs all or nothing
 * :mod:`~friction_joint.jobs.diagnose`: ``friction_joint diagnose``
   (:func:`run_diagnose`, returning a :class:`DiagnoseRun`);
 * :mod:`~friction_joint.jobs.identify`: ``friction_joint identify``
-  (:func:`run_identify`).
+  (:func:`run_identify`);
+* :mod:`~friction_joint.jobs.demo`: ``friction_joint demo``, the main job
+  (:func:`run_demo`).
 """
 from .diagnose import DiagnoseRun, run_diagnose
 from .identify import run_identify
 
-__all__ = ['DiagnoseRun', 'run_diagnose', 'run_identify']
+__all__ = ['DiagnoseRun', 'run_diagnose', 'run_identify', 'run_demo']
+
+
+def __getattr__(name):
+    """Load :func:`run_demo` on first use (it pulls in every experiment)."""
+    if name == 'run_demo':
+        from .demo import run_demo
+        return run_demo
+    raise AttributeError(f'module {__name__!r} has no attribute {name!r}')

@@ -26,10 +26,10 @@ import os
 from pathlib import Path
 import re
 
-from friction_joint import demo
 from friction_joint.cli import main
 from friction_joint.exceptions import FrictionJointError
 from friction_joint.experiments import classic
+from friction_joint.jobs import demo
 import pytest
 
 

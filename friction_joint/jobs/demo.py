@@ -38,22 +38,25 @@ Progress (``progress``, e.g. to stderr): one line as each stage starts and one
 as it ends, with its duration and the time since the start.  Paths are named
 as they will be once DIR is in place, never the temporary directory's.
 """
+from __future__ import annotations
+
+from collections.abc import Callable
 import contextlib
 import json
 import os
 import time
 
-from .exceptions import InputFileError, NodeError
-from .experiments.classic import CLASSIC_EXPERIMENTS
-from .experiments.classic_report import summary_markdown, write_experiment
-from .experiments.compensation import COMPENSATION
-from .experiments.runner import run_experiment
-from .experiments.testbed_report import testbed_markdown
-from .gear import load_gear
-from .identification.report import against_truth_markdown
-from .jobs.identify import run_identify
-from .output import OutputSet
-from .report_html import write_html_report
+from .identify import run_identify
+from ..exceptions import InputFileError, NodeError
+from ..experiments.classic import CLASSIC_EXPERIMENTS
+from ..experiments.classic_report import summary_markdown, write_experiment
+from ..experiments.compensation import COMPENSATION
+from ..experiments.runner import run_experiment
+from ..experiments.testbed_report import testbed_markdown
+from ..gear import load_gear
+from ..identification.report import against_truth_markdown
+from ..output import OutputSet
+from ..report_html import write_html_report
 
 __all__ = ['run_demo']
 
@@ -67,7 +70,7 @@ TRUTHS = ('csd25_truth.yaml', 'csd25_truth_gms.yaml')
 
 
 def _config(name):
-    here = os.path.dirname(os.path.abspath(__file__))
+    here = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))   # the package
     for base in (os.path.join(here, '..', 'config'),
                  os.path.join(here, '..', '..', '..', '..', 'share', 'friction_joint', 'config')):
         path = os.path.normpath(os.path.join(base, name))
@@ -105,15 +108,35 @@ def _figures(d):
     return sorted(f for f in os.listdir(d) if f.endswith('.png'))
 
 
-def run_demo(out, model=None, truth=None, duration_scale=1.0, *, force=False, progress=None):
+def run_demo(out: str | os.PathLike, *, model: str | None = None, truth: str | None = None,
+             duration_scale: float = 1.0, force: bool = False,
+             progress: Callable[[str], None] | None = None) -> str:
     """
     Run all experiments into ``out`` and write ``out/report.md`` and ``out/report.html``.
 
-    ``truth`` is the simulated hardware; by default the test-bed experiments
-    run against both ``config/csd25_truth.yaml`` (LuGre friction) and
-    ``config/csd25_truth_gms.yaml`` (GMS friction), the ROS run and the
-    identification against the first.  ``progress(message)`` is called as
-    each stage starts and ends.  Returns the path of ``report.md``.
+    Parameters
+    ----------
+    out : str or os.PathLike
+        The result directory (one output).
+    model : str, optional
+        The model gear file (default ``config/csd25.yaml``).
+    truth : str, optional
+        The simulated hardware; by default the test-bed experiments run against
+        both ``config/csd25_truth.yaml`` (LuGre friction) and
+        ``config/csd25_truth_gms.yaml`` (GMS friction), the ROS run and the
+        identification against the first.
+    duration_scale : float
+        Multiplies every run's duration (small values for quick runs).
+    force : bool
+        Replace an existing ``out`` as a whole.
+    progress : callable, optional
+        Called with a message as each stage starts and ends.
+
+    Returns
+    -------
+    str
+        The path of ``report.md``.
+
     """
     model = model or _config('csd25.yaml')
     truths = [truth] if truth else [_config(name) for name in TRUTHS]
@@ -265,9 +288,9 @@ def _ros_run(out, model, truth, duration):
     import matplotlib.pyplot as plt
     import numpy as np
 
-    from .bag import check_lockstep, read_recording
-    from .control.gains import gain_design, GAIN_PRESETS, loop_metrics
-    from .ros.bringup import bringup
+    from ..bag import check_lockstep, read_recording
+    from ..control.gains import gain_design, GAIN_PRESETS, loop_metrics
+    from ..ros.bringup import bringup
 
     bag = os.path.join(out, 'bag')
     t0 = time.perf_counter()
