@@ -44,12 +44,12 @@ import statistics
 import numpy as np
 
 from .recording import reference_friction
-from .trend import ALPHA, BOOTSTRAP, extra_variance, trend_test
+from .trend import BOOTSTRAP, extra_variance, trend_test, WEAR_ALPHA
 
-__all__ = ['QUANTITIES', 'FleetAssessment', 'assess_fleet', 'reference_point']
+__all__ = ['TREND_QUANTITIES', 'FleetAssessment', 'assess_fleet', 'reference_point']
 
 #: trend quantities: the compensated reference friction and the naive raw mean
-QUANTITIES = ('reference', 'raw')
+TREND_QUANTITIES = ('reference', 'raw')
 _DAY = 86400.0
 
 
@@ -163,7 +163,7 @@ def _verdict(s, q, se, extra, alpha, n_boot, seed):
                       alpha=alpha, n_boot=n_boot, seed=seed)
 
 
-def assess_fleet(entries, results, gear, *, alpha=ALPHA, n_boot=BOOTSTRAP, seed=0):
+def assess_fleet(entries, results, gear, *, alpha=WEAR_ALPHA, n_boot=BOOTSTRAP, seed=0):
     """
     Assess a fleet (module docstring).
 
@@ -190,14 +190,14 @@ def assess_fleet(entries, results, gear, *, alpha=ALPHA, n_boot=BOOTSTRAP, seed=
         rows.append(_row(e, res, ref))
     series = _series(entries, rows)
     extra, ses = {}, {}
-    for q in QUANTITIES:
+    for q in TREND_QUANTITIES:
         ses[q] = _shrunk(series, q)
         extra[q] = extra_variance(([p['travel'] for p in s['points']], [p[q] for p in s['points']],
                                    ses[q][j]) for j, s in series.items())
     joints = {}
     for k, (joint, s) in enumerate(sorted(series.items())):
         tests = {q: _verdict(s, q, ses[q][joint], extra[q], alpha, n_boot, seed + k)
-                 for q in QUANTITIES}
+                 for q in TREND_QUANTITIES}
         main = tests['reference']
         entry = {'wear': bool(main and main.wear), 'onset': None, 'rate': None,
                  'recordings': s['count'], 'failed': s['failed'], 'series': s,

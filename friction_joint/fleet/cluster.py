@@ -39,7 +39,7 @@ import logging
 import os
 import uuid
 
-from ..exceptions import FrictionJointError
+from ..exceptions import ArgumentError
 
 __all__ = ['MEMORY_LIMIT', 'CONNECT_TIMEOUT', 'map_recordings', 'default_workers',
            'local_cluster']
@@ -65,11 +65,11 @@ def _connect(scheduler, workers, memory_limit):
             return Client(scheduler, timeout=CONNECT_TIMEOUT), None
         except (OSError, TimeoutError) as exc:
             msg = ' '.join(str(exc).split()) or type(exc).__name__
-            raise FrictionJointError(f'cannot connect to the Dask scheduler {scheduler}: '
-                                     f'{msg}') from None
+            raise ArgumentError(f'cannot connect to the Dask scheduler {scheduler}: '
+                                f'{msg}') from None
     n = int(workers or default_workers())
     if n < 1:
-        raise FrictionJointError(f'--workers must be >= 1, got {n}')
+        raise ArgumentError(f'--workers must be >= 1, got {n}')
     cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
                            memory_limit=memory_limit, silence_logs=logging.CRITICAL,
                            dashboard_address=':0')    # its HTTP endpoint on a free port

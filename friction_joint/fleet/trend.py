@@ -51,10 +51,10 @@ import math
 
 import numpy as np
 
-__all__ = ['ALPHA', 'BOOTSTRAP', 'MIN_AFTER', 'TrendResult', 'extra_variance', 'trend_test']
+__all__ = ['WEAR_ALPHA', 'BOOTSTRAP', 'MIN_AFTER', 'TrendResult', 'extra_variance', 'trend_test']
 
 #: significance level per joint
-ALPHA = 0.01
+WEAR_ALPHA = 0.01
 #: bootstrap series per joint
 BOOTSTRAP = 999
 #: fewest recordings after an onset
@@ -188,7 +188,7 @@ def _flat(y, w):
     return a, math.sqrt(1.0 / w.sum())
 
 
-def trend_test(days, travel, y, se, *, extra_var=0.0, alpha=ALPHA, n_boot=BOOTSTRAP, seed=0):
+def trend_test(days, travel, y, se, *, extra_var=0.0, alpha=WEAR_ALPHA, n_boot=BOOTSTRAP, seed=0):
     """
     Test one joint for wear (module docstring).
 
