@@ -47,7 +47,7 @@ def add_arguments(parser):
 
 def run(args):
     """Run the experiment and write its figure and numbers."""
-    from ..experiments.classic_report import run_classic
+    from ..jobs.classic import run_classic
     paths = run_classic(args.experiment, args.out, force=args.force)
     print('wrote ' + ', '.join(os.path.normpath(p) for p in paths))
     return 0

@@ -72,7 +72,7 @@ def add_arguments(parser):
 def run(args):
     """Run the experiment and write its results."""
     from ..exceptions import ArgumentError
-    from ..experiments.runner import run_experiment
+    from ..jobs.experiment import run_experiment
     if args.name == 'fleet':
         from ..experiments.fleet import simulate_fleet
         truth = simulate_fleet(args.out, joints=args.joints, days=args.days, seed=args.seed,

@@ -43,10 +43,10 @@ from .excitation import simulate_identification
 from .fleet import simulate_fleet
 from .hidden import apply_effect, apply_effects, draw_effect, EFFECT_RANGES, simulate_recording
 from .paper import PAPER, PaperNumber
-from .runner import EXPERIMENTS, run_experiment
+from .runner import EXPERIMENTS
 
 __all__ = ['chirp', 'compensation', 'estimation', 'ExperimentData', 'EXPERIMENTS',
-           'run_experiment', 'ClassicResult', 'PAPER', 'PaperNumber', 'presliding',
+           'ClassicResult', 'PAPER', 'PaperNumber', 'presliding',
            'frictional_lag', 'breakaway', 'stick_slip', 'simulate_identification',
            'EFFECT_RANGES', 'apply_effect', 'apply_effects', 'draw_effect', 'simulate_recording',
            'simulate_fleet']

@@ -13,26 +13,18 @@
 # limitations under the License.
 
 """
-Figures and files of the classic LuGre experiments (:mod:`friction_joint.experiments.classic`).
+Figures and report tables of the classic LuGre experiments (:mod:`.classic`).
 
 :func:`draw_classic` draws the figure of a
-:class:`~friction_joint.experiments.classic.ClassicResult`;
-:func:`write_experiment` takes the result of an experiment function and writes
-``NAME.png`` and ``NAME.json``; :func:`run_classic` runs the experiment and
-writes them (the ``classic`` command).  The output of one experiment is that
-pair of files, not the directory: several experiments share one directory
-(``demo`` writes all four into ``classic/``), and an existing ``NAME.png`` or
-``NAME.json`` is an error unless ``force`` (see :class:`~friction_joint.output.OutputSet`).
+:class:`~friction_joint.experiments.classic.ClassicResult`; the files
+``NAME.png`` and ``NAME.json`` are written by :mod:`friction_joint.jobs.classic`
+(the ``classic`` command and the demo).
 :func:`summary_markdown` renders a summary as Markdown tables with units, the
 set-up beside the results (the ``demo`` report).
 """
-import os
-
 import numpy as np
 
-from ..output import json_bytes, OutputSet, render_png
-
-__all__ = ['FIGURES', 'draw_classic', 'summary_markdown', 'write_experiment', 'run_classic']
+__all__ = ['FIGURES', 'draw_classic', 'summary_markdown']
 
 
 PLOT_POINTS = 20000   # series are thinned to about this many points per line
@@ -250,66 +242,3 @@ def draw_classic(fig, result):
     plot, title = FIGURES[result.name]
     plot(fig, result)
     fig.suptitle(title + ' (LuGre, Canudas de Wit et al. 1995 parameters)')
-
-
-def _declare(outputs, name, out_dir):
-    paths = tuple(os.path.join(os.fspath(out_dir), name + ext) for ext in ('.png', '.json'))
-    for path in paths:
-        outputs.add_file(path)
-    outputs.check()
-    return paths
-
-
-def _write(outputs, result, paths):
-    size = (10, 5) if result.name != 'stick-slip' else (9, 6.5)
-    png = render_png(lambda fig: draw_classic(fig, result), size, dpi=110)
-    outputs.write_file(paths[0], png)
-    outputs.write_file(paths[1], json_bytes(result.to_dict()))
-    return tuple(outputs.publish())
-
-
-def write_experiment(result, out_dir, *, force=False):
-    """
-    Write ``out_dir/NAME.png`` and ``out_dir/NAME.json`` of ``result``, together or not at all.
-
-    Both files are rendered in memory and staged next to their place first;
-    only then are they renamed into place, so an error leaves no partial
-    result.  NAME is ``result.name``.  ``out_dir`` is created if missing and
-    may hold other files; an existing ``NAME.png`` or ``NAME.json`` is an
-    error unless ``force``.
-
-    Parameters
-    ----------
-    result : ClassicResult
-        The run of a classic experiment.
-    out_dir : str or path-like
-        Directory of the two files.
-    force : bool
-        Replace existing files of the same names.
-
-    Returns
-    -------
-    tuple of str
-        Paths of the PNG and JSON files.
-
-    """
-    with OutputSet(force=force) as outputs:
-        return _write(outputs, result, _declare(outputs, result.name, out_dir))
-
-
-def run_classic(name, out_dir, *, force=False):
-    """
-    Run classic experiment ``name`` and write its files (as :func:`write_experiment`).
-
-    The outputs are checked before the experiment runs.
-
-    Returns
-    -------
-    tuple of str
-        Paths of the PNG and JSON files.
-
-    """
-    from .classic import CLASSIC_EXPERIMENTS
-    with OutputSet(force=force) as outputs:
-        paths = _declare(outputs, name, out_dir)
-        return _write(outputs, CLASSIC_EXPERIMENTS[name](), paths)

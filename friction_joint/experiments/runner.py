@@ -57,10 +57,7 @@ file) of the identification excitation of :mod:`friction_joint.experiments.excit
 for ``friction_joint identify``, under the same rules (``--force`` replaces an
 existing recording as a whole).
 """
-import inspect
 import math
-import os
-import time
 
 from ._common import check_scale, Experiment
 from .chirp import chirp
@@ -68,12 +65,9 @@ from .compensation import compensation
 from .estimation import estimation
 from .gain_sweep import gain_sweep
 from .paper import PAPER
-from .plots import experiment_figures
-from ..exceptions import ExperimentError, FrictionJointError
-from ..gear import load_gear
-from ..output import ExperimentResult, OutputSet, result_files
+from ..exceptions import ExperimentError
 
-__all__ = ['check_gains', 'EXPERIMENTS', 'CLOSED_LOOP', 'identification', 'run_experiment']
+__all__ = ['check_gains', 'EXPERIMENTS', 'CLOSED_LOOP', 'identification']
 
 
 # --------------------------------------------------------- identification ---
@@ -146,84 +140,3 @@ def check_gains(design, model, truth):
             f'--gains {design.name}: kp {kp:.4g} Nm/rad, kd {kd:.4g} Nm s/rad make the loop '
             f'unstable at simulation.rate {1.0 / h:g} Hz on the joint inertia '
             f'{truth.inertia:g} kg m^2 ((kp h^2 + 2 kd h) / J = {margin:.3g}, must be < 4)')
-
-
-def run_experiment(name, model_path, truth_path, out_dir, duration_scale=1.0, progress=None, *,
-                   force=False, gains=None):
-    """
-    Load the gear files, run experiment ``name`` and write its results.
-
-    ``model_path`` may be None for experiments that do not use a model
-    (``identification``).  Experiments with ``output == 'recording'`` write a
-    rosbag2 recording at ``out_dir`` (a directory, or a file if the name ends in
-    ``.mcap``); the others write the directory ``out_dir`` with their figures and
-    ``summary.json``.  Either is one output: an existing one (not an empty
-    directory) is an error unless ``force``, which replaces it as a whole; one
-    that is, contains or lies in ``model_path`` or ``truth_path`` always.
-    ``gains`` (a :class:`~friction_joint.control.gains.GainDesign` or its
-    text, e.g. ``paper``, ``J=0.05``, ``kp=40,kd=1``) is the controller's gain
-    design of the closed-loop experiments (:data:`CLOSED_LOOP`); default
-    their ``paper`` preset.  It is an error for the others.  ``progress(message)``
-    reports steps of the experiments that take it (``identification`` per
-    block, ``compensation`` per warm-up and temperature).
-
-    Returns
-    -------
-    list of str
-        The paths written (figures, then ``summary.json``; or the recording).
-
-    """
-    if name not in EXPERIMENTS:
-        raise ExperimentError(f'unknown experiment {name!r}; choose from {", ".join(EXPERIMENTS)}')
-    exp = EXPERIMENTS[name]
-    scale = check_scale(duration_scale)
-    options = {}
-    if gains is not None:
-        if name not in CLOSED_LOOP:
-            raise ExperimentError(f'experiment {name} has no controller: --gains applies to '
-                                  f'{" and ".join(CLOSED_LOOP)} only')
-        from ..control.gains import gain_design
-        try:
-            options['gains'] = gain_design(gains)
-        except FrictionJointError as exc:
-            raise ExperimentError(str(exc)) from None
-    if exp.needs_model and model_path is None:
-        raise ExperimentError(f'experiment {name} needs --model (the identified model gear file)')
-    out_dir = os.fspath(out_dir)
-    inputs = [('--model', model_path), ('--truth', truth_path)]
-    with OutputSet(force=force, inputs=inputs, error=ExperimentError) as outputs:
-        if exp.output == 'recording' and out_dir.endswith('.mcap'):
-            outputs.add_file(out_dir)
-        else:
-            outputs.add_directory(out_dir)
-        outputs.check()
-        model = load_gear(model_path) if model_path is not None else None
-        truth = load_gear(truth_path)
-        if 'gains' in options:
-            check_gains(options['gains'], model, truth)
-        start = time.perf_counter()
-        if exp.output == 'recording':
-            from ..bag import write_recording
-            topics, summary = exp.func(model, truth, scale, progress=progress)
-            try:
-                write_recording(outputs.staging_path(out_dir), topics,
-                                joint_name=truth.joint_name)
-            except OSError as exc:          # a full disk, a read-only target found late
-                raise ExperimentError(f'cannot write {out_dir}: '
-                                      f'{exc.strerror or exc}') from None
-            written = outputs.publish()
-            summary['wall_time_s'] = time.perf_counter() - start
-            if progress is not None:
-                progress(f'{len(summary.get("plateaus", []))} plateaus planned, '
-                         f'{summary.get("duration_s", 0.0):.1f} s simulated in '
-                         f'{summary["wall_time_s"]:.1f} s')
-            return written
-        if progress is not None and 'progress' in inspect.signature(exp.func).parameters:
-            options['progress'] = progress
-        result = exp.func(model, truth, scale, **options)
-        result.summary['model_file'] = os.path.abspath(model_path)
-        result.summary['truth_file'] = os.path.abspath(truth_path)
-        result.summary['wall_time_s'] = time.perf_counter() - start
-        figures = experiment_figures(result)
-        outputs.write_directory(out_dir, result_files(ExperimentResult(result.summary, figures)))
-        return outputs.publish()

@@ -24,13 +24,20 @@ command names, calls them, and writes the command's outputs all or nothing
   (:func:`run_diagnose`, returning a :class:`DiagnoseRun`);
 * :mod:`~friction_joint.jobs.identify`: ``friction_joint identify``
   (:func:`run_identify`);
+* :mod:`~friction_joint.jobs.experiment`: ``friction_joint experiment``
+  (:func:`run_experiment`);
+* :mod:`~friction_joint.jobs.classic`: ``friction_joint classic``
+  (:func:`run_classic`, :func:`write_experiment`);
 * :mod:`~friction_joint.jobs.demo`: ``friction_joint demo``, the main job
   (:func:`run_demo`).
 """
+from .classic import run_classic, write_experiment
 from .diagnose import DiagnoseRun, run_diagnose
+from .experiment import run_experiment
 from .identify import run_identify
 
-__all__ = ['DiagnoseRun', 'run_diagnose', 'run_identify', 'run_demo']
+__all__ = ['DiagnoseRun', 'run_diagnose', 'run_identify', 'run_experiment', 'run_classic',
+           'write_experiment', 'run_demo']
 
 
 def __getattr__(name):

@@ -46,12 +46,13 @@ import json
 import os
 import time
 
+from .classic import write_experiment
+from .experiment import run_experiment
 from .identify import run_identify
 from ..exceptions import InputFileError, NodeError
 from ..experiments.classic import CLASSIC_EXPERIMENTS
-from ..experiments.classic_report import summary_markdown, write_experiment
+from ..experiments.classic_report import summary_markdown
 from ..experiments.compensation import COMPENSATION
-from ..experiments.runner import run_experiment
 from ..experiments.testbed_report import testbed_markdown
 from ..gear import load_gear
 from ..identification.report import against_truth_markdown

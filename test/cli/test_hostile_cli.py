@@ -76,8 +76,8 @@ def _enospc(*args, **kwargs):
 
 def test_full_disk_while_writing_a_recording(tmp_path, capsys, monkeypatch):
     """``experiment identification`` on a full disk: one line, old output kept, no temporary."""
-    import friction_joint.bag as bag
     from friction_joint.experiments import runner
+    import friction_joint.jobs.experiment as job
 
     def partial(path, topics, **kwargs):
         os.makedirs(path)
@@ -87,7 +87,7 @@ def test_full_disk_while_writing_a_recording(tmp_path, capsys, monkeypatch):
     exp = runner.EXPERIMENTS['identification']
     monkeypatch.setitem(runner.EXPERIMENTS, 'identification', exp._replace(
         func=lambda model, truth, scale, progress=None: ({}, {})))
-    monkeypatch.setattr(bag, 'write_recording', partial)
+    monkeypatch.setattr(job, 'write_recording', partial)
     out = tmp_path / 'rec'
     out.mkdir()
     (out / 'old.txt').write_text('old')

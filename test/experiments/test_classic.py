@@ -29,6 +29,7 @@ from friction_joint.cli import main
 from friction_joint.exceptions import GearConfigWarning
 from friction_joint.experiments import classic, classic_report
 from friction_joint.gear import passivity_bound
+import friction_joint.jobs.classic as classic_job
 import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
@@ -291,7 +292,7 @@ def test_cli_writes_png_and_json(tmp_path, name):
 def test_cli_leaves_nothing_on_error(tmp_path, monkeypatch):
     def broken(draw, size, dpi=100):
         raise RuntimeError('figure failed')
-    monkeypatch.setattr(classic_report, 'render_png', broken)
+    monkeypatch.setattr(classic_job, 'render_png', broken)
     monkeypatch.setitem(classic.CLASSIC_EXPERIMENTS, 'lag',
                         lambda: classic.frictional_lag(samples_per_period=2000))
     out = tmp_path / 'out'

@@ -21,6 +21,7 @@ from friction_joint.cli import main
 from friction_joint.experiments import runner
 from friction_joint.experiments._common import ExperimentData, reversal_peak_window
 from friction_joint.experiments.compensation import compensation
+from friction_joint.jobs.experiment import run_experiment
 import numpy as np
 import pytest
 
@@ -171,12 +172,12 @@ def test_progress_reaches_the_experiments_that_take_it(tmp_path, monkeypatch):
     monkeypatch.setitem(runner.EXPERIMENTS, 'compensation',
                         runner.EXPERIMENTS['compensation']._replace(func=stub))
     said = []
-    runner.run_experiment('compensation', MODEL, TRUTH, tmp_path / 'out', progress=said.append)
+    run_experiment('compensation', MODEL, TRUTH, tmp_path / 'out', progress=said.append)
     assert said == ['warm-up to 27 degC by self-heating']
     # an experiment without the parameter runs as before
     monkeypatch.setitem(runner.EXPERIMENTS, 'compensation', runner.EXPERIMENTS[
         'compensation']._replace(func=lambda model, truth, scale: ExperimentData('stub', {})))
-    runner.run_experiment('compensation', MODEL, TRUTH, tmp_path / 'out2', progress=said.append)
+    run_experiment('compensation', MODEL, TRUTH, tmp_path / 'out2', progress=said.append)
     assert len(said) == 1
 
 
