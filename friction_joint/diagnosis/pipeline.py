@@ -108,7 +108,7 @@ import numpy as np
 from . import criterion as cr
 from . import structures as dm
 from .crossval import cross_validate_structures, fit_all
-from .data import load_data
+from .data import BIN, load_data
 from .gears import extended_model
 from .gravity import gravity_untestable, linear_device
 from .scan import residual_scan
@@ -332,7 +332,7 @@ def diagnose(paths: Sequence[str | os.PathLike], base: GearParams, *,
     if base.friction.model != 'static':
         ctx.ps_models = (base.friction.model,)
     timing['read_s'] = time.perf_counter() - t0
-    say(f'read {len(paths)} recording(s): {data.n_bins} sliding bins of {1e3 * 0.01:.0f} ms, '
+    say(f'read {len(paths)} recording(s): {data.n_bins} sliding bins of {1e3 * BIN:.0f} ms, '
         f'xi {data.xi.min():.2f}..{data.xi.max():.2f} degC ({timing["read_s"]:.2f} s)')
     why = untestable(data, base.gear_ratio, effects)
     if 'gravity' in effects:
@@ -500,7 +500,7 @@ def diagnose(paths: Sequence[str | os.PathLike], base: GearParams, *,
         'rounds': [{'round': r['round'], 'model_torque_rmse': r['model_rmse'],
                     'candidates': list(r['candidates'].values())} for r in rounds],
         'data': {'recordings': [r.path for r in data.recordings], 'bins': data.n_bins,
-                 'bin_s': 0.01, 'sliding_s': data.n_bins * 0.01,
+                 'bin_s': BIN, 'sliding_s': data.n_bins * BIN,
                  'xi_range': [float(data.xi.min()), float(data.xi.max())],
                  'torque_source': 'link_torque' if data.link_torque else 'lever model',
                  'velocity_windows': int(meas.shape[0]), 'window_s': WINDOW,

@@ -23,7 +23,7 @@ Subscribes ``/joint_states`` and ``/joint_temperature``, publishes
 with the stamp of the state it answers.  The reference is
 q_d = offset + amplitude sin(omega t), t from the first state's stamp.
 Gains come from ``rise_time`` and ``overshoot`` for ``design_inertia`` (0: the gear's inertia)
-(:func:`~friction_joint.control.controller.pd_gains`).
+(a :class:`~friction_joint.control.gains.GainDesign`, whose None is the 0 here).
 
 Run-time parameters (validated; a bad value is rejected with a reason and
 the node keeps running): ``friction_ff`` (none | static | lugre | gms),
@@ -59,7 +59,8 @@ from .ranges import (between, check_controller_params, RISE_TIME_BOUNDS, sample_
 from ..parameters import declare_gear, describe, parameter_guard
 from ..qos import overridable, stream_qos
 from ..startup import check_overrides_used
-from ...control.controller import Controller, pd_gains, SineTrajectory
+from ...control.controller import Controller, SineTrajectory
+from ...control.gains import GainDesign
 from ...models.friction import FRICTION_KINDS
 from ...testbed.plant import InputLimits
 
@@ -118,9 +119,10 @@ class ControllerNode(PairedInput, Node):
         check_controller_params(self.p, self.gear)      # gains and rate, before any allocation
         self.limits = InputLimits(self.gear)
         rate = sample_rate(self.p, self.gear)
-        self.kp, self.kd = pd_gains(self.p['design_inertia'] or self.gear.inertia,
-                                    rise_time=self.p['rise_time'],
-                                    overshoot=self.p['overshoot'])
+        # design_inertia 0 (a ROS parameter cannot be None): the gear's joint inertia
+        self.design = GainDesign(name='node', design_inertia=self.p['design_inertia'] or None,
+                                 rise_time=self.p['rise_time'], overshoot=self.p['overshoot'])
+        self.kp, self.kd = self.design.gains(self.gear.inertia)
         self.dt = 1.0 / rate
         self.ctrl = self._controller()
         self.ctrl(0.0, 0.0, warm_up_temperature(self.gear), 0.0)    # compile the kernels
