@@ -25,7 +25,7 @@ Figures (PNG bytes, rendered with :func:`friction_joint.results.render_png`):
   effect was added) and the residual after, against the effect's variable;
 * ``gains.png``: held-out gain of every candidate in every greedy round;
 * ``residual_scan.png``: the open residual scan
-  (:func:`~friction_joint.diagnosis.scan.draw_scan`).
+  (:func:`~friction_joint.diagnosis.scan_report.draw_scan`).
 """
 from __future__ import annotations
 
@@ -35,7 +35,7 @@ import numpy as np
 
 from .criterion import effect_variables
 from .findings import candidate_summary, finding_lines, next_step_lines
-from .scan import markdown_lines, scan_png
+from .scan_report import markdown_lines, scan_png
 from .structures import accumulated_travel
 from ..results import render_png
 

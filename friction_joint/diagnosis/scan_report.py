@@ -1,0 +1,128 @@
+# Copyright 2026 friction_joint maintainers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""
+The residual scan's figure and table (:func:`.scan.residual_scan` computes the scan).
+
+:func:`draw_scan` draws the residual against each scanned variable with its
+binned means, and the position periodogram with its strongest period;
+:func:`scan_png` renders it; :func:`markdown_lines` gives the report's table.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from .scan import (BUFFER, COLLINEAR, N_PERM, N_QUANT, quantile_cells, SCAN_ALPHA,
+                   SCAN_MIN_EXPLAINED)
+
+__all__ = ['draw_scan', 'scan_png', 'markdown_lines', 'MAX_POINTS']
+
+
+#: scatter points per panel of the figure at most (evenly spaced in time)
+MAX_POINTS = 1500
+#: axis labels of the scanned variables
+_LABELS = {'time': 'sliding time (s)', 'position': 'cycles per rad (1 / period)',
+           'velocity': 'velocity qd (rad/s)', 'acceleration': 'acceleration qdd (rad/s^2)',
+           'temperature_rate': 'temperature rate d xi/dt (degC/s)',
+           'dwell': 'dwell time before the breakaway (s)'}
+
+
+def _binned_means(x, r):
+    key, n_cells = quantile_cells(x)
+    cnt = np.bincount(key, minlength=n_cells)
+    ok = cnt > 0
+    xm = np.bincount(key, weights=x, minlength=n_cells)[ok] / cnt[ok]
+    return xm, np.bincount(key, weights=r, minlength=n_cells)[ok] / cnt[ok]
+
+
+def scan_png(scan, size=(12, 7), dpi=100):
+    """Return the PNG bytes of the residual-scan figure (:func:`draw_scan`)."""
+    import io
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
+    fig = Figure(figsize=size)
+    FigureCanvasAgg(fig)
+    draw_scan(fig, scan)
+    buf = io.BytesIO()
+    fig.savefig(buf, format='png', dpi=dpi)
+    return buf.getvalue()
+
+
+def _title(entry):
+    if entry['p_value'] is None:
+        return f'{entry["variable"]}: untestable'
+    return (f'{entry["variable"]}: explained {100 * entry["explained"]:.1f} %, '
+            f'p {entry["p_value"]:.3g}')
+
+
+def draw_scan(fig, scan):
+    """Draw the residual scan (:func:`residual_scan`'s result) on a matplotlib figure."""
+    ax = fig.subplots(2, 3).ravel()
+    for a in ax[len(scan['table']):]:
+        a.set_axis_off()
+    for a, entry in zip(ax, scan['table']):
+        name = entry['variable']
+        pdata = scan['plot'].get(name)
+        a.locator_params(nbins=4)
+        a.tick_params(labelsize=7)
+        if pdata is None:
+            a.text(0.5, 0.5, entry['note'][:60], ha='center', va='center', fontsize=8,
+                   transform=a.transAxes)
+            a.set_xticks([])
+            a.set_yticks([])
+            a.set_title(name, fontsize=9)
+            continue
+        if 'periods' in pdata:
+            a.set_xlabel(_LABELS['position'], fontsize=8)
+            a.plot(1.0 / pdata['periods'], pdata['power'] / max(pdata['power'].max(), 1e-300),
+                   '-', color='C0', lw=0.8)
+            a.axvline(1.0 / pdata['period'], color='C3', ls=':', lw=1)
+            a.set_ylabel('periodogram of the residual (of its peak)', fontsize=8)
+        else:
+            first = entry.get('group', [name])[0]
+            a.set_xlabel(_LABELS.get(first, first), fontsize=8)
+            pick = np.unique(np.linspace(0, len(pdata['x']) - 1, MAX_POINTS).astype(int))
+            a.plot(pdata['x'][pick], pdata['r'][pick], '.', ms=1.0, color='0.6')
+            xm, rm = _binned_means(pdata['x'], pdata['r'])
+            a.plot(xm, rm, 'o-', color='C3', lw=1.5, ms=3)
+            a.set_ylabel('held-out residual (Nm)', fontsize=8)
+        a.set_title(_title(entry), fontsize=9 if len(name) < 30 else 7,
+                    color='C3' if entry['flagged'] else 'k')
+    fig.subplots_adjust(left=0.07, right=0.98, bottom=0.08, top=0.95, wspace=0.3, hspace=0.35)
+
+
+def markdown_lines(table):
+    """Lines of the residual-scan section of ``report.md``."""
+    lines = ['## Residual scan', '',
+             'The held-out residual of the diagnosed model (all named effects) against '
+             'variables no candidate has to cover.  *explained*: the fraction of the held-out '
+             f'residual variance a smooth fit on the variable explains (at least {N_QUANT} '
+             'quantile bins, for position a sine at the strongest period; fitted on the blocks '
+             'farther from the held-out one than the residual is correlated, at least '
+             f'{BUFFER + 1} blocks away); *p*: permutation test '
+             f"over {N_PERM} random orders of the residual's cross-validation blocks (the "
+             'period search repeated in each); *untestable*: the recording cannot tell the '
+             'variable from a drift of the residual, or has too few blocks.  Variables '
+             f'collinear in the recording (|rank correlation| > {COLLINEAR:g}) are one entry '
+             f'(a ~ b).  *flagged*: p < {SCAN_ALPHA:g} and explained >= '
+             f'{100 * SCAN_MIN_EXPLAINED:.1f} % -- an effect outside the candidate list may be '
+             'there.', '',
+             '| variable | explained | p | flagged | note |', '|---|---|---|---|---|']
+    for e in table:
+        ex = '-' if e['explained'] is None else f'{100 * e["explained"]:.1f} %'
+        p = (('untestable' if e.get('untestable') else '-') if e['p_value'] is None
+             else f'{e["p_value"]:.3g}')
+        lines.append(f'| {e["variable"]} | {ex} | {p} | {"**yes**" if e["flagged"] else "no"} '
+                     f'| {e["note"]} |')
+    return lines + ['', '![residual_scan.png](residual_scan.png)', '']
