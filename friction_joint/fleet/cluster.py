@@ -41,13 +41,15 @@ import uuid
 
 from ..exceptions import ArgumentError
 
-__all__ = ['MEMORY_LIMIT', 'CONNECT_TIMEOUT', 'map_recordings', 'default_workers',
-           'local_cluster']
+__all__ = ['MEMORY_LIMIT', 'CONNECT_TIMEOUT', 'CLOSE_TIMEOUT', 'map_recordings',
+           'default_workers', 'local_cluster']
 
 #: memory limit per worker of the embedded cluster
 MEMORY_LIMIT = '2GiB'
 #: seconds to wait for a scheduler given by address
 CONNECT_TIMEOUT = 20
+#: seconds to wait for the client and an embedded cluster to close
+CLOSE_TIMEOUT = 30
 
 
 def default_workers():
@@ -76,7 +78,7 @@ def _connect(scheduler, workers, memory_limit):
     try:
         return Client(cluster), cluster
     except BaseException:
-        cluster.close()
+        cluster.close(timeout=CLOSE_TIMEOUT)
         raise
 
 
@@ -99,8 +101,8 @@ def local_cluster(workers=None, memory_limit=MEMORY_LIMIT):
     try:
         yield cluster.scheduler_address, client.get_executor()
     finally:
-        client.close()
-        cluster.close()
+        client.close(timeout=CLOSE_TIMEOUT)
+        cluster.close(timeout=CLOSE_TIMEOUT)
 
 
 def map_recordings(func, paths, *, args=(), kwargs=None, scheduler=None, workers=None,
@@ -170,6 +172,6 @@ def map_recordings(func, paths, *, args=(), kwargs=None, scheduler=None, workers
             if futures:
                 client.cancel([f for f in futures if not f.done()])
         finally:
-            client.close()
+            client.close(timeout=CLOSE_TIMEOUT)
             if cluster is not None:
-                cluster.close()
+                cluster.close(timeout=CLOSE_TIMEOUT)
