@@ -28,7 +28,7 @@ import numpy as np
 __all__ = ['TREND_SIZE', 'trend_figure']
 
 #: figure size (inches) of a trend plot
-TREND_SIZE = (8.0, 3.6)
+TREND_SIZE = (8.0, 4.2)
 
 
 def _dates(start, days):
@@ -76,9 +76,13 @@ def trend_figure(joint, verdict, xi_ref, v_ref):
             ax.axvspan(s['start'] + datetime.timedelta(days=lo),
                        s['start'] + datetime.timedelta(days=hi), color='C3', alpha=0.12)
             if ev.get('axis') == 'time':
-                h = np.clip(days - ev['onset_day'], 0.0, None)
-                ax.plot(when, ev['level'] + ev['rate_per_day'] * h, '-', color='C3', lw=1,
-                        label='hinge fit')
+                fit = ev['level'] + ev['rate_per_day'] * np.clip(days - ev['onset_day'], 0.0,
+                                                                 None)
+            else:
+                travel = np.array([p['travel'] for p in pts])
+                fit = ev['level'] + ev['rate_per_travel'] * np.clip(
+                    travel - ev['onset_travel'], 0.0, None)
+            ax.plot(when, fit, '-', color='C3', lw=1, label=f'hinge fit (over {ev["axis"]})')
         ax.set_ylabel('friction torque (N m)')
         title = f'{joint}: ' + ('WEAR' if verdict.get('wear') else 'no wear')
         if ev.get('p_value') is not None:
@@ -90,6 +94,7 @@ def trend_figure(joint, verdict, xi_ref, v_ref):
         ax2.set_ylabel('housing temperature (degC)', color='C2')
         lines = ax.get_legend_handles_labels()
         lines2 = ax2.get_legend_handles_labels()
-        ax.legend(lines[0] + lines2[0], lines[1] + lines2[1], fontsize=7, loc='upper left')
         fig.autofmt_xdate()
+        ax.legend(lines[0] + lines2[0], lines[1] + lines2[1], fontsize=7, loc='upper center',
+                  bbox_to_anchor=(0.5, -0.3), ncol=3, frameon=False)
     return draw
