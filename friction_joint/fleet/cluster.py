@@ -41,7 +41,7 @@ import uuid
 
 from ..exceptions import ArgumentError
 
-__all__ = ['MEMORY_LIMIT', 'CONNECT_TIMEOUT', 'CLOSE_TIMEOUT', 'map_recordings',
+__all__ = ['MEMORY_LIMIT', 'CONNECT_TIMEOUT', 'CLOSE_TIMEOUT', 'STALL_TIMEOUT', 'map_recordings',
            'default_workers', 'local_cluster']
 
 #: memory limit per worker of the embedded cluster
@@ -50,6 +50,10 @@ MEMORY_LIMIT = '2GiB'
 CONNECT_TIMEOUT = 20
 #: seconds to wait for the client and an embedded cluster to close
 CLOSE_TIMEOUT = 30
+#: seconds without any task finishing after which the tasks still pending are reported
+#: failed and the run goes on (a recording's task takes well under a second; a stuck
+#: worker or scheduler must not hang the command)
+STALL_TIMEOUT = 600
 
 
 def default_workers():
@@ -105,6 +109,38 @@ def local_cluster(workers=None, memory_limit=MEMORY_LIMIT):
         cluster.close(timeout=CLOSE_TIMEOUT)
 
 
+class _Stalled(Exception):
+    """No task finished for STALL_TIMEOUT seconds."""
+
+
+class _StalledFuture:
+    """A pending future given up on: its ``result()`` raises :class:`_Stalled`."""
+
+    def __init__(self, fut):
+        self.key = fut.key
+        self._fut = fut
+
+    def result(self):
+        raise _Stalled
+
+    def release(self):
+        self._fut.release()
+
+
+def _completed(futures):
+    """Yield the futures as they finish; after STALL_TIMEOUT s with none, the rest as stalled."""
+    from distributed import wait
+    pending = list(futures)
+    while pending:
+        try:
+            done, rest = wait(pending, timeout=STALL_TIMEOUT, return_when='FIRST_COMPLETED')
+        except TimeoutError:
+            yield from (_StalledFuture(fut) for fut in pending)
+            return
+        pending = list(rest)
+        yield from done
+
+
 def map_recordings(func, paths, *, args=(), kwargs=None, scheduler=None, workers=None,
                    memory_limit=MEMORY_LIMIT, on_result=None):
     """
@@ -132,11 +168,11 @@ def map_recordings(func, paths, *, args=(), kwargs=None, scheduler=None, workers
     dict
         ``results`` (list in ``paths`` order), ``workers`` (how many the cluster had),
         ``scheduler`` (its address), ``tasks`` (submitted).  A task that raised, or
-        whose worker died, gives ``{'status': 'failed', 'reason': ...}``.
+        whose worker died, gives ``{'status': 'failed', 'reason': ...}``; so do the
+        tasks still pending when no task has finished for :data:`STALL_TIMEOUT` s.
 
     """
     import distributed
-    from distributed import as_completed
 
     results = [None] * len(paths)
     client, cluster = _connect(scheduler, workers, memory_limit)
@@ -151,10 +187,14 @@ def map_recordings(func, paths, *, args=(), kwargs=None, scheduler=None, workers
                                 retries=0, **(kwargs or {}))
             index[fut.key] = i
             futures.append(fut)
-        for fut in as_completed(futures):
+        for fut in _completed(futures):
             i = index[fut.key]
             try:
                 res = fut.result()
+            except _Stalled:
+                res = {'path': paths[i], 'status': 'failed',
+                       'reason': f'no task of the run finished for {STALL_TIMEOUT} s: the '
+                                 'cluster is stuck (its workers busy elsewhere, or hung)'}
             except distributed.KilledWorker:
                 res = {'path': paths[i], 'status': 'failed',
                        'reason': 'its worker died (over the memory limit, or killed)'}
