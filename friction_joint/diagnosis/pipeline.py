@@ -116,7 +116,7 @@ from .testability import inertia_noise_gain, untestable
 from .velocity import fold_gears, simulate_windows, WINDOW
 from ..effects import effect as _effect, EFFECTS, UNREPRESENTABLE
 from ..exceptions import ExcitationError, GearConfigError
-from ..output import json_clean
+from ..results import json_clean
 
 if TYPE_CHECKING:
     from .crossval import CVResult

@@ -21,7 +21,7 @@ import numpy as np
 
 from ..exceptions import ExperimentError, GearConfigError
 from ..inputs import MEMORY_BUDGET
-from ..output import json_clean
+from ..results import json_clean
 
 __all__ = ['MODELS', 'MIN_SAMPLES', 'STEP_BYTES', 'MAX_STEPS', 'ExperimentData', 'Experiment',
            'json_key', 'n_steps', 'check_steps', 'check_scale', 'check_model', 'rmse', 'corr',

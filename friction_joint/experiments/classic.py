@@ -59,7 +59,7 @@ from ..gear import gear_from_dict
 from ..models.joint import Joint
 from ..models.lugre import LuGre
 from ..models.static import StaticFriction
-from ..output import json_clean
+from ..results import json_clean
 
 __all__ = ['CANUDAS_1995', 'ClassicResult', 'canudas_gear', 'presliding', 'frictional_lag',
            'breakaway', 'stick_slip', 'slip_onsets', 'CLASSIC_EXPERIMENTS']

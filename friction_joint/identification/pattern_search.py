@@ -28,7 +28,7 @@ import dataclasses
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ..output import json_clean
+from ..results import json_clean
 
 __all__ = ['PatternSearchResult', 'pattern_search']
 

@@ -141,7 +141,7 @@ from .presliding_data import (batch_frictions, BatchData, check_presliding_excit
 from ..exceptions import ArgumentError, ExcitationError, GearConfigWarning
 from ..gear import GearParams
 from ..models.static import StaticFriction
-from ..output import json_clean
+from ..results import json_clean
 
 #: relative rise of the RMS error over an e-fold change below which a parameter
 #: counts as undetermined (its effect hides in the residual)
