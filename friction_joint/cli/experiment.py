@@ -63,6 +63,7 @@ def add_arguments(parser):
                         help='fleet: days, one recording per joint and day (default 30)')
     parser.add_argument('--seed', type=int, default=0, metavar='S',
                         help='fleet: seed of every draw (default 0)')
+    parser.add_argument('--quiet', action='store_true', help='no progress messages')
     parser.add_argument('--force', action='store_true',
                         help='replace an existing --out as a whole (an --out that is or '
                              'contains --model or --truth is an error even then)')
@@ -76,7 +77,8 @@ def run(args):
     if args.name == 'fleet':
         from ..experiments.fleet import simulate_fleet
         truth = simulate_fleet(args.out, joints=args.joints, days=args.days, seed=args.seed,
-                               gear=args.truth, force=args.force, progress=progress_printer())
+                               gear=args.truth, force=args.force,
+                               progress=progress_printer(args.quiet))
         wearing = sorted(j for j, d in truth['joints'].items() if d['wear'])
         print(f'wrote {os.path.normpath(truth["manifest"])} ({len(truth["recordings"])} '
               f'recordings of {len(truth["joints"])} joints; the truth, {len(wearing)} '
@@ -85,7 +87,7 @@ def run(args):
     if args.truth is None:
         raise ArgumentError(f'experiment {args.name} needs --truth (the simulated hardware)')
     paths = run_experiment(args.name, args.model, args.truth, args.out,
-                           duration_scale=args.duration_scale, progress=progress_printer(),
+                           duration_scale=args.duration_scale, progress=progress_printer(args.quiet),
                            force=args.force, gains=args.gains)
     print('wrote ' + ', '.join(os.path.normpath(p) for p in paths))
     return 0
