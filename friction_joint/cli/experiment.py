@@ -87,7 +87,8 @@ def run(args):
     if args.truth is None:
         raise ArgumentError(f'experiment {args.name} needs --truth (the simulated hardware)')
     paths = run_experiment(args.name, args.model, args.truth, args.out,
-                           duration_scale=args.duration_scale, progress=progress_printer(args.quiet),
-                           force=args.force, gains=args.gains)
+                           duration_scale=args.duration_scale,
+                           progress=progress_printer(args.quiet), force=args.force,
+                           gains=args.gains)
     print('wrote ' + ', '.join(os.path.normpath(p) for p in paths))
     return 0
