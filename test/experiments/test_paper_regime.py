@@ -156,9 +156,9 @@ def test_the_papers_numbers_have_one_home():
     """Figures, reports and the command line take the paper's numbers from experiments.paper."""
     import friction_joint
     base = os.path.dirname(friction_joint.__file__)
-    paths = [os.path.join(base, 'experiments', f)
-             for f in sorted(os.listdir(os.path.join(base, 'experiments')))
-             if f.endswith('.py') and f != 'paper.py'] + [os.path.join(base, 'demo.py')]
+    paths = [os.path.join(base, sub, f) for sub in ('experiments', 'jobs')
+             for f in sorted(os.listdir(os.path.join(base, sub)))
+             if f.endswith('.py') and f != 'paper.py']
     lo, hi = PAPER['uncompensated_band'].value
     typed = (f'{lo:g}-{hi:g} %', f'< {PAPER["estimation_max"].value:g} Nm',
              f'{PAPER["estimation_pct"].value:g} %')
