@@ -100,7 +100,7 @@ from ..exceptions import ArgumentError
 from ..testbed.plant import Plant
 
 __all__ = ['EXCITATION', 'BlockPlan', 'plan_block', 'block_temperatures', 'speeds',
-           'record_segment', 'simulate_identification']
+           'record_segment', 'segment_topics', 'simulate_identification']
 
 #: the default identification experiment
 EXCITATION = {
@@ -333,6 +333,17 @@ def _interleaved(n):
 def _gains(inertia, bandwidth):
     """Critically damped PD: kp = J w^2, kd = 2 J w."""
     return inertia * bandwidth ** 2, 2.0 * inertia * bandwidth
+
+
+def segment_topics(cat, temp_t, temp_xi, gear):
+    """Return ``/joint_states`` and ``/joint_temperature`` of joined recorded segments."""
+    return {
+        '/joint_states': {'t': cat['t'], 'q': cat['q'], 'qd': cat['qd'],
+                          'effort': cat['effort'], 'name': gear.joint_name},
+        '/joint_temperature': {'t': np.concatenate(temp_t), 'xi': np.concatenate(temp_xi),
+                               'variance': gear.section('sensors')[
+                                   'temperature_resolution'] ** 2 / 12.0},
+    }
 
 
 def record_segment(plant, command, q_ref, qd_ref, every, t_off, *, out, temp_t, temp_xi):

@@ -60,7 +60,7 @@ import warnings
 
 import numpy as np
 
-from .excitation import BlockPlan, record_segment
+from .excitation import BlockPlan, record_segment, segment_topics
 from ..bag import write_recording
 from ..control.controller import Controller, pd_gains
 from ..exceptions import ExperimentError, GearConfigWarning
@@ -276,17 +276,11 @@ def fleet_recording(gear, joint, rec, path=None, cfg=None):
     record_segment(plant, lambda s, k: ctrl(s.q, s.qd, s.xi, q_ref[k], qd_ref[k], qdd_ref[k]),
                    q_ref, qd_ref, every, 0.0, out=out, temp_t=temp_t, temp_xi=temp_xi)
     cat = {k: np.concatenate(v) for k, v in out.items()}
-    name = gear.joint_name
-    topics = {
-        '/joint_states': {'t': cat['t'], 'q': cat['q'], 'qd': cat['qd'],
-                          'effort': cat['effort'], 'name': name},
-        '/joint_temperature': {'t': np.concatenate(temp_t), 'xi': np.concatenate(temp_xi),
-                               'variance': truth.section('sensors')[
-                                   'temperature_resolution'] ** 2 / 12.0},
-        '/link_torque': {'t': cat['t'], 'tau': cat['tau']},
-    }
+    topics = segment_topics(cat, temp_t, temp_xi, truth)
+    topics['/joint_states']['name'] = gear.joint_name
+    topics['/link_torque'] = {'t': cat['t'], 'tau': cat['tau']}
     if path is not None:
-        write_recording(path, topics, joint_name=name)
+        write_recording(path, topics, joint_name=gear.joint_name)
     return topics
 
 

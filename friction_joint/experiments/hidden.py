@@ -110,7 +110,7 @@ import warnings
 
 import numpy as np
 
-from .excitation import record_segment
+from .excitation import record_segment, segment_topics
 from .hidden_plant import add_sweep, plan_kind, RUN_KINDS, speed_bands, sweep_oneway
 from ..bag import write_recording
 from ..control.controller import Controller, pd_gains
@@ -527,13 +527,7 @@ def simulate_recording(truth_gear, path=None, *, duration=90.0, seed=0, base_gea
         count = 2.0 * math.pi / 2.0 ** int(encoder_bits)
         cat['q'] = np.round(cat['q'] / count) * count
     name = truth_gear.joint_name
-    topics = {
-        '/joint_states': {'t': cat['t'], 'q': cat['q'], 'qd': cat['qd'],
-                          'effort': cat['effort'], 'name': name},
-        '/joint_temperature': {'t': np.concatenate(temp_t), 'xi': np.concatenate(temp_xi),
-                               'variance': truth_gear.section('sensors')[
-                                   'temperature_resolution'] ** 2 / 12.0},
-    }
+    topics = segment_topics(cat, temp_t, temp_xi, truth_gear)
     if link_torque:
         topics['/link_torque'] = {'t': cat['t'], 'tau': cat['tau']}
     if command:
