@@ -21,7 +21,9 @@ With the inertia and gravity feed-forward exact, the error obeys
 J e'' + k_d e' + k_p e = 0, a second-order system with omega_n^2 = k_p / J and
 2 zeta omega_n = k_d / J.  :func:`pd_gains` picks zeta from the maximum
 overshoot and omega_n from the 10-90 % rise time of that system's step
-response (found numerically, not from an approximation formula).
+response (found numerically, not from an approximation formula).  Its
+defaults are the paper's design targets (:data:`PAPER_RISE_TIME`,
+:data:`PAPER_OVERSHOOT`), read from :data:`~friction_joint.paper.PAPER`.
 
 :class:`Controller` never holds a non-finite friction feed-forward state: a
 sample with a NaN/inf input raises ``InputRejected`` (a ``ValueError``) before anything changes;
@@ -41,13 +43,20 @@ from scipy.optimize import brentq
 
 from ..exceptions import ArgumentError, InputRejected
 from ..models.friction import friction_model
+from ..paper import PAPER
 
 if TYPE_CHECKING:
     from numpy.typing import ArrayLike
 
     from ..gear import GearParams
 
-__all__ = ['pd_gains', 'step_metrics', 'SineTrajectory', 'Controller']
+__all__ = ['PAPER_RISE_TIME', 'PAPER_OVERSHOOT', 'pd_gains', 'step_metrics', 'SineTrajectory',
+           'Controller']
+
+#: the 10-90 % rise time (s) the paper designs the PD gains for (Section V-C)
+PAPER_RISE_TIME: float = PAPER['rise_time'].value
+#: the maximum overshoot the paper designs the PD gains for, as a fraction (the table holds %)
+PAPER_OVERSHOOT: float = PAPER['overshoot'].value / 100.0
 
 
 def _zeta_from_overshoot(overshoot):
@@ -61,8 +70,8 @@ def _unit_step(tn, zeta):
     return 1.0 - math.exp(-zeta * tn) * (math.cos(wd * tn) + zeta / wd * math.sin(wd * tn))
 
 
-def pd_gains(inertia: float, *, rise_time: float = 0.04,
-             overshoot: float = 0.06) -> tuple[float, float]:
+def pd_gains(inertia: float, *, rise_time: float = PAPER_RISE_TIME,
+             overshoot: float = PAPER_OVERSHOOT) -> tuple[float, float]:
     """
     Return the PD gains of eq. 17 from a 10-90 % rise time and a maximum overshoot.
 
@@ -71,9 +80,11 @@ def pd_gains(inertia: float, *, rise_time: float = 0.04,
     inertia : float
         J, kg m^2.
     rise_time : float
-        10-90 % rise time of the step response, s (paper: 0.04 s).
+        10-90 % rise time of the step response, s (default: the paper's,
+        :data:`PAPER_RISE_TIME`).
     overshoot : float
-        Maximum overshoot as a fraction, 0 < overshoot < 1 (paper: 0.06).
+        Maximum overshoot as a fraction, 0 < overshoot < 1 (default: the
+        paper's, :data:`PAPER_OVERSHOOT`).
 
     Returns
     -------

@@ -49,7 +49,7 @@ from __future__ import annotations
 import dataclasses
 import math
 
-from .controller import pd_gains
+from .controller import PAPER_OVERSHOOT, PAPER_RISE_TIME, pd_gains
 from ..exceptions import ArgumentError
 
 __all__ = ['GainDesign', 'GAIN_PRESETS', 'gain_design', 'loop_metrics']
@@ -68,7 +68,9 @@ class GainDesign:
         Inertia the gains are designed for, kg m^2; None: the model gear's
         joint inertia.
     rise_time, overshoot : float
-        10-90 % rise time (s) and maximum overshoot (fraction) of the design.
+        10-90 % rise time (s) and maximum overshoot (fraction) of the design
+        (default: the paper's, :data:`~friction_joint.control.controller.PAPER_RISE_TIME`
+        and :data:`~friction_joint.control.controller.PAPER_OVERSHOOT`).
     kp, kd : float or None
         Gains given directly (both or neither); then the design fields are
         not used.
@@ -77,8 +79,8 @@ class GainDesign:
 
     name: str = 'full-inertia'
     design_inertia: float | None = None
-    rise_time: float = 0.04
-    overshoot: float = 0.06
+    rise_time: float = PAPER_RISE_TIME
+    overshoot: float = PAPER_OVERSHOOT
     kp: float | None = None
     kd: float | None = None
 

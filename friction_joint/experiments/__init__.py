@@ -42,8 +42,8 @@ from .estimation import estimation
 from .excitation import simulate_identification
 from .fleet import simulate_fleet
 from .hidden import apply_effect, apply_effects, draw_effect, EFFECT_RANGES, simulate_recording
-from .paper import PAPER, PaperNumber
 from .runner import EXPERIMENTS
+from ..paper import PAPER, PaperNumber
 
 __all__ = ['chirp', 'compensation', 'estimation', 'ExperimentData', 'EXPERIMENTS',
            'ClassicResult', 'PAPER', 'PaperNumber', 'presliding',

@@ -30,8 +30,8 @@ import numpy as np
 
 from ._common import check_model, check_scale, check_steps, ExperimentData, json_key, n_steps
 from .compensation import COMPENSATION, tracking_run
-from .paper import PAPER
 from ..control.gains import GAIN_PRESETS, GainDesign, loop_metrics
+from ..paper import PAPER
 from ..testbed.plant import Plant
 
 __all__ = ['GAIN_SWEEP', 'gain_sweep']

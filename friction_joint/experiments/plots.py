@@ -30,7 +30,7 @@ import math
 import numpy as np
 
 from ._common import json_key, MODEL_LABELS, MODELS, reversal_window
-from .paper import PAPER
+from ..paper import PAPER
 
 __all__ = ['STYLES', 'COLORS', 'SETTLING_LABEL', 'grid_on', 'paper_suptitle', 'add_headroom',
            'zoom_inset', 'TESTBED_FIGURES', 'experiment_figures']

@@ -64,8 +64,8 @@ from .chirp import chirp
 from .compensation import compensation
 from .estimation import estimation
 from .gain_sweep import gain_sweep
-from .paper import PAPER
 from ..exceptions import ExperimentError
+from ..paper import PAPER
 
 __all__ = ['check_gains', 'EXPERIMENTS', 'CLOSED_LOOP', 'identification']
 

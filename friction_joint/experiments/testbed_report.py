@@ -22,7 +22,7 @@ Numbers are rounded to what they mean (0.1 % for tracking errors, 0.01 Nm for
 torques, 0.001 rad/s for velocities).  The paper's numbers, quoted from its
 Section V and conclusion, come from :data:`~friction_joint.experiments.paper.PAPER`.
 """
-from .paper import PAPER
+from ..paper import PAPER
 
 __all__ = ['testbed_markdown']
 

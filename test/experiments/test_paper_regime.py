@@ -26,9 +26,9 @@ from friction_joint.control.controller import Controller
 from friction_joint.experiments import testbed_report
 from friction_joint.experiments.compensation import compensation
 from friction_joint.experiments.estimation import estimation
-from friction_joint.experiments.paper import PAPER
 from friction_joint.experiments.warmup import warm_up
 from friction_joint.gear import load_gear
+from friction_joint.paper import PAPER
 from friction_joint.testbed.plant import Plant
 import numpy as np
 import pytest
@@ -152,17 +152,42 @@ def _code_strings_and_numbers(path):
             yield tuple(e.value for e in node.elts)
 
 
+def _float_constants(path):
+    """Yield the float constants in ``path``."""
+    import ast
+    with open(path, encoding='utf-8') as fh:
+        tree = ast.parse(fh.read(), filename=path)
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Constant) and isinstance(node.value, float):
+            yield node.value
+
+
 def test_the_papers_numbers_have_one_home():
-    """Figures, reports and the command line take the paper's numbers from experiments.paper."""
+    """
+    Figures, reports, the command line and the gain design take the paper's numbers from PAPER.
+
+    The controller's design targets (rise time, overshoot as a fraction) are
+    typed nowhere in control/ nor in the controller node's parameter table.
+    """
     import friction_joint
+    from friction_joint.control.controller import PAPER_OVERSHOOT, PAPER_RISE_TIME
     base = os.path.dirname(friction_joint.__file__)
-    paths = [os.path.join(base, sub, f) for sub in ('experiments', 'jobs')
-             for f in sorted(os.listdir(os.path.join(base, sub)))
-             if f.endswith('.py') and f != 'paper.py']
+    paths = [os.path.join(base, sub, f) for sub in ('experiments', 'jobs', 'control')
+             for f in sorted(os.listdir(os.path.join(base, sub))) if f.endswith('.py')]
+    paths.append(os.path.join(base, 'ros', 'nodes', 'controller.py'))
+    gain_design = [p for p in paths if os.path.basename(os.path.dirname(p)) != 'experiments'
+                   and os.path.basename(p) in ('controller.py', 'gains.py')]
+    assert len(gain_design) == 3
     lo, hi = PAPER['uncompensated_band'].value
     typed = (f'{lo:g}-{hi:g} %', f'< {PAPER["estimation_max"].value:g} Nm',
              f'{PAPER["estimation_pct"].value:g} %')
-    bad = [f'{os.path.basename(p)}: {v!r}' for p in paths for v in _code_strings_and_numbers(p)
-           if v == (lo, hi) or (isinstance(v, str) and any(t in v for t in typed))]
+    design = (PAPER['rise_time'].value, PAPER['overshoot'].value / 100.0)
+    assert (PAPER_RISE_TIME, PAPER_OVERSHOOT) == design == (0.04, 0.06)
+    bad = [f'{os.path.relpath(p, base)}: {v!r}' for p in paths
+           for v in _code_strings_and_numbers(p)
+           if v == (lo, hi) or (isinstance(v, str) and any(t in v for t in typed))
+           ]
+    bad += [f'{os.path.relpath(p, base)}: {v!r}' for p in gain_design
+            for v in _float_constants(p) if v in design]
     assert not bad, '\n'.join(bad)
     assert all(n.kind in ('result', 'set-up') and n.where for n in PAPER.values())

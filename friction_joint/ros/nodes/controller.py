@@ -67,7 +67,8 @@ from ...testbed.plant import InputLimits
 __all__ = ['ControllerNode', 'main']
 
 DEFAULTS = {'friction_ff': 'lugre', 'ff_velocity': 'measured', 'amplitude': 0.4, 'omega': 1.5,
-            'offset': 0.0, 'rise_time': 0.04, 'overshoot': 0.06, 'design_inertia': 0.0,
+            'offset': 0.0, 'rise_time': GainDesign.rise_time, 'overshoot': GainDesign.overshoot,
+            'design_inertia': 0.0,
             'rate': 0.0,
             'sync': False}
 RUNTIME = ('friction_ff', 'ff_velocity', 'amplitude', 'omega', 'offset')

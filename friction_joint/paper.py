@@ -11,15 +11,18 @@
 # WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
 # See the License for the specific language governing permissions and
 # limitations under the License.
-
-
 """
 The seed paper's own numbers, in one table: what it reports and the set-up it reports it for.
 
 Every figure and report text that sets our results beside the paper's reads
-:data:`PAPER` (key -> :class:`PaperNumber`); no module types these numbers in
-again.  ``where`` says where in the paper the number is stated, quoted where
-the wording matters (e.g. "less than", "approximately").  The rows of kind
+:data:`PAPER` (key -> :class:`PaperNumber`), and so do the controller's design
+defaults (:mod:`friction_joint.control`: the rise time and overshoot the PD
+gains are designed for); no module types these numbers in again.  The table
+sits at the top of the package, below both :mod:`friction_joint.control` and
+:mod:`friction_joint.experiments`, so that both can read it.
+
+``where`` says where in the paper the number is stated, quoted where the
+wording matters (e.g. "less than", "approximately").  The rows of kind
 ``'result'`` are the reference numbers our results are compared with; those
 of kind ``'set-up'`` describe the experiment the paper ran and that ours
 repeats.
