@@ -107,6 +107,7 @@ import numpy as np
 
 from . import criterion as cr
 from . import structures as dm
+from .candidates import base_structure, extend
 from .crossval import cross_validate_structures, fit_all
 from .data import BIN, load_data
 from .gears import extended_model
@@ -114,7 +115,7 @@ from .gravity import gravity_untestable, linear_device
 from .scan import residual_scan
 from .testability import inertia_noise_gain, untestable
 from .velocity import fold_gears, simulate_windows, WINDOW
-from ..effects import effect as _effect, EFFECTS, UNREPRESENTABLE
+from ..effects import EFFECTS, UNREPRESENTABLE
 from ..exceptions import ExcitationError, GearConfigError
 from ..results import json_clean
 
@@ -136,84 +137,6 @@ MIN_EXPLAINED = 0.01
 POSITION_BANDS = 4
 #: greedy rounds at most
 MAX_ROUNDS = 8
-
-
-def base_structure(gear: GearParams) -> dm.CandidateStructure:
-    """
-    Return a gear file's :class:`~friction_joint.diagnosis.structures.CandidateStructure`.
-
-    Parameters
-    ----------
-    gear : GearParams
-        The gear.
-
-    Returns
-    -------
-    CandidateStructure
-
-    """
-    f = gear.friction
-    s = dm.CandidateStructure(nfc=len(f.fc), nfv=len(f.fv), nfc_load=len(f.fc_load),
-                              nfv_load=len(f.fv_load))
-    if f.fs is not None:
-        vs0 = float(np.polynomial.polynomial.polyval(np.mean(f.temperature_range), f.vs))
-        s = s.with_(nfs=len(f.fs), nfs_load=len(f.fs_load), vs=max(vs0, 1e-6) / f.velocity_scale)
-    if len(f.delta_v) > 1 or f.delta_v[0] != 1.0:
-        s = s.with_(dv_free=True, dv=float(np.polynomial.polynomial.polyval(
-            np.mean(f.temperature_range), f.delta_v)))
-    if f.position_ripple is not None:
-        s = s.with_(ripple=len(f.position_ripple.amplitude),
-                    cyc=f.position_ripple.cycles_per_rev)
-    if getattr(f, 'offset', None):
-        s = s.with_(offset=True)
-    if f.model == 'lugre':
-        s = s.with_(presliding=True, ps=('lugre', f.lugre.sigma0))
-    elif f.model == 'gms':
-        s = s.with_(presliding=True, ps=('gms', float(sum(f.gms.k))))
-    return s
-
-
-def extend(s: dm.CandidateStructure,
-           effect: str) -> tuple[dm.CandidateStructure, str | None] | None:
-    """
-    Return ``(structure, nonlinear parameter to grid)`` of ``s`` extended by ``effect``.
-
-    Parameters
-    ----------
-    s : CandidateStructure
-        The structure.
-    effect : str
-        A name of :data:`EFFECTS`.
-
-    Returns
-    -------
-    tuple or None
-        None if the structure has the effect already.
-
-    """
-    if effect == 'thermal':
-        return s.with_(nfc=s.nfc + 1, nfv=s.nfv + 1, nfs=s.nfs + 1 if s.nfs else 0), None
-    if effect == 'load':
-        return s.with_(nfc_load=s.nfc_load + 1, nfv_load=s.nfv_load + 1,
-                       nfs_load=s.nfs_load + 1 if s.nfs else 0), None
-    if effect == 'position_ripple':
-        return (None if s.ripple else (s.with_(ripple=dm.RIPPLE_HARMONICS), 'cyc'))
-    if effect == 'nonlinear_viscous':
-        return None if s.dv_free else (s.with_(dv_free=True), 'dv')
-    if effect == 'stribeck':
-        return None if s.nfs else (s.with_(nfs=s.nfc, nfs_load=s.nfc_load), 'vs')
-    if effect == 'presliding':
-        return None if s.presliding else (s.with_(presliding=True), 'ps')
-    if effect == 'inertia':
-        return None if s.inertia else (s.with_(inertia=True), None)
-    if effect == 'asymmetry':
-        return None if s.offset else (s.with_(offset=True), None)
-    if effect == 'drift':
-        return None if s.drift else (s.with_(drift=dm.DRIFT_ORDER), None)
-    if effect == 'gravity':
-        return None if s.gravity else (s.with_(gravity=True), None)
-    _effect(effect)                     # an unknown name: ArgumentError naming the known ones
-    raise AssertionError(f'effect {effect!r} of the registry has no extension')
 
 
 def _nl_params(s):

@@ -33,9 +33,26 @@ with E = exp(-|kappa qd / v_s|^delta_s), u the (clipped, centred, scaled)
 temperature, tl = |tau_ext|, P_j the shifted Legendre polynomials of the
 accumulated travel s (0..1, :func:`accumulated_travel`) and h = sign(qd) for a static model.  For a
 pre-sliding model h is the normalised friction state driven by the measured
-(filtered) position: LuGre h' = (sigma0 / g) (dq - |dq| h) solved exactly per
-sample, GMS h = sum alpha_i h_i with Maxwell-slip elements h_i clipped to
-[-1, 1] (increments k_i dq / (alpha_i g)), g the mean Coulomb level.
+(filtered) position, g the mean Coulomb level, by the models' own updates
+(:mod:`~friction_joint.diagnosis.states`):
+LuGre h' = (sigma0 / g) (dq - |dq| h) solved exactly per sample
+(:func:`~friction_joint.models.lugre.lugre_update`, eq. 10), GMS
+h = sum alpha_i h_i with Maxwell-slip elements h_i clipped to [-1, 1]
+(increments k_i dq / (alpha_i g); :func:`~friction_joint.models.gms.gms_update`
+with instantaneous slip, eq. 11-12).
+
+Layers
+------
+A :class:`CandidateStructure` is the paper's static structure plus the terms
+the diagnosis adds.  Its static part (the temperature and load polynomial
+lengths of F_c, F_v, F_s, the Stribeck flag, a fitted or linear viscous
+exponent) is an :class:`~friction_joint.identification.StaticStructure`, the
+structure the identification fits (:meth:`CandidateStructure.from_static`,
+:meth:`CandidateStructure.static`); the diagnosis adds position ripple, a
+direction offset, an inertia error, pre-sliding, drift over travel, a lever
+gravity error and the values of the nonlinear parameters (``vs``, ``dv``,
+``cyc``, ``ps``).  v_s and delta_v keep the base gear's temperature shapes
+(:class:`Context`); the diagnosis fits their level.
 
 Nonlinear parameters and their grids: ``vs`` (Stribeck velocity), ``dv``
 (delta_v level), ``cyc`` (ripple fundamental, cycles per output revolution:
@@ -70,7 +87,8 @@ import math
 import numpy as np
 
 from .ripple import ripple_cycles
-from .._jit import njit
+from .states import accumulated_travel, presliding_state
+from ..identification.static_structure import StaticStructure
 
 __all__ = ['CandidateStructure', 'design', 'column_groups', 'solve', 'solve_physical', 'grid_of',
            'coefficients', 'presliding_state', 'fit_range', 'drift_basis', 'DRIFT_ORDER',
@@ -143,6 +161,83 @@ class CandidateStructure:
     dv: float = 1.0
     cyc: float = 160.0
     ps: tuple[str, float] = ('lugre', 2e4)
+
+    @classmethod
+    def from_static(cls, static: StaticStructure,
+                    **terms: float | bool | tuple) -> CandidateStructure:
+        """
+        Return the structure of a static structure plus the terms the diagnosis adds.
+
+        Parameters
+        ----------
+        static : StaticStructure
+            The static part: F_c, F_v and F_s temperature and load polynomial lengths
+            (F_s only with ``stribeck``), delta_v fitted (its level, ``dv_free``) or
+            fixed at ``[1.0]`` (linear viscous).  The orders of v_s and delta_v do not
+            enter: the diagnosis keeps the base gear's temperature shapes.
+        **terms : float, bool or tuple
+            The other fields: ``ripple``, ``offset``, ``inertia``, ``presliding``,
+            ``drift``, ``gravity`` and the nonlinear values ``vs``, ``dv``, ``cyc``, ``ps``.
+
+        Returns
+        -------
+        CandidateStructure
+
+        Raises
+        ------
+        ValueError
+            A term names a field of the static part, or ``static`` fixes F_c, F_v,
+            F_s or a delta_v other than ``[1.0]`` (the diagnosis fits them).
+
+        """
+        fixed = [p for p in static.fixed if p != 'delta_v' or list(static.fixed[p]) != [1.0]]
+        if fixed:
+            raise ValueError(f'the diagnosis fits {", ".join(fixed)}: cannot keep it fixed')
+        loads = static.load_orders
+        own = {'nfc': static.length('fc'), 'nfv': static.length('fv'),
+               'nfs': static.length('fs') if static.stribeck else 0,
+               'nfc_load': loads.get('fc', 0), 'nfv_load': loads.get('fv', 0),
+               'nfs_load': loads.get('fs', 0) if static.stribeck else 0,
+               'dv_free': 'delta_v' in static.orders}
+        clash = sorted(set(own) & set(terms))
+        if clash:
+            raise ValueError(f'{", ".join(clash)}: part of the static structure')
+        return cls(**own, **terms)
+
+    def static(self, *, base: StaticStructure | None = None) -> StaticStructure:
+        """
+        Return the static part as the structure of the gear file a fit of it writes.
+
+        Parameters
+        ----------
+        base : StaticStructure, optional
+            The base gear's structure: the orders of v_s and delta_v (whose
+            temperature shapes the diagnosis keeps and scales), their load orders,
+            delta_s and the velocity scale.  Without it: order 0, no load terms,
+            the defaults.
+
+        Returns
+        -------
+        StaticStructure
+            ``CandidateStructure.from_static(s.static(), ...)`` gives back ``s``.
+
+        """
+        orders, load = {}, {}
+        for p, n, n_load in (('fc', self.nfc, self.nfc_load), ('fv', self.nfv, self.nfv_load),
+                             ('fs', self.nfs, self.nfs_load)):
+            if n:
+                orders[p], load[p] = n - 1, n_load
+        shapes = ('vs', 'delta_v') if self.nfs else ('delta_v',)
+        for p in shapes:
+            orders[p] = base.length(p) - 1 if base is not None and base.length(p) else 0
+            load[p] = base.load_orders.get(p, 0) if base is not None else 0
+        fixed = {}
+        if not self.dv_free:
+            fixed['delta_v'] = [1.0]
+            del orders['delta_v']
+        extra = {} if base is None else {'delta_s': base.delta_s,
+                                         'velocity_scale': base.velocity_scale}
+        return StaticStructure(orders, load, fixed, bool(self.nfs), **extra)
 
     def with_(self, **kw: float | bool | tuple) -> CandidateStructure:
         """
@@ -220,72 +315,10 @@ class Context:
         return self._travel
 
 
-def accumulated_travel(data):
-    """
-    Accumulated travel s / s_total (full rate, 0..1) of the data, in recording order.
-
-    ``s = sum |dq|`` of the zero-phase filtered position, not counted across
-    the gaps between pieces.
-    """
-    dq = np.abs(np.diff(data.qf, prepend=data.qf[0]))
-    dq[np.r_[True, data.piece[1:] != data.piece[:-1]]] = 0.0
-    s = np.cumsum(dq)
-    return s / s[-1] if s[-1] > 0 else s
-
-
 def drift_basis(x, order):
     """Shifted Legendre polynomials 1..``order`` of ``x`` in 0..1 (list of arrays)."""
     z = 2.0 * np.asarray(x, float) - 1.0
     return [np.polynomial.legendre.legval(z, np.eye(order + 1)[j]) for j in range(1, order + 1)]
-
-
-@njit
-def _lugre_state(dq, piece, a, out):
-    h = 0.0
-    for k in range(dq.shape[0]):
-        if k == 0 or piece[k] != piece[k - 1]:
-            h = 0.0
-        d = dq[k]
-        if d > 0.0:
-            h = 1.0 + (h - 1.0) * math.exp(-a * d)
-        elif d < 0.0:
-            h = -1.0 + (h + 1.0) * math.exp(a * d)
-        out[k] = h
-
-
-@njit
-def _gms_state(dq, piece, inc, alpha, out):
-    n = inc.shape[0]
-    h = np.zeros(n)
-    for k in range(dq.shape[0]):
-        if k == 0 or piece[k] != piece[k - 1]:
-            for i in range(n):
-                h[i] = 0.0
-        acc = 0.0
-        for i in range(n):
-            v = h[i] + inc[i] * dq[k]
-            if v > 1.0:
-                v = 1.0
-            elif v < -1.0:
-                v = -1.0
-            h[i] = v
-            acc += alpha[i] * v
-        out[k] = acc
-
-
-def presliding_state(ctx, ps):
-    """Normalised pre-sliding friction state h (full rate) for ``ps = (model, stiffness)``."""
-    d = ctx.data
-    dq = np.diff(d.qf, prepend=d.qf[0])
-    dq[np.r_[True, d.piece[1:] != d.piece[:-1]]] = 0.0
-    out = np.empty_like(dq)
-    model, stiff = ps
-    if model == 'lugre':
-        _lugre_state(dq, d.piece, stiff / ctx.g_nom, out)
-    else:
-        k = stiff * ctx.gms_ratios
-        _gms_state(dq, d.piece, k / (ctx.gms_alpha * ctx.g_nom), ctx.gms_alpha, out)
-    return out
 
 
 #: the fields of each column group of :func:`design`, and their values when a group is left out

@@ -18,6 +18,12 @@ The structure of a static friction model and the checks that data can determine 
 A :class:`StaticStructure` says which coefficients a static model has (the
 list lengths of a gear file, docs/interfaces.md: gear parameter files); :func:`check_excitation`
 names what to record when plateaus cannot determine one of them.
+
+It is the one description of a static structure: the diagnosis's model
+structure (:class:`~friction_joint.diagnosis.CandidateStructure`) is this
+static structure plus the terms the diagnosis adds (position ripple, offset,
+inertia, pre-sliding, drift, gravity and nonlinear parameter values), built
+with ``CandidateStructure.from_static`` and read back with its ``static``.
 """
 from __future__ import annotations
 
@@ -142,6 +148,25 @@ class StaticStructure:
         lo = dict(self.load_orders)
         lo.update(load_orders or {})
         return dataclasses.replace(self, orders=o, load_orders=lo)
+
+    def length(self, p: str) -> int:
+        """
+        Return the length of a parameter's temperature polynomial (0: not in the model).
+
+        Parameters
+        ----------
+        p : str
+            A parameter of :data:`PARAMETERS`.
+
+        Returns
+        -------
+        int
+            Its order + 1 when fitted, the length of its list when fixed.
+
+        """
+        if p in self.orders:
+            return self.orders[p] + 1
+        return len(self.fixed.get(p, ()))
 
     @property
     def params(self):
