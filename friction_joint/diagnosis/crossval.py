@@ -15,9 +15,10 @@
 Block cross-validation of the diagnosis's model structures, and their fit on all data.
 
 :func:`cross_validate_structures` holds out each of K contiguous blocks of bins
-in turn; :func:`fit_all` fits on every bin.  Both choose the grid point with the
-least (penalised) training error and refine its nonlinear parameters with
-:class:`~friction_joint.diagnosis.refine.Refiner`.
+in turn (the held-out loop is :func:`~friction_joint.identification.folds.held_out_sse`,
+shared with the identification's order selection); :func:`fit_all` fits on every
+bin.  Both choose the grid point with the least (penalised) training error and
+refine its nonlinear parameters with :class:`~friction_joint.diagnosis.refine.Refiner`.
 """
 from __future__ import annotations
 
@@ -27,6 +28,7 @@ import numpy as np
 
 from .refine import Refiner
 from .structures import CandidateStructure, constraints, Context, design, solve_physical
+from ..identification.folds import held_out_sse
 
 __all__ = ['CVResult', 'cross_validate_structures', 'fit_all']
 
@@ -97,22 +99,23 @@ def cross_validate_structures(structures: list[CandidateStructure], ctx: Context
     """
     ref = _refiner(ctx, y, block, k)
     one = len(structures) == 1             # the parameters of a structure are fitted already
-    sse = np.zeros(k)
-    n = np.bincount(block, minlength=k).astype(float)
     chosen, betas, names = [], [], []
     pred = np.empty_like(y)
-    for f in range(k):
+
+    def fit_predict(fold, train, test):
+        """Choose and fit on the other blocks (the refiner's own sums); residuals on ``fold``."""
         if one:
             s = structures[0]
-            beta, (x, nm) = ref.train(s, f)[1], ref.normal(s)[:2]
+            beta, (x, nm) = ref.train(s, fold)[1], ref.normal(s)[:2]
         else:
-            s, beta, x, nm = ref.best(structures, f)
-        m = ref.rows[f]
-        pred[m] = x[m] @ beta
-        sse[f] = float(np.sum((y[m] - pred[m]) ** 2))
+            s, beta, x, nm = ref.best(structures, fold)
+        pred[test] = x[test] @ beta
         chosen.append(s)
         betas.append(beta)
         names.append(nm)
+        return y[test] - pred[test]
+
+    sse, n = held_out_sse(ref.rows, len(y), fit_predict)
     return CVResult(sse, n, chosen, pred, betas, names)
 
 

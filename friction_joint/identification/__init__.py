@@ -20,6 +20,8 @@ Identification of the friction model from recordings (seed Section V-A, three st
   excitation checks; :mod:`~friction_joint.identification.static_problem`: the
   least-squares problem; :mod:`~friction_joint.identification.static_fit`:
   steps 1-2 (:class:`StaticIdentifier`, order selection);
+  :mod:`~friction_joint.identification.folds`: the held-out-block loop of
+  cross-validation (:func:`held_out_sse`), shared with the diagnosis;
 * :mod:`~friction_joint.identification.presliding_data`,
   :mod:`~friction_joint.identification.pattern_search`,
   :mod:`~friction_joint.identification.presliding`: step 3, the LuGre/GMS
@@ -28,6 +30,7 @@ Identification of the friction model from recordings (seed Section V-A, three st
   (written by :mod:`friction_joint.jobs.identify`);
   :mod:`~friction_joint.identification.report`: its figures.
 """
+from .folds import held_out_sse, random_folds
 from .pattern_search import pattern_search, PatternSearchResult
 from .pipeline import IdentificationRun, identify_recordings
 from .plateaus import DETECTION, find_plateaus, Plateaus, plateaus_from_arrays
@@ -40,4 +43,4 @@ __all__ = ['Plateaus', 'find_plateaus', 'plateaus_from_arrays', 'DETECTION', 'St
            'check_excitation', 'StaticIdentifier', 'cross_validate_orders', 'select_orders',
            'PatternSearchResult', 'pattern_search', 'Segment', 'presliding_segments',
            'EXPERIMENT_ADVICE', 'PreslidingFit', 'fit_presliding', 'presliding_rmse',
-           'IdentificationRun', 'identify_recordings']
+           'IdentificationRun', 'identify_recordings', 'held_out_sse', 'random_folds']

@@ -72,9 +72,9 @@ from typing import TYPE_CHECKING
 import numpy as np
 from numpy.typing import ArrayLike
 
-from .static_problem import (block_folds, CoefficientLayout, covariance, fit_structure,
-                             load_reference, Problem, single_init, temperature_range,
-                             theta_from_values)
+from .folds import held_out_sse, random_folds
+from .static_problem import (CoefficientLayout, covariance, fit_structure, load_reference,
+                             Problem, single_init, temperature_range, theta_from_values)
 from .static_structure import (check_excitation, distinct_levels, group_table, PARAMETER_UNITS,
                                StaticStructure)
 from ..exceptions import ExcitationError, GearConfigError
@@ -93,9 +93,12 @@ def cross_validate_orders(plateaus: Plateaus, structure: StaticStructure, *, fol
     """
     Return the held-out RMS (Nm) of a structure by k-fold cross-validation over plateaus.
 
-    Each fold is left out in turn, the structure refitted (all coefficients at
-    once, started from ``theta_full`` when given) on the rest, and the left-out
-    plateaus predicted.
+    The plateaus are dealt into ``folds`` random folds (seeded,
+    :func:`~friction_joint.identification.folds.random_folds`: random subsets of
+    plateaus, not runs of consecutive ones); each fold is left out in turn, the
+    structure refitted (all coefficients at once, started from ``theta_full``
+    when given) on the rest, and the left-out plateaus predicted
+    (:func:`~friction_joint.identification.folds.held_out_sse`).
 
     Parameters
     ----------
@@ -104,7 +107,7 @@ def cross_validate_orders(plateaus: Plateaus, structure: StaticStructure, *, fol
     structure : StaticStructure
         The model structure.
     folds : int
-        Number of folds (blocks of consecutive plateaus).
+        Number of folds (random subsets of the plateaus; at most one per plateau).
     theta_full : ndarray, optional
         The fit on all plateaus, the start of each fold's fit; default fitted here.
     seed : int
@@ -118,19 +121,21 @@ def cross_validate_orders(plateaus: Plateaus, structure: StaticStructure, *, fol
     t_range, load_ref = temperature_range(plateaus), load_reference(plateaus)
     if theta_full is None:
         _, theta_full, _, _ = fit_structure(structure, plateaus, t_range, load_ref, stepwise=False)
-    sq, count = 0.0, 0
-    n = len(plateaus)
-    for test in block_folds(n, min(folds, n), seed):
-        train = np.ones(n, dtype=bool)
-        train[test] = False
+    layout = CoefficientLayout(structure, t_range, load_ref)
+
+    def fit_predict(fold, train, test):
+        """Refit without the fold's plateaus; the residuals on them."""
         _, th, _, _ = fit_structure(structure, plateaus.select(train), t_range, load_ref,
                                     theta0=theta_full, stepwise=False)
         held = plateaus.select(test)
-        layout = CoefficientLayout(structure, t_range, load_ref)
-        r = layout.torque(th, held.qd, held.xi, held.load)[0] - held.tau_r
-        sq += float(r @ r)
-        count += len(r)
-    return math.sqrt(sq / max(count, 1))
+        return layout.torque(th, held.qd, held.xi, held.load)[0] - held.tau_r
+
+    n = len(plateaus)
+    sse, count = held_out_sse(random_folds(n, min(folds, n), seed=seed), n, fit_predict)
+    sq = 0.0
+    for s in sse:                  # in fold order, as the held-out errors come
+        sq += float(s)
+    return math.sqrt(sq / max(int(count.sum()), 1))
 
 
 def select_orders(plateaus: Plateaus, structure: StaticStructure, *, max_order: int = 2,

@@ -32,7 +32,7 @@ from .static_structure import LOWER, UPPER
 from ..models.static import PackedStatic, PARAMETERS, StaticFriction
 
 __all__ = ['CoefficientLayout', 'Problem', 'single_init', 'theta_from_values', 'fit_structure',
-           'covariance', 'temperature_range', 'load_reference', 'block_folds']
+           'covariance', 'temperature_range', 'load_reference']
 
 
 class CoefficientLayout:
@@ -305,8 +305,3 @@ def temperature_range(plateaus):
 
 def load_reference(plateaus):
     return max(float(np.max(plateaus.load)) if len(plateaus) else 0.0, 1.0)
-
-
-def block_folds(n, k, seed=0):
-    perm = np.random.default_rng(seed).permutation(n)
-    return [perm[i::k] for i in range(k)]
