@@ -68,11 +68,13 @@ import importlib.util
 import os
 import re
 import time
+from typing import TYPE_CHECKING
 import warnings
 
 import numpy as np
 
 from .plateaus import DETECTION, find_plateaus, Plateaus
+from .report import draw_figures, identification_figures
 from .static_fit import StaticIdentifier
 from .._filters import zero_phase_derivatives
 from ..bag import read_recording, Recording
@@ -82,6 +84,9 @@ from ..exceptions import (ArgumentError, ExcitationError, FrictionJointError, Ge
 from ..gear import GearParams, load_gear
 from ..gear.strict_yaml import read_yaml_document
 from ..results import json_clean
+
+if TYPE_CHECKING:
+    from matplotlib.figure import Figure
 
 __all__ = ['IdentificationRun', 'identify_recordings',
            'MAX_PRESLIDING_ERROR', 'BRIDGE_MARGIN']
@@ -131,6 +136,22 @@ class IdentificationRun:
     def to_dict(self) -> dict:
         """Return :meth:`report` (plain JSON types)."""
         return json_clean(self.report())
+
+    def plot(self) -> dict[str, Figure]:
+        """
+        Draw the report's figures (Fig. 3, Fig. 4, residuals, plateaus) in memory.
+
+        The figures of :func:`~friction_joint.identification.report.identification_figures`,
+        drawn as the report's PNG files are, but returned, not written.
+
+        Returns
+        -------
+        dict of str to matplotlib.figure.Figure
+            By the report's file name (e.g. ``'fig3a_temperature_curves.png'``).
+
+        """
+        return draw_figures(identification_figures(self.identifier, self.recordings,
+                                                   self.presliding))
 
     def report(self) -> dict:
         """Return the ``identification.json`` content."""

@@ -220,6 +220,18 @@ def test_object_api(api_runs):
     assert len(d.gear.friction.delta_v) == 1 and d.rms > ident.rms * 0.9
 
 
+def test_plot_returns_the_report_figures_with_the_plateaus_on_them(api_runs):
+    """IdentificationRun.plot draws the report's figures in memory (no file written)."""
+    _, _, run = api_runs[0]
+    figs = run.plot()
+    assert set(figs) == {'fig3a_temperature_curves.png', 'fig3b_parameters.png',
+                         'fig3c_model.png', 'fig4_load.png', 'residuals.png', 'plateaus.png'}
+    marked = [ln for ln in figs['fig3a_temperature_curves.png'].axes[0].lines
+              if ln.get_linestyle() == 'None']
+    assert sum(len(ln.get_xdata()) for ln in marked) == len(run.plateaus)
+    assert all(fig.axes and any(ax.has_data() for ax in fig.axes) for fig in figs.values())
+
+
 def test_orders_auto(api_runs):
     seed, truth, run = api_runs[1]
     ident = StaticIdentifier(load_gear(STRUCTURE), orders='auto').fit(run.plateaus)
