@@ -31,7 +31,8 @@ Method
    with grids over its few nonlinear parameters (:mod:`friction_joint.diagnosis.structures`);
    every fit is bounded to F_c, F_s, F_v >= 0 over the data's temperature and
    load range.
-3. **Candidates**: every effect of :data:`EFFECTS` extends the current
+3. **Candidates** (:mod:`friction_joint.diagnosis.candidates`): every effect
+   of :data:`EFFECTS` extends the current
    structure (``thermal``: temperature orders of F_c and F_v (and F_s) + 1;
    ``load``: load orders + 1; ``position_ripple``: 3 harmonics of 2 N, else N,
    cycles per output turn; ``nonlinear_viscous``: free delta_v;
