@@ -16,7 +16,8 @@
 ``friction_joint fleet --manifest FLEET.csv --model GEAR.yaml --out DIR``.
 
 Which joints of a fleet wear, since when, how fast (docs/fleet.md; method:
-:mod:`friction_joint.fleet`).  Writes ``DIR/fleet.json``, ``DIR/recordings.csv``,
+:mod:`friction_joint.fleet`; the command's work:
+:func:`friction_joint.jobs.fleet.run_fleet`).  Writes ``DIR/fleet.json``, ``DIR/recordings.csv``,
 ``DIR/report.html`` and ``DIR/cache.json`` as one output set; an existing DIR is
 an error unless ``--force``, which replaces it and reuses its cached
 per-recording results.
@@ -56,7 +57,7 @@ def run(args):
     """Monitor the fleet; prints the wearing joints."""
     from ._console import progress_printer
     from ..exceptions import ArgumentError
-    from ..fleet import run_fleet
+    from ..jobs import run_fleet
 
     if args.workers is not None and args.workers < 1:
         raise ArgumentError(f'--workers must be >= 1, got {args.workers}')

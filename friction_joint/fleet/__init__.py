@@ -23,19 +23,22 @@ Fleet friction monitoring: which joints wear, since when, how fast (docs/fleet.m
 * :mod:`~friction_joint.fleet.assess`: reference point, trends, verdict;
 * :mod:`~friction_joint.fleet.cluster`: the tasks on Dask distributed (the only
   module that imports Dask, lazily);
-* :mod:`~friction_joint.fleet.monitor`: the ``fleet`` command's work
-  (:func:`run_fleet`, the cache);
+* :mod:`~friction_joint.fleet.monitor`: :class:`FleetRun`, the result of a
+  run (:meth:`FleetRun.plot`: the trend plots in memory);
 * :mod:`~friction_joint.fleet.plots`, :mod:`~friction_joint.fleet.report`: the
-  trend plots and the output files.
+  trend plots and the output files' content.
+
+The ``fleet`` command's load, compute, write (manifest, cache, Dask tasks,
+DIR) is :func:`friction_joint.jobs.fleet.run_fleet`.
 """
 from .assess import assess_fleet, FleetAssessment, reference_point
 from .cluster import default_workers, local_cluster, map_recordings
 from .manifest import ManifestEntry, read_manifest
-from .monitor import content_hash, FleetRun, run_fleet
+from .monitor import FleetRun
 from .recording import analyse_recording, reference_friction
 from .trend import extra_variance, trend_test, TrendResult
 
-__all__ = ['run_fleet', 'FleetRun', 'content_hash', 'read_manifest', 'ManifestEntry',
+__all__ = ['FleetRun', 'read_manifest', 'ManifestEntry',
            'analyse_recording', 'reference_friction', 'assess_fleet', 'FleetAssessment',
            'reference_point', 'trend_test', 'TrendResult', 'extra_variance', 'map_recordings',
            'default_workers', 'local_cluster']

@@ -95,7 +95,7 @@ def local_cluster(workers=None, memory_limit=MEMORY_LIMIT):
     ------
     address : str
         The scheduler's address, for ``scheduler=`` of :func:`map_recordings` and
-        :func:`~friction_joint.fleet.monitor.run_fleet`.
+        :func:`~friction_joint.jobs.fleet.run_fleet`.
     executor : concurrent.futures.Executor
         Runs functions on the cluster's workers (e.g. ``executor=`` of
         :func:`~friction_joint.experiments.fleet.simulate_fleet`).

@@ -11,56 +11,34 @@
 # WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
 # See the License for the specific language governing permissions and
 # limitations under the License.
-
 """
-The ``fleet`` command's work: manifest -> per-recording tasks on Dask -> verdict -> files.
+The result of one fleet monitoring run (:func:`friction_joint.jobs.fleet.run_fleet`).
 
-:func:`run_fleet` reads and checks the manifest and the model gear file,
-checks the output directory (one output set,
-:class:`~friction_joint.output.OutputSet`: an existing DIR is refused unless
-``force``), then
-
-1. hashes every recording (SHA-256 over its bytes; a rosbag2 directory: over
-   its files' names and bytes) and looks the result up in the **cache**:
-   ``DIR/cache.json`` of the previous run into the same DIR (read before the
-   directory is replaced), keyed by the recording's hash, the model gear
-   file's hash and the analysis version.  A day's new logs cost only their own
-   work; a changed recording or model is recomputed;
-2. runs one task per remaining recording on Dask
-   (:func:`~friction_joint.fleet.cluster.map_recordings`,
-   :func:`~friction_joint.fleet.recording.analyse_recording`), reporting a
-   line per finished recording through ``progress``;
-3. assesses the fleet (:func:`~friction_joint.fleet.assess.assess_fleet`) and
-   writes ``fleet.json``, ``recordings.csv``, ``report.html`` and
-   ``cache.json`` into DIR, all or nothing.
+:class:`FleetRun` holds the assessment and what the run wrote; its
+:meth:`~FleetRun.plot` draws the report's per-joint trend plots in memory
+(:mod:`~friction_joint.fleet.plots`).  Reading the manifest and the cache,
+the Dask tasks and writing DIR are the job's
+(:mod:`friction_joint.jobs.fleet`).
 """
+from __future__ import annotations
+
 import dataclasses
-import hashlib
-import json
-import os
-import time
+from typing import TYPE_CHECKING
 
-from .assess import assess_fleet
-from .cluster import map_recordings
-from .manifest import read_manifest
-from .recording import analyse_recording, FIT_VERSION
-from .report import fleet_files
-from ..exceptions import FrictionJointError, GearConfigError, InputFileError
-from ..gear import parse_gear
-from ..inputs import check_input_dir, open_input, read_input
-from ..output import json_bytes, OutputSet
+from .assess import FleetAssessment
+from .plots import trend_figures
+from ..identification.report import draw_figures
 
-__all__ = ['FleetRun', 'content_hash', 'run_fleet', 'CACHE_NAME']
+if TYPE_CHECKING:
+    from matplotlib.figure import Figure
 
-#: the per-recording cache inside DIR
-CACHE_NAME = 'cache.json'
-_CHUNK = 1 << 20
+__all__ = ['FleetRun']
 
 
 @dataclasses.dataclass
 class FleetRun:
     """
-    What :func:`run_fleet` did.
+    What :func:`~friction_joint.jobs.fleet.run_fleet` did.
 
     Attributes
     ----------
@@ -74,173 +52,27 @@ class FleetRun:
 
     """
 
-    assessment: object
+    assessment: FleetAssessment
     written: list
     computed: int
     cached: int
     workers: int
     timings: dict
 
-    def to_dict(self):
+    def to_dict(self) -> dict:
         """Return plain JSON types."""
         return {'fleet': self.assessment.to_dict(), 'written': list(self.written),
                 'computed': self.computed, 'cached': self.cached, 'workers': self.workers,
                 'timings': dict(self.timings)}
 
+    def plot(self) -> dict[str, Figure]:
+        """
+        Draw the report's trend plot of every joint in memory (no file written).
 
-def _hash_file(h, path):
-    with open_input(path, kind='recording', what='a recording') as fh:
-        while True:
-            block = fh.read(_CHUNK)
-            if not block:
-                break
-            h.update(block)
+        Returns
+        -------
+        dict of str to matplotlib.figure.Figure
+            By joint id, as embedded in ``report.html``.
 
-
-def content_hash(path):
-    """
-    Return the SHA-256 (hex) of a recording's content.
-
-    A file: its bytes.  A directory (rosbag2): every file below it, in sorted
-    order of their relative paths, each as its path and its bytes.
-    """
-    path = os.fspath(path)
-    h = hashlib.sha256()
-    if os.path.isdir(path):
-        check_input_dir(path)
-        names = []
-        for root, dirs, files in os.walk(path):
-            dirs.sort()
-            names += [os.path.relpath(os.path.join(root, f), path) for f in files]
-        for rel in sorted(names):
-            h.update(rel.encode('utf-8') + b'\0')
-            _hash_file(h, os.path.join(path, rel))
-    else:
-        _hash_file(h, path)
-    return h.hexdigest()
-
-
-def _read_cache(out):
-    """Return the old DIR's cache (key -> result), empty when there is none or it is unusable."""
-    path = os.path.join(os.fspath(out), CACHE_NAME)
-    if not os.path.isfile(path):
-        return {}
-    try:
-        with open_input(path, kind='table', what='a fleet cache') as fh:
-            doc = json.loads(fh.read().decode('utf-8'))
-    except (FrictionJointError, ValueError):
-        return {}
-    entries = doc.get('entries') if isinstance(doc, dict) else None
-    return entries if isinstance(entries, dict) else {}
-
-
-def _say(progress, msg):
-    if progress:
-        progress(msg)
-
-
-def run_fleet(manifest, model, out, *, scheduler=None, workers=None, force=False,
-              progress=None, seed=0):
-    """
-    Monitor a fleet: analyse its recordings and write DIR (module docstring).
-
-    Parameters
-    ----------
-    manifest : str
-        The fleet manifest (:mod:`~friction_joint.fleet.manifest`).
-    model : str
-        The model gear file (structure and temperature/load dependence).
-    out : str
-        Output directory DIR.
-    scheduler : str, optional
-        Dask scheduler address; default an embedded LocalCluster.
-    workers : int, optional
-        Workers of the embedded cluster (default the cores).
-    force : bool
-        Replace an existing DIR (its cache is reused).
-    progress : callable, optional
-        Called with one line per finished recording and per stage.
-    seed : int
-        Of the wear test's bootstrap.
-
-    Returns
-    -------
-    FleetRun
-
-    """
-    t_start = time.perf_counter()
-    entries = read_manifest(manifest)
-    raw = read_input(model, kind='gear', what='a gear file', error=GearConfigError)
-    try:
-        gear_text = raw.decode('utf-8')
-    except UnicodeDecodeError:
-        raise GearConfigError(f'{model}: not UTF-8 text') from None
-    gear = parse_gear(gear_text, os.fspath(model))
-    model_hash = hashlib.sha256(raw).hexdigest()
-    with OutputSet(force=force, inputs=[('--manifest', manifest), ('--model', model)]) as outputs:
-        outputs.add_directory(out, label='--out')
-        outputs.check()
-        cache = _read_cache(out) if force else {}
-        t0 = time.perf_counter()
-        keys, results, todo = [], [None] * len(entries), []
-        for i, e in enumerate(entries):
-            try:
-                h = content_hash(e.path)
-            except InputFileError as exc:
-                results[i] = {'path': e.path, 'status': 'failed', 'reason': str(exc)}
-                keys.append(None)
-                continue
-            key = hashlib.sha256(f'{h}:{model_hash}:{FIT_VERSION}'.encode()).hexdigest()
-            keys.append(key)
-            old = cache.get(key)
-            if isinstance(old, dict) and old.get('version') == FIT_VERSION:
-                results[i] = dict(old, cached=True)
-            else:
-                todo.append(i)
-        t_hash = time.perf_counter() - t0
-        n_cached = sum(1 for r in results if r and r.get('cached'))
-        _say(progress, f'{len(entries)} recordings: {n_cached} from the cache, {len(todo)} to '
-                       'analyse')
-        done = [0]
-
-        def on_result(k, res):
-            done[0] += 1
-            e = entries[todo[k]]
-            what = (f'{res.get("plateaus")} plateaus' if res.get('status') == 'ok'
-                    else f'failed: {res.get("reason")}')
-            _say(progress, f'[{done[0]}/{len(todo)}] {e.joint} {e.time.isoformat()} '
-                           f'{e.recording}: {what}')
-
-        t0 = time.perf_counter()
-        nworkers = 0
-        if todo:
-            run = map_recordings(analyse_recording, [entries[i].path for i in todo],
-                                 args=(gear_text,), kwargs={'gear_name': os.fspath(model)},
-                                 scheduler=scheduler, workers=workers, on_result=on_result)
-            nworkers = run['workers']
-            for i, res in zip(todo, run['results']):
-                results[i] = dict(res, cached=False)
-            where = run['scheduler']
-        else:
-            where = 'none needed'
-        t_tasks = time.perf_counter() - t0
-        t0 = time.perf_counter()
-        assessment = assess_fleet(entries, results, gear, seed=seed)
-        new_cache = {}
-        for key, res in zip(keys, results):
-            if key and res.get('version') == FIT_VERSION:      # a dead worker is not cached
-                new_cache[key] = {k: v for k, v in res.items() if k != 'cached'}
-        info = {'manifest': os.fspath(manifest), 'model': os.fspath(model),
-                'computed': len(todo), 'cached': n_cached, 'workers': nworkers,
-                'scheduler': where}
-        files = fleet_files(assessment, info, os.path.dirname(os.path.abspath(manifest)))
-        files.append((CACHE_NAME, json_bytes({'version': FIT_VERSION, 'entries': new_cache})))
-        t_assess = time.perf_counter() - t0
-        outputs.write_directory(out, files)
-        written = outputs.publish()
-    timings = {'hash_s': t_hash, 'tasks_s': t_tasks, 'assess_and_report_s': t_assess,
-               'total_s': time.perf_counter() - t_start}
-    flagged = sorted(j for j, d in assessment.joints.items() if d['wear'])
-    _say(progress, f'{len(assessment.joints)} joints, wearing: {", ".join(flagged) or "none"}; '
-                   f'wrote {out}')
-    return FleetRun(assessment, written, len(todo), n_cached, nworkers, timings)
+        """
+        return draw_figures(trend_figures(self.assessment))

@@ -15,7 +15,9 @@
 """
 Figures of the fleet report (drawn from a :class:`~friction_joint.fleet.assess.FleetAssessment`).
 
-:func:`trend_figure` returns ``draw(fig)`` for one joint: the reference
+:func:`trend_figure` returns ``draw(fig)`` for one joint, :func:`trend_figures`
+``{joint: (draw, size)}`` for all of them (the report's figures, and
+:meth:`FleetRun.plot <friction_joint.fleet.monitor.FleetRun.plot>`): the reference
 friction with its standard errors (left axis) beside the raw mean friction
 of the plateaus (same axis, what an uncompensated monitor sees), the
 recording's temperature on a second axis, the fitted hinge and the onset
@@ -25,7 +27,7 @@ import datetime
 
 import numpy as np
 
-__all__ = ['TREND_SIZE', 'trend_figure']
+__all__ = ['TREND_SIZE', 'trend_figure', 'trend_figures']
 
 #: figure size (inches) of a trend plot
 TREND_SIZE = (8.0, 4.2)
@@ -98,3 +100,22 @@ def trend_figure(joint, verdict, xi_ref, v_ref):
         ax.legend(lines[0] + lines2[0], lines[1] + lines2[1], fontsize=7, loc='upper center',
                   bbox_to_anchor=(0.5, -0.3), ncol=3, frameon=False)
     return draw
+
+
+def trend_figures(assessment):
+    """
+    Return ``{joint: (draw(fig), TREND_SIZE)}`` of every joint's trend plot.
+
+    Parameters
+    ----------
+    assessment : FleetAssessment
+        The fleet's verdict (its joints and reference point).
+
+    Returns
+    -------
+    dict
+        By joint id, in the order of ``assessment.joints``.
+
+    """
+    return {j: (trend_figure(j, d, assessment.xi_ref, assessment.v_ref), TREND_SIZE)
+            for j, d in assessment.joints.items()}

@@ -26,7 +26,7 @@ import base64
 import csv
 import io
 
-from .plots import trend_figure, TREND_SIZE
+from .plots import trend_figures
 from ..output import json_bytes, render_png
 
 __all__ = ['CSV_COLUMNS', 'fleet_files', 'recordings_csv', 'report_markdown']
@@ -138,8 +138,8 @@ def fleet_files(assessment, run_info, base_dir):
     looked up (it has none: every figure is embedded).
     """
     from ..report_html import markdown_to_html
-    figures = {j: render_png(trend_figure(j, d, assessment.xi_ref, assessment.v_ref),
-                             TREND_SIZE) for j, d in assessment.joints.items()}
+    figures = {j: render_png(draw, size)
+               for j, (draw, size) in trend_figures(assessment).items()}
     md = report_markdown(assessment, run_info, figures)
     doc = assessment.to_dict()
     doc['run'] = dict(run_info)

@@ -28,6 +28,8 @@ command names, calls them, and writes the command's outputs all or nothing
   (:func:`run_experiment`);
 * :mod:`~friction_joint.jobs.classic`: ``friction_joint classic``
   (:func:`run_classic`, :func:`write_experiment`);
+* :mod:`~friction_joint.jobs.fleet`: ``friction_joint fleet`` (:func:`run_fleet`,
+  returning a :class:`~friction_joint.fleet.FleetRun`; the recordings' cache);
 * :mod:`~friction_joint.jobs.demo`: ``friction_joint demo``, the main job
   (:func:`run_demo`).
 """
@@ -37,12 +39,15 @@ from .experiment import run_experiment
 from .identify import run_identify
 
 __all__ = ['DiagnoseRun', 'run_diagnose', 'run_identify', 'run_experiment', 'run_classic',
-           'write_experiment', 'run_demo']
+           'write_experiment', 'run_fleet', 'run_demo']
 
 
 def __getattr__(name):
-    """Load :func:`run_demo` on first use (it pulls in every experiment)."""
+    """Load :func:`run_demo` (every experiment) and :func:`run_fleet` (the fleet) on first use."""
     if name == 'run_demo':
         from .demo import run_demo
         return run_demo
+    if name == 'run_fleet':
+        from .fleet import run_fleet
+        return run_fleet
     raise AttributeError(f'module {__name__!r} has no attribute {name!r}')

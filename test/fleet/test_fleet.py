@@ -27,11 +27,13 @@ import csv
 import datetime
 import json
 import os
+import shutil
 
 from friction_joint.cli import main
 from friction_joint.exceptions import InputFileError
 from friction_joint.experiments.fleet import simulate_fleet
 from friction_joint.fleet import local_cluster, read_manifest
+from friction_joint.jobs import run_fleet
 import pytest
 
 MODEL = 'config/csd25.yaml'
@@ -134,6 +136,23 @@ def test_rerun_with_force_computes_only_the_new_recordings(fleet):
     assert sum(r['cached'] == 'True' for r in rows) == fleet['n_first']
     assert sorted(os.listdir(fleet['out'])) == ['cache.json', 'fleet.json', 'recordings.csv',
                                                 'report.html']
+
+
+def test_run_from_the_cache_returns_the_same_verdict_and_plots_every_joint(fleet, tmp_path):
+    """The job's API on a copy of DIR: everything cached, no task; FleetRun.plot draws."""
+    out = tmp_path / 'again'
+    shutil.copytree(fleet['out'], out)
+    res = run_fleet(fleet['sim'] / 'full.csv', MODEL, out, force=True)
+    assert (res.computed, res.cached, res.workers) == (0, fleet['n_full'], 0)
+    doc = res.to_dict()['fleet']
+    assert doc['joints'] == fleet['doc']['joints']
+    figs = res.plot()
+    assert list(figs) == list(res.assessment.joints) and len(figs) == JOINTS
+    for joint, fig in figs.items():
+        ax = fig.axes[0]
+        points = res.assessment.joints[joint]['series']['points']
+        assert ax.get_title().startswith(joint) and ax.has_data()
+        assert len(ax.lines[0].get_xdata()) == len(points) > 0
 
 
 @pytest.mark.parametrize('text, words', [
