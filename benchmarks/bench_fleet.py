@@ -24,7 +24,7 @@ What it does
    seeds ``--seed`` + k): which joints wear, their onsets and rates, and the
    nuisances (ambient with a seasonal drift, duty, payload) are drawn per fleet.
    Every fleet is simulated on a 2-worker LocalCluster and monitored with
-   :func:`friction_joint.fleet.run_fleet` (the manifest and the model gear file
+   :func:`friction_joint.jobs.run_fleet` (the manifest and the model gear file
    only); the truth file is read afterwards to score:
 
    * wearing joints flagged (target >= 95 %),
@@ -58,7 +58,8 @@ sys.path.insert(0, ROOT)
 
 from friction_joint.experiments.fleet import simulate_fleet  # noqa: E402
 from friction_joint.fleet import (analyse_recording, local_cluster, map_recordings,  # noqa: E402
-                                  read_manifest, run_fleet)
+                                  read_manifest)
+from friction_joint.jobs import run_fleet  # noqa: E402
 
 MODEL = os.path.join(ROOT, 'config', 'csd25.yaml')
 DAY = 86400.0

@@ -21,7 +21,7 @@ Experiments on the simulated test bed and in the literature.
   :mod:`~friction_joint.experiments.runner`; each returns an
   :class:`~friction_joint.experiments._common.ExperimentData` whose figures
   :mod:`~friction_joint.experiments.plots` draws, beside the paper's own
-  numbers of :data:`~friction_joint.experiments.paper.PAPER` (also read by the
+  numbers of :data:`~friction_joint.paper.PAPER` (also read by the
   report text, :mod:`~friction_joint.experiments.testbed_report`);
 * :mod:`~friction_joint.experiments.classic`: the classic LuGre experiments of
   Canudas de Wit et al. (1995), each returning a

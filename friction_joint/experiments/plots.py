@@ -20,7 +20,7 @@ The experiment functions compute; this module draws.  :data:`TESTBED_FIGURES`
 maps an experiment name to its figures (file name -> ``(draw(fig, data), (width,
 height))``); :func:`experiment_figures` binds them to one result for
 :func:`friction_joint.output.result_files`.  The paper's numbers drawn as
-reference lines and bands come from :data:`~friction_joint.experiments.paper.PAPER`.
+reference lines and bands come from :data:`~friction_joint.paper.PAPER`.
 Every figure shares the style helpers here: one line style per model
 (:data:`STYLES`), a zoom inset (:func:`zoom_inset`) and the paper's figure
 number in the title (:func:`paper_suptitle`).

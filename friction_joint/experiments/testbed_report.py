@@ -20,7 +20,7 @@ against each hardware model (LuGre and GMS truth), into Markdown: one
 paragraph per experiment and a table with the paper's number next to ours.
 Numbers are rounded to what they mean (0.1 % for tracking errors, 0.01 Nm for
 torques, 0.001 rad/s for velocities).  The paper's numbers, quoted from its
-Section V and conclusion, come from :data:`~friction_joint.experiments.paper.PAPER`.
+Section V and conclusion, come from :data:`~friction_joint.paper.PAPER`.
 """
 from ..paper import PAPER
 
@@ -32,7 +32,7 @@ HARDWARE = {'lugre': 'LuGre hardware', 'gms': 'GMS hardware'}
 
 
 def _p(key):
-    """Return the paper's number ``key`` (:data:`~friction_joint.experiments.paper.PAPER`)."""
+    """Return the paper's number ``key`` (:data:`~friction_joint.paper.PAPER`)."""
     return PAPER[key].value
 
 
