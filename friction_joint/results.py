@@ -33,7 +33,8 @@ import numpy as np
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
-__all__ = ['json_clean', 'json_bytes', 'render_png', 'ExperimentResult', 'result_files']
+__all__ = ['json_clean', 'json_bytes', 'render_png', 'draw_figures', 'ExperimentResult',
+           'result_files']
 
 
 @dataclasses.dataclass
@@ -103,7 +104,7 @@ def json_bytes(obj: object) -> bytes:
 
 
 def render_png(draw: Callable[[Figure], None], size: tuple[float, float], *,
-               dpi: float = 100) -> bytes:
+               dpi: float = 100, tight: bool = True) -> bytes:
     """
     Render ``draw(fig)`` on a new Agg figure of ``size`` inches.
 
@@ -115,6 +116,9 @@ def render_png(draw: Callable[[Figure], None], size: tuple[float, float], *,
         ``(width, height)`` in inches.
     dpi : float
         Resolution.
+    tight : bool
+        Lay the figure out with ``tight_layout`` after drawing (False: the
+        drawing lays itself out).
 
     Returns
     -------
@@ -122,15 +126,44 @@ def render_png(draw: Callable[[Figure], None], size: tuple[float, float], *,
         The PNG file.
 
     """
+    buf = io.BytesIO()
+    _drawn(draw, size, tight).savefig(buf, format='png', dpi=dpi)
+    return buf.getvalue()
+
+
+def _drawn(draw, size, tight=True):
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure
     fig = Figure(figsize=size)
     FigureCanvasAgg(fig)
     draw(fig)
-    fig.tight_layout()
-    buf = io.BytesIO()
-    fig.savefig(buf, format='png', dpi=dpi)
-    return buf.getvalue()
+    if tight:
+        fig.tight_layout()
+    return fig
+
+
+def draw_figures(figures: dict[str, tuple]) -> dict[str, Figure]:
+    """
+    Draw ``{name: (draw, size)}`` on new figures, as the report files are, without writing them.
+
+    Each figure is a :class:`matplotlib.figure.Figure` of ``size`` inches on an
+    Agg canvas (no pyplot, no window), drawn and laid out exactly as
+    :func:`render_png` draws the report's PNG files.  A third element
+    ``tight`` (default True) is :func:`render_png`'s option of that name.
+
+    Parameters
+    ----------
+    figures : dict
+        ``{name: (draw(fig), (width, height)[, tight])}``, e.g.
+        :func:`~friction_joint.identification.report.identification_figures`.
+
+    Returns
+    -------
+    dict of str to matplotlib.figure.Figure
+        The drawn figures, by name.
+
+    """
+    return {name: _drawn(*spec) for name, spec in figures.items()}
 
 
 def result_files(result: ExperimentResult, *,

@@ -113,14 +113,17 @@ from .crossval import cross_validate_structures, fit_all
 from .data import BIN, load_data
 from .gears import extended_model
 from .gravity import gravity_untestable, linear_device
+from .report import figure_drawers
 from .scan import residual_scan
 from .testability import inertia_noise_gain, untestable
 from .velocity import fold_gears, simulate_windows, WINDOW
 from ..effects import EFFECTS, UNREPRESENTABLE
 from ..exceptions import ExcitationError, GearConfigError
-from ..results import json_clean
+from ..results import draw_figures, json_clean
 
 if TYPE_CHECKING:
+    from matplotlib.figure import Figure
+
     from .crossval import CVResult
     from .data import DiagnosisData
     from ..gear import GearParams
@@ -208,6 +211,21 @@ class Diagnosis:
     def to_dict(self) -> dict:
         """Return the report (``report.json`` content, plain JSON types)."""
         return json_clean(self.report)
+
+    def plot(self) -> dict[str, Figure]:
+        """
+        Draw the report's figures (torque, velocity, causes, gains, confounds, scan) in memory.
+
+        The figures of :func:`~friction_joint.diagnosis.report.figure_drawers`,
+        drawn as ``diagnose`` writes them, but returned, not written.
+
+        Returns
+        -------
+        dict of str to matplotlib.figure.Figure
+            By the report's file name (e.g. ``'torque.png'``).
+
+        """
+        return draw_figures(figure_drawers(self))
 
 
 def diagnose(paths: Sequence[str | os.PathLike], base: GearParams, *,

@@ -35,11 +35,11 @@ import numpy as np
 
 from .criterion import effect_variables
 from .findings import candidate_summary, finding_lines, next_step_lines
-from .scan_report import markdown_lines, scan_png
+from .scan_report import draw_scan, markdown_lines, SCAN_SIZE
 from .structures import accumulated_travel
 from ..results import render_png
 
-__all__ = ['figures', 'markdown', 'CAUSE_VARIABLES']
+__all__ = ['figures', 'figure_drawers', 'markdown', 'CAUSE_VARIABLES']
 
 #: effect -> axis label of the variable its residual is plotted against
 CAUSE_VARIABLES = {
@@ -114,10 +114,22 @@ def _binned(x, r, n=30, log=False):
 
 
 def figures(diag):
-    """``[(file name, png bytes), ...]`` of a diagnosis."""
+    """``[(file name, png bytes), ...]`` of a diagnosis (:func:`figure_drawers` rendered)."""
+    return [(name, render_png(*spec[:2], tight=spec[2] if len(spec) > 2 else True))
+            for name, spec in figure_drawers(diag).items()]
+
+
+def figure_drawers(diag):
+    """
+    Return ``{file name: (draw, size[, tight])}`` of a diagnosis's figures.
+
+    For :func:`figures` (the report's PNG files) and
+    :func:`friction_joint.results.draw_figures` (:meth:`Diagnosis.plot
+    <friction_joint.diagnosis.pipeline.Diagnosis.plot>`).
+    """
     data, rep = diag.data, diag.report
     y = data.y
-    out = []
+    out = {}
     tb = data.t_bin
     pb, pe = diag.base_cv.pred, diag.final_cv.pred
 
@@ -138,7 +150,7 @@ def figures(diag):
         ax[1].set_ylabel('residual (Nm)')
         ax[1].set_xlabel('time (s), 10 ms bin averages while sliding')
         ax[1].legend(loc='upper right', fontsize=8, markerscale=6)
-    out.append(('torque.png', render_png(torque, (10, 6.5))))
+    out['torque.png'] = (torque, (10, 6.5))
 
     vel = diag.velocity
     if vel['measured'].size:
@@ -161,7 +173,7 @@ def figures(diag):
                          f'{rep["baseline"]["velocity_rmse"]:.4g}, extended '
                          f'{rep["extended"]["velocity_rmse"]:.4g} rad/s', fontsize=9)
             ax.legend(fontsize=8)
-        out.append(('velocity.png', render_png(velocity, (10, 4))))
+        out['velocity.png'] = (velocity, (10, 4))
 
     rounds = {r['round']: r for r in diag.rounds}
     for eff in rep['named_causes']:
@@ -187,7 +199,7 @@ def figures(diag):
             ax.set_title(f'{eff}: held-out gain {100 * entry["gain"]:.1f} %, '
                          f'p (Holm) {entry.get("p_holm", float("nan")):.2g}', fontsize=9)
             ax.legend(fontsize=8, markerscale=6)
-        out.append((f'cause_{eff}.png', render_png(cause, (7, 4.5))))
+        out[f'cause_{eff}.png'] = (cause, (7, 4.5))
 
     def gains(fig):
         ax = fig.subplots(1, 1)
@@ -223,7 +235,7 @@ def figures(diag):
                      'effects not named', fontsize=9)
         ax.set_ylim(max(-20, ax.get_ylim()[0]), 100)
         ax.legend(fontsize=7)
-    out.append(('gains.png', render_png(gains, (8, 4.5))))
+    out['gains.png'] = (gains, (8, 4.5))
     variables = effect_variables(data, diag.ctx.travel) if rep.get('confounds') else {}
     for pair in rep.get('confounds', []):
         a, b = pair['effects']
@@ -235,9 +247,9 @@ def figures(diag):
             ax.set_ylabel(CONFOUND_AXES[a])
             ax.set_title(f'{a} and {b} confounded in this recording:\nrank correlation '
                          f'{rho:+.2f} over the sliding bins', fontsize=9)
-        out.append((f'confound_{a}_{b}.png', render_png(confound, (6, 4.5))))
+        out[f'confound_{a}_{b}.png'] = (confound, (6, 4.5))
     if diag.scan is not None:
-        out.append(('residual_scan.png', scan_png(diag.scan)))
+        out['residual_scan.png'] = (lambda fig: draw_scan(fig, diag.scan), SCAN_SIZE, False)
     return out
 
 

@@ -25,8 +25,12 @@ import numpy as np
 
 from .scan import (BUFFER, COLLINEAR, N_PERM, N_QUANT, quantile_cells, SCAN_ALPHA,
                    SCAN_MIN_EXPLAINED)
+from ..results import render_png
 
-__all__ = ['draw_scan', 'scan_png', 'markdown_lines', 'MAX_POINTS']
+__all__ = ['draw_scan', 'scan_png', 'markdown_lines', 'MAX_POINTS', 'SCAN_SIZE']
+
+#: size of the residual-scan figure, inches
+SCAN_SIZE = (12, 7)
 
 
 #: scatter points per panel of the figure at most (evenly spaced in time)
@@ -46,17 +50,9 @@ def _binned_means(x, r):
     return xm, np.bincount(key, weights=r, minlength=n_cells)[ok] / cnt[ok]
 
 
-def scan_png(scan, size=(12, 7), dpi=100):
+def scan_png(scan, size=SCAN_SIZE, dpi=100):
     """Return the PNG bytes of the residual-scan figure (:func:`draw_scan`)."""
-    import io
-    from matplotlib.backends.backend_agg import FigureCanvasAgg
-    from matplotlib.figure import Figure
-    fig = Figure(figsize=size)
-    FigureCanvasAgg(fig)
-    draw_scan(fig, scan)
-    buf = io.BytesIO()
-    fig.savefig(buf, format='png', dpi=dpi)
-    return buf.getvalue()
+    return render_png(lambda fig: draw_scan(fig, scan), size, dpi=dpi, tight=False)
 
 
 def _title(entry):

@@ -27,7 +27,7 @@ from typing import TYPE_CHECKING
 
 from .assess import FleetAssessment
 from .plots import trend_figures
-from ..identification.report import draw_figures
+from ..results import draw_figures
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure

@@ -74,7 +74,7 @@ import warnings
 import numpy as np
 
 from .plateaus import DETECTION, find_plateaus, Plateaus
-from .report import draw_figures, identification_figures
+from .report import identification_figures
 from .static_fit import StaticIdentifier
 from .._filters import zero_phase_derivatives
 from ..bag import read_recording, Recording
@@ -83,7 +83,7 @@ from ..exceptions import (ArgumentError, ExcitationError, FrictionJointError, Ge
                           GearConfigWarning, RecordingError)
 from ..gear import GearParams, load_gear
 from ..gear.strict_yaml import read_yaml_document
-from ..results import json_clean
+from ..results import draw_figures, json_clean
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure

@@ -17,7 +17,7 @@ Figures of an identification, after the seed paper's Fig. 3 and Fig. 4.
 
 :func:`identification_figures` returns ``{file name: (draw, size)}`` for
 :func:`friction_joint.output.result_files` (the report files) and for
-:func:`draw_figures` (matplotlib figures in memory,
+:func:`friction_joint.results.draw_figures` (matplotlib figures in memory,
 :meth:`IdentificationRun.plot <friction_joint.identification.pipeline.IdentificationRun.plot>`):
 
 * ``fig3a_temperature_curves.png`` -- per temperature group: the plateau
@@ -41,20 +41,15 @@ Figures of an identification, after the seed paper's Fig. 3 and Fig. 4.
 """
 from __future__ import annotations
 
-from collections.abc import Callable
 import os
 import re
 import textwrap
-from typing import TYPE_CHECKING
 
 import numpy as np
 
 from ..models.static import StaticFriction
 
-if TYPE_CHECKING:
-    from matplotlib.figure import Figure
-
-__all__ = ['against_truth_markdown', 'identification_figures', 'draw_figures']
+__all__ = ['against_truth_markdown', 'identification_figures']
 
 _LABELS = {'fc': r'$F_c$ (Nm)', 'fs': r'$F_s$ (Nm)', 'fv': r'$F_v$ (Nm/(rad/s)$^{\delta_v}$)',
            'vs': r'$v_s$ (rad/s, $\kappa\dot q$)', 'delta_v': r'$\delta_v$'}
@@ -99,38 +94,6 @@ def _group_masks(ident):
     """Plateau masks of the fitted temperature groups."""
     xi = ident.plateaus.xi
     return [(xi >= g['xi_min'] - 1e-9) & (xi <= g['xi_max'] + 1e-9) for g in ident.group_fits]
-
-
-def draw_figures(figures: dict[str, tuple[Callable[[Figure], None], tuple[float, float]]]
-                 ) -> dict[str, Figure]:
-    """
-    Draw ``{name: (draw, size)}`` on new figures, as the report files do, without writing them.
-
-    Each figure is a :class:`matplotlib.figure.Figure` of ``size`` inches on an
-    Agg canvas (no pyplot, no window), drawn and laid out exactly as
-    :func:`~friction_joint.results.render_png` draws the report's PNG files.
-
-    Parameters
-    ----------
-    figures : dict
-        ``{name: (draw(fig), (width, height))}``, e.g. :func:`identification_figures`.
-
-    Returns
-    -------
-    dict of str to matplotlib.figure.Figure
-        The drawn figures, by name.
-
-    """
-    from matplotlib.backends.backend_agg import FigureCanvasAgg
-    from matplotlib.figure import Figure as _Figure
-    out = {}
-    for name, (draw, size) in figures.items():
-        fig = _Figure(figsize=size)
-        FigureCanvasAgg(fig)
-        draw(fig)
-        fig.tight_layout()
-        out[name] = fig
-    return out
 
 
 def identification_figures(ident, recordings=(), presliding=None):

@@ -65,9 +65,11 @@ def _section(md, title):
     return m.group(1)
 
 
-def _run(recordings, out):
+def _run(recordings, out, *, keep=None):
     msgs = []
-    run_diagnose([str(r) for r in recordings], str(BASE), str(out), progress=msgs.append)
+    run = run_diagnose([str(r) for r in recordings], str(BASE), str(out), progress=msgs.append)
+    if keep is not None:
+        keep.append(run)
     return (out / 'report.md').read_text(), json.loads((out / 'report.json').read_text()), msgs
 
 
@@ -200,8 +202,15 @@ def _sample_truth(base):
 
 def test_shipped_sample_report_findings_next_steps_and_drift_agree(tmp_path):
     out = tmp_path / 'd1'
-    md, rep, msgs = _run([SAMPLE], out)
+    runs = []
+    md, rep, msgs = _run([SAMPLE], out, keep=runs)
     assert rep['named_causes'] == ['thermal']
+    # the result object draws the report's figures in memory: one per PNG written
+    figs = runs[0].diagnosis.plot()
+    assert sorted(figs) == sorted(p.name for p in out.glob('*.png')), sorted(figs)
+    measured = figs['torque.png'].axes[0].lines[2]      # the measured bin averages
+    assert np.array_equal(measured.get_ydata(), runs[0].diagnosis.data.y)
+    assert all(ax.has_data() for ax in figs['cause_thermal.png'].axes)
     lines = md.splitlines()
     assert lines[0] == '# Friction model diagnosis' and lines[2] == '## Findings', lines[:4]
     text = _section(md, 'Findings')
