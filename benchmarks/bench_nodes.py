@@ -304,7 +304,7 @@ def replay_timing(seconds, e, rate=1.0):
         n = int(round(seconds * 1000))
         t = 100.0 + np.arange(n) * 1e-3
         write_recording(src, {'/joint_states': {'t': t, 'q': np.arange(n) * 1e-3,
-                                                'qd': np.zeros(n), 'effort': np.zeros(n)}})
+                                                'qd': np.ones(n), 'effort': np.zeros(n)}})
         rec = start([PY, '-m', 'friction_joint', 'record', out, '--topics', '/joint_states'], e)
         rep = subprocess.run([PY, '-m', 'friction_joint', 'replay', src, '--rate', str(rate),
                               '--no-clock', '--wait', '60', '--topics', '/joint_states'], env=e,
