@@ -317,11 +317,14 @@ def uniform_grid(t):
     t = np.asarray(t, dtype=float)
     dt = float(np.median(np.diff(t)))
     span = t[-1] - t[0]
-    if len(t) > 1 and round(span / dt) == len(t) - 1:
-        # one stamp per grid point: the sample time is the mean step (stamps rounded to
-        # whole nanoseconds make the median step differ from it by up to 1 ns)
+    if len(t) > 1 and span > 0:
+        # one stamp per grid point: the sample time is the mean step.  Not the median
+        # step: stamps rounded to whole nanoseconds, and epoch seconds in float64
+        # (quantised to about 0.24 us at 1.7e9 s), make single steps differ from the
+        # sample time, so a median step times the sample count can miss the span by
+        # dozens of samples on a long regular recording
         mean = span / (len(t) - 1)
-        if np.max(np.abs(t - (t[0] + np.arange(len(t)) * mean))) <= REGULAR * mean:
+        if np.max(np.abs((t - t[0]) - np.arange(len(t)) * mean)) <= REGULAR * mean:
             return mean, None
     m = int(np.floor(span / dt + 1e-6)) + 1
     return dt, t[0] + np.arange(m) * dt
@@ -352,9 +355,12 @@ def piece_on_grid(t, arrays, steps, margin=0.0):
         False in and within ``margin`` of a bridged gap.
 
     """
-    _, grid = uniform_grid(t)
+    step, grid = uniform_grid(t)
     if grid is None:
-        return t, [np.asarray(x) for x in arrays], np.ones(len(t), dtype=bool)
+        # regular stamps: the samples stay as they are, on the exact grid (stamps read as
+        # float seconds carry rounding that would otherwise enter every derivative)
+        return (t[0] + step * np.arange(len(t)), [np.asarray(x) for x in arrays],
+                np.ones(len(t), dtype=bool))
     ok = np.ones(len(grid), dtype=bool)
     for i in np.asarray(steps, dtype=np.int64):
         lo = np.searchsorted(grid, t[i] - margin, side='right')

@@ -340,7 +340,9 @@ def _segments(t, qd, tau_r, opt):
         out.append((j, k + 1))
         j = k + 1
     segs = []
-    trim = int(math.ceil(opt['trim'] / (m * dt)))
+    # blocks to trim: a sample time a few ulps off (stamps read as float seconds) must not
+    # tip the count over an integer
+    trim = int(math.ceil(opt['trim'] / (m * dt) - 1e-6))
     for b0, b1 in out:
         b0, b1 = b0 + trim, b1 - trim
         if b1 - b0 < 2:
@@ -420,6 +422,10 @@ def plateaus_from_arrays(t: ArrayLike, q: ArrayLike, qd: ArrayLike, effort: Arra
                                   'tau_ext': tau_ext}, position=('q', 'qd'))
     if n < 3:
         return Plateaus.empty(sources=(source,), torque_source=(torque_source,))
+    # time relative to the first sample before any differencing: epoch seconds in float64
+    # are quantised to about 0.24 us, a visible fraction of a 1 kHz sample time
+    t_first = float(t[0])
+    t = t - t_first
     cut = split_pieces(t, qd, gap=opt['gap_factor'])
     rows = []
     for a, b in cut.ranges:
@@ -446,7 +452,7 @@ def plateaus_from_arrays(t: ArrayLike, q: ArrayLike, qd: ArrayLike, effort: Arra
                 float(lo.mean()), _batch_se(lo, opt['batches']),
                 float(np.mean(lo ** 2)), float(np.mean(lo ** 3)),
                 float(te[sl].mean()), float(qq[sl].mean()),
-                float(tt[i0]), float(tt[i1 - 1]), len(sl), 0))
+                float(tt[i0]) + t_first, float(tt[i1 - 1]) + t_first, len(sl), 0))
     if not rows:
         return Plateaus.empty(sources=(source,), torque_source=(torque_source,))
     cols = list(zip(*rows))

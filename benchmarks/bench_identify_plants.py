@@ -1,0 +1,268 @@
+#!/usr/bin/env python3
+# Copyright 2026 friction_joint maintainers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""
+Identification over plants drawn at random: accuracy, honesty of the flags, coverage.
+
+    .venv/bin/python benchmarks/bench_identify_plants.py                # 100 plants
+    .venv/bin/python benchmarks/bench_identify_plants.py --plants 20    # fewer
+    .venv/bin/python benchmarks/bench_identify_plants.py --step3-every 5
+
+What it does
+------------
+1. Draws ``--plants`` joints and plateau excitations
+   (:func:`friction_joint.experiments.identification_draws.draw_identification_case`:
+   F_c, F_s/F_c 1.0-1.8, v_s 0.005-0.3 rad/s, delta_s 0.5-2.5, F_v, delta_v
+   0.4-1.2, temperature and load coefficients, J, LuGre or GMS; plateau speed sets,
+   lengths and order, 250 Hz-3 kHz, encoder bits, noise, temperature ramps, load
+   ranges, with and without a load sensor, stamps at a wall-clock epoch), simulates
+   each once (cached in the temp directory by seed) and runs ``identify`` on it with
+   the case's structure file (step 3 on every ``--step3-every``-th plant).
+2. Per plant: the static-curve error against the truth, max |tau_id / tau_true - 1|
+   over the identified speed range (the slowest to the fastest plateau, both
+   directions), the recorded temperature range and the load range; which
+   parameters the identification flagged as not pinned by the data, and whether
+   the flag was right (the truth's Stribeck excess at the slowest plateau is below
+   what its noise resolves, or the parameter misses the truth by more than 20 %);
+   whether the truth lies within +-2 standard errors of every coefficient that was
+   not flagged; parameters that are silently absurd (not flagged, off by more than
+   a factor of two or outside physics); the step-3 pre-sliding errors; wall time.
+3. Prints the shares against the targets of the identification
+   (>= 95 % of the identified plants within 2 %, 0 silently absurd, >= 90 %
+   coverage).  The last line is always
+
+    plants=<n> within2pct=<a> worst_pct=<b> flagged=<c> flags_right=<d> coverage=<e>
+    absurd=<f> refused=<g> time_s=<h>
+"""
+import argparse
+import json
+import math
+import os
+import shutil
+import sys
+import tempfile
+import time
+import warnings
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+sys.path.insert(0, ROOT)
+
+import numpy as np  # noqa: E402
+
+from friction_joint.bag import write_recording  # noqa: E402
+from friction_joint.exceptions import FrictionJointError  # noqa: E402
+from friction_joint.experiments.identification_draws import (  # noqa: E402
+    draw_identification_case, simulate_case)
+from friction_joint.gear import save_gear  # noqa: E402
+from friction_joint.identification.pipeline import identify_recordings  # noqa: E402
+from friction_joint.models.static import StaticFriction  # noqa: E402
+
+CACHE = os.path.join(tempfile.gettempdir(), 'friction_joint_bench_identify_plants')
+
+
+def recording(seed):
+    """The case and the path of its recording and structure file (simulated once)."""
+    case = draw_identification_case(seed)
+    d = os.path.join(CACHE, f'case{seed}')
+    bag, structure = os.path.join(d, 'recording'), os.path.join(d, 'structure.yaml')
+    if not os.path.exists(os.path.join(d, 'done')):
+        shutil.rmtree(d, ignore_errors=True)
+        os.makedirs(d)
+        with warnings.catch_warnings():
+            warnings.simplefilter('ignore')
+            write_recording(bag, simulate_case(case))
+        save_gear(case.structure, structure)
+        with open(os.path.join(d, 'done'), 'w') as f:
+            f.write(json.dumps(case.describe()))
+    return case, bag, structure
+
+
+def curve_error(gear, truth, plateaus):
+    """Max relative static-curve error over the identified speed, temperature, load ranges."""
+    speed = np.abs(plateaus.qd)
+    v = np.geomspace(speed.min(), speed.max(), 200)
+    temps = np.linspace(plateaus.xi.min(), plateaus.xi.max(), 3)
+    loads = (float(plateaus.load.min()), float(plateaus.load.max()))
+    got, want = StaticFriction(gear.friction), StaticFriction(truth.friction)
+    return max(float(np.max(np.abs(got.torque(s * v, x, lo) / want.torque(s * v, x, lo) - 1.0)))
+               for x in temps for s in (1.0, -1.0) for lo in loads)
+
+
+def stribeck_visible(truth, plateaus, noise):
+    """True where the truth's Stribeck excess at the slowest plateau is above the noise."""
+    f = truth.friction
+    p = StaticFriction(f).parameters(np.array([np.mean(plateaus.xi)]), float(np.mean(plateaus.load)))
+    fc, fs, vs = float(p['fc'][0]), float(p['fs'][0]), float(p['vs'][0])
+    vmin = float(np.min(np.abs(plateaus.qd)))
+    excess = (fs - fc) * math.exp(-(vmin / vs) ** f.delta_s)
+    return excess > 3.0 * noise
+
+
+def truth_value(truth, name):
+    f = truth.friction
+    if name == 'delta_s':
+        return [f.delta_s]
+    return list(getattr(f, name) or [])
+
+
+def evaluate(seed, step3):
+    case, bag, structure = recording(seed)
+    t0 = time.perf_counter()
+    out = {'seed': seed, 'case': case.describe()}
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter('ignore')
+            run = identify_recordings([bag], structure,
+                                      presliding='auto' if step3 else 'skip')
+    except FrictionJointError as exc:
+        out.update(refused=str(exc).splitlines()[0], time_s=time.perf_counter() - t0)
+        return out
+    out['time_s'] = time.perf_counter() - t0
+    ident = run.identifier
+    p = run.plateaus
+    out['plateaus'] = len(p)
+    out['speed_range'] = [float(np.abs(p.qd).min()), float(np.abs(p.qd).max())]
+    out['error'] = curve_error(run.gear, case.truth, p)
+    rep = ident.report()
+    flags = rep.get('identifiability', {}).get('not_identified', {})
+    out['flagged'] = sorted(flags)
+    out['curve_identified'] = rep.get('identifiability', {}).get('curve_identified', True)
+    noise = float(np.median(p.tau_r_se)) if len(p) else 0.0
+    visible = stribeck_visible(case.truth, p, max(noise, 1e-3 * float(np.mean(np.abs(p.tau_r)))))
+    right = []
+    for name in out['flagged']:
+        if name in ('vs', 'fs', 'delta_s'):
+            right.append(not visible or _rel_err(run.gear, case.truth, name) > 0.2)
+        else:
+            right.append(_rel_err(run.gear, case.truth, name) > 0.2)
+    out['flags_right'] = right
+    covered, absurd = [], []
+    for name, vals in ident.coefficients.items():
+        if name in flags:
+            continue
+        se = ident.standard_errors.get(name, [])
+        tv = truth_value(case.truth, name)
+        for i, (v, e) in enumerate(zip(vals, se)):
+            w = tv[i] if i < len(tv) else 0.0
+            if e is not None and np.isfinite(e):
+                covered.append(bool(abs(v - w) <= 2.0 * e))
+        if name in ('fc', 'fs', 'fv', 'vs', 'delta_v', 'delta_s') and _rel_err(
+                run.gear, case.truth, name) > 1.0:
+            absurd.append(name)
+    if 'delta_s' in ident.coefficients or 'delta_s' in flags:
+        pass
+    out['covered'] = covered
+    out['absurd'] = absurd
+    if step3 and run.presliding.get('status') == 'done':
+        errs = {}
+        for m, r in run.presliding['models'].items():
+            if r['status'] != 'done':
+                errs[m] = r['status']
+                continue
+            tf = case.truth.friction
+            if m == 'lugre' and tf.model == 'lugre':
+                errs['sigma0'] = r['params']['sigma0'] / tf.lugre.sigma0 - 1.0
+                errs['sigma1'] = r['params']['sigma1'] / tf.lugre.sigma1 - 1.0
+            if m == 'gms' and tf.model == 'gms':
+                errs['k_total'] = r['params']['k_total'] / sum(tf.gms.k) - 1.0
+                errs['c'] = r['params']['c'] / tf.gms.c - 1.0
+        out['step3'] = errs
+    return out
+
+
+def _rel_err(gear, truth, name):
+    """Relative error of a parameter's value at the middle of the truth's temperature range."""
+    xi = np.array([0.5 * sum(truth.friction.temperature_range)])
+    if name == 'delta_s':
+        return abs(gear.friction.delta_s / truth.friction.delta_s - 1.0)
+    base = name[:-5] if name.endswith('_load') else name
+    if name.endswith('_load'):
+        a = (getattr(gear.friction, name) or [0.0])[0]
+        b = (getattr(truth.friction, name) or [0.0])[0]
+        return abs(a - b) / max(abs(b), 1e-3)
+    a = float(StaticFriction(gear.friction).parameters(xi)[base][0])
+    b = float(StaticFriction(truth.friction).parameters(xi)[base][0])
+    return abs(a / b - 1.0) if b else abs(a)
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.strip().split('\n')[0])
+    ap.add_argument('--plants', type=int, default=100)
+    ap.add_argument('--first-seed', type=int, default=1)
+    ap.add_argument('--step3-every', type=int, default=10,
+                    help='run step 3 (pre-sliding) on every k-th plant (0: never)')
+    ap.add_argument('--json', help='write the per-plant results here')
+    args = ap.parse_args()
+    start = time.perf_counter()
+    rows = []
+    for i in range(args.plants):
+        seed = args.first_seed + i
+        step3 = args.step3_every > 0 and i % args.step3_every == 0
+        r = evaluate(seed, step3)
+        rows.append(r)
+        if 'refused' in r:
+            print(f'plant {seed:4d}: refused: {r["refused"][:150]}', flush=True)
+        else:
+            print(f'plant {seed:4d}: {r["plateaus"]:3d} plateaus '
+                  f'{r["speed_range"][0]:.3g}-{r["speed_range"][1]:.3g} rad/s, '
+                  f'error {100 * r["error"]:6.2f} %, flagged {",".join(r["flagged"]) or "-"}'
+                  f'{" (curve not identified)" if not r["curve_identified"] else ""}, '
+                  f'coverage {sum(r["covered"])}/{len(r["covered"])}'
+                  + (f', ABSURD {",".join(r["absurd"])}' if r['absurd'] else '')
+                  + (', step 3 ' + ', '.join(f'{k} {v if isinstance(v, str) else f"{100 * v:+.0f} %"}'
+                                             for k, v in r['step3'].items())
+                     if r.get('step3') else '')
+                  + f' ({r["time_s"]:.1f} s)', flush=True)
+    total = time.perf_counter() - start
+    done = [r for r in rows if 'refused' not in r]
+    ident = [r for r in done if r['curve_identified']]
+    within = [r for r in ident if r['error'] <= 0.02]
+    worst = max((r['error'] for r in ident), default=float('nan'))
+    flagged = [r for r in done if r['flagged']]
+    flags = [x for r in done for x in r['flags_right']]
+    cov = [x for r in done for x in r['covered']]
+    absurd = [r for r in done if r['absurd']]
+    s3 = [r['step3'] for r in done if r.get('step3')]
+    print()
+    print(f'plants: {len(rows)} drawn, {len(done)} identified, {len(rows) - len(done)} refused, '
+          f'{len(done) - len(ident)} reported as not identifying the curve')
+    print(f'static-curve error <= 2 % over the identified ranges: {len(within)}/{len(ident)} '
+          f'({100 * len(within) / max(len(ident), 1):.1f} %, target >= 95 %); worst '
+          f'{100 * worst:.2f} %')
+    print(f'flagged (a parameter not pinned by the data): {len(flagged)}/{len(done)} plants; '
+          f'flags right {sum(flags)}/{len(flags)}')
+    print(f'silently absurd (not flagged, > 100 % off): {len(absurd)} plants (target 0)')
+    print(f'truth within +-2 SE: {sum(cov)}/{len(cov)} coefficients '
+          f'({100 * sum(cov) / max(len(cov), 1):.1f} %, target >= 90 %)')
+    if s3:
+        for key in ('sigma0', 'sigma1', 'k_total', 'c'):
+            errs = [abs(e[key]) for e in s3 if isinstance(e.get(key), float)]
+            if errs:
+                print(f'step 3 {key}: median |error| {100 * np.median(errs):.1f} %, worst '
+                      f'{100 * max(errs):.1f} % over {len(errs)} plants')
+    print(f'wall time {total:.0f} s ({total / max(len(rows), 1):.1f} s per plant, '
+          'simulation included on the first run)')
+    if args.json:
+        with open(args.json, 'w') as f:
+            json.dump(rows, f, indent=1, default=float)
+    print(f'plants={len(rows)} within2pct={100 * len(within) / max(len(ident), 1):.1f} '
+          f'worst_pct={100 * worst:.2f} flagged={len(flagged)} '
+          f'flags_right={sum(flags)}/{len(flags)} '
+          f'coverage={100 * sum(cov) / max(len(cov), 1):.1f} absurd={len(absurd)} '
+          f'refused={len(rows) - len(done)} time_s={total:.0f}')
+
+
+if __name__ == '__main__':
+    main()
