@@ -142,7 +142,7 @@ def evaluate(seed, step3):
     noise = float(np.median(p.tau_r_se)) if len(p) else 0.0
     visible = stribeck_visible(case.truth, p, max(noise, 1e-3 * float(np.mean(np.abs(p.tau_r)))))
     right = []
-    for name in out['flagged']:
+    for name in [f.split()[0] for f in out['flagged']]:
         if name in ('vs', 'fs', 'delta_s'):
             right.append(not visible or _rel_err(run.gear, case.truth, name) > 0.2)
         else:

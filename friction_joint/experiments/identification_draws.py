@@ -42,7 +42,7 @@ import numpy as np
 from ..gear import gear_from_dict, GearParams
 
 __all__ = ['PLANT_RANGES', 'EXCITATION_RANGES', 'IdentificationCase', 'draw_identification_case',
-           'simulate_case', 'plan_case']
+           'simulate_case', 'plan_case', 'draw_plateaus']
 
 #: the joints drawn (uniform unless marked log-uniform)
 PLANT_RANGES = {
@@ -55,8 +55,7 @@ PLANT_RANGES = {
     'fc_temp': (-0.025, 0.01),     # relative change of F_c per degC
     'fs_temp': (-0.025, 0.01),
     'fv_temp': (-0.03, -0.002),    # viscous friction falls as the lubricant warms
-    'fc_load': (0.0, 0.04),        # Nm of F_c per Nm of load
-    'fs_load': (0.0, 0.05),
+    'fc_load': (0.0, 0.04),        # Nm of F_c per Nm of load (F_s's: F_s / F_c x 1-1.3 x it)
     'inertia': (0.05, 0.5),        # kg m^2, log-uniform
     'stiffness': (5e3, 5e4),       # Nm/rad pre-sliding stiffness (sigma0, sum of GMS k), log
     'sigma1_ratio': (0.1, 0.8),    # LuGre sigma1 / its passivity bound
@@ -196,13 +195,18 @@ def draw_identification_case(seed: int, *, plant_ranges: dict | None = None,
     dv = _u(rng, pr['delta_v'])
     fv = fc * _u(rng, pr['viscous_ratio'], log=True) / v_high ** dv
     fc_t, fs_t, fv_t = (_u(rng, pr[k]) for k in ('fc_temp', 'fs_temp', 'fv_temp'))
-    fs_t = min(fs_t, fc_t + 0.01) if fs > fc * 1.05 else fc_t
     mgl = _u(rng, er['mgl'])
+    fc_l = _u(rng, pr['fc_load'])
+    fs_l = fc_l * fs / fc * _u(rng, (1.0, 1.3))
     inertia = _u(rng, pr['inertia'], log=True)
     length = 0.15
     stiff = _u(rng, pr['stiffness'], log=True)
     model = 'gms' if rng.uniform() < er['gms'] else 'lugre'
     lo_t, hi_t = xi0 - 3.0, xi1 + 3.0
+    # a physical truth: F_s >= F_c at every temperature and load of the recording (else
+    # F_s follows F_c's relative temperature slope)
+    if min(fs * (1 + fs_t * (x - xm)) - fc * (1 + fc_t * (x - xm)) for x in (lo_t, hi_t)) < 0:
+        fs_t = fc_t
     # sigma1 below its passivity bound at every temperature (LuGre)
     fv_min = min(fv * (1.0 + fv_t * (x - xm)) for x in (lo_t, hi_t))
     sigma1 = _u(rng, pr['sigma1_ratio']) * max(fv_min, 1e-3) * max(v_high, 1.0)
@@ -211,7 +215,7 @@ def draw_identification_case(seed: int, *, plant_ranges: dict | None = None,
         'model': model,
         'fc': _linear(fc, fc_t, xm), 'fs': _linear(fs, fs_t, xm),
         'fv': _linear(fv, fv_t, xm), 'vs': [vs], 'delta_v': [dv], 'delta_s': ds,
-        'fc_load': [_u(rng, pr['fc_load'])], 'fs_load': [_u(rng, pr['fs_load'])],
+        'fc_load': [fc_l], 'fs_load': [fs_l],
         'fv_load': [], 'velocity_scale': 1.0, 'temperature_range': [lo_t, hi_t],
         'lugre': {'sigma0': stiff, 'sigma1': sigma1},
         'gms': {'k': [float(x) for x in stiff * k_split], 'c': _u(rng, (100.0, 800.0))},
@@ -352,3 +356,44 @@ def simulate_case(case: IdentificationCase) -> dict:
     if case.link_sensor:
         topics['/link_torque'] = {'t': cat['t'], 'tau': cat['tau']}
     return topics
+
+
+def draw_plateaus(case: IdentificationCase, *, noise: float = 0.002, seed: int = 0):
+    """
+    Plateau data points of a case straight from its truth's static curve, with noise.
+
+    No time simulation: each signed speed of the case becomes one plateau per
+    repetition, at a temperature rising linearly from ``xi_start`` to ``xi_end`` in the
+    order run and a load ``|m g l sin(center)|``; the friction torque is the truth's
+    static curve plus Gaussian noise of ``noise`` x F_c.  For checking the fit itself
+    (fast); :func:`simulate_case` checks everything from the recording on.
+
+    Parameters
+    ----------
+    case : IdentificationCase
+    noise : float
+        Noise standard deviation relative to F_c at the mid temperature.
+    seed : int
+        Noise seed.
+
+    Returns
+    -------
+    Plateaus
+
+    """
+    from ..identification.plateaus import Plateaus
+    from ..models.static import StaticFriction
+    rng = np.random.default_rng([104729, int(seed)])
+    qd = np.array(case.speeds)
+    k = np.arange(len(qd))
+    xi = case.xi_start + (case.xi_end - case.xi_start) * k / max(len(qd) - 1, 1)
+    load = np.abs(case.truth.mgl * np.sin(np.array(case.centers)))
+    model = StaticFriction(case.truth.friction)
+    tau = model.torque(qd, xi, load)
+    fc = float(model.parameters(np.array([0.5 * (case.xi_start + case.xi_end)]))['fc'][0])
+    sigma = noise * fc
+    tau = tau + sigma * rng.standard_normal(len(qd))
+    t0 = case.epoch + k * (case.plateau + 2 * case.ramp + 2.0)
+    return Plateaus.from_arrays(qd, tau, xi, load=load, tau_r_se=np.full(len(qd), sigma),
+                                t0=t0, t1=t0 + case.plateau, n=1000,
+                                sources=(f'drawn plant {case.seed}',))

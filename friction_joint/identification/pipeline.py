@@ -73,7 +73,7 @@ import warnings
 
 import numpy as np
 
-from .plateaus import DETECTION, find_plateaus, Plateaus
+from .plateaus import DETECTION, find_plateaus, Plateaus, stick_slip_summary
 from .report import identification_figures
 from .static_fit import StaticIdentifier
 from .._filters import zero_phase_derivatives
@@ -449,6 +449,17 @@ def identify_recordings(paths: Sequence[str | os.PathLike], structure: str | Gea
     if progress:
         progress(f'steps 1-2: RMS residual {ident.rms:.4f} Nm over {len(plateaus)} plateaus '
                  f'({timings["time_steps_1_2_s"]:.2f} s)')
+        for line in ident.identifiability['lines']:
+            progress(f'steps 1-2: {line}')
+        val = ident.validation
+        if val.get('blocks'):
+            worst = max(val['bands'], key=lambda b: b['worst_rel'])
+            progress(f'steps 1-2: held out ({val["blocks"]} blocks): RMS {val["rms"]:.4f} Nm; '
+                     f'worst {100 * worst["worst_rel"]:.2g} % of the friction torque at '
+                     f'{worst["v_low"]:.3g}..{worst["v_high"]:.3g} rad/s')
+        slip = stick_slip_summary(plateaus)
+        if slip:
+            progress(f'stick-slip: {slip}')
     t0 = time.perf_counter()
     gear, step3 = _step3(ident.gear, recordings, presliding, progress)
     timings['time_step_3_s'] = time.perf_counter() - t0

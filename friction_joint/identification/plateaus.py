@@ -82,7 +82,8 @@ if TYPE_CHECKING:
     from ..bag import Recording
     from ..gear import GearParams
 
-__all__ = ['DETECTION', 'Plateaus', 'find_plateaus', 'plateaus_from_arrays']
+__all__ = ['DETECTION', 'NOISE_SIGMAS', 'Plateaus', 'find_plateaus', 'plateaus_from_arrays',
+           'stick_slip_summary']
 
 #: detection thresholds (see the module docstring)
 DETECTION = {
@@ -101,6 +102,9 @@ DETECTION = {
     'batches': 10,         # batch means for the standard errors
     'load_smooth': 0.01,   # s, smoothing of the link torque before |.|
 }
+
+#: detection tolerances include this many robust standard deviations of the data's own noise
+NOISE_SIGMAS = 4.0
 
 _FIELDS = ('qd', 'qd_se', 'tau_r', 'tau_r_se', 'xi', 'xi_se', 'xi_spread', 'load', 'load_se',
            'load2', 'load3', 'tau_ext', 'q', 't0', 't1', 'n', 'source')
@@ -137,6 +141,11 @@ class Plateaus:
         The recordings the plateaus come from.
     torque_source : tuple of str
         Per source: ``'link_torque'`` or ``'lever_model'`` (where tau_ext came from).
+    stick_slip : tuple of dict
+        Constant-speed commands the joint did not follow steadily (it stuck and slipped):
+        ``source`` (index into ``sources``), ``t0``, ``t1`` (s), ``speed`` (mean speed from
+        the position, rad/s), ``stuck`` (fraction of the window the position did not
+        move).  Left out of the plateaus (:func:`stick_slip_summary` says it in words).
 
     """
 
@@ -159,6 +168,7 @@ class Plateaus:
     source: np.ndarray
     sources: tuple[str, ...] = ()
     torque_source: tuple[str, ...] = ()
+    stick_slip: tuple[dict, ...] = ()
 
     def __len__(self):
         return len(self.qd)
@@ -261,20 +271,23 @@ class Plateaus:
         if not parts:
             return Plateaus.empty()
         cols = {f: [] for f in _FIELDS}
-        sources, tsrc = [], []
+        sources, tsrc, stick = [], [], []
         for p in parts:
             for f in _FIELDS:
                 cols[f].append(getattr(p, f) + (len(sources) if f == 'source' else 0))
+            stick += [dict(x, source=x['source'] + len(sources)) for x in p.stick_slip]
             sources += list(p.sources)
             tsrc += list(p.torque_source)
         return Plateaus(**{f: np.concatenate(v) for f, v in cols.items()},
-                        sources=tuple(sources), torque_source=tuple(tsrc))
+                        sources=tuple(sources), torque_source=tuple(tsrc),
+                        stick_slip=tuple(stick))
 
     def to_dict(self) -> dict[str, list]:
         """Return plain lists (JSON)."""
         out = {f: getattr(self, f).tolist() for f in _FIELDS}
         out['sources'] = list(self.sources)
         out['torque_source'] = list(self.torque_source)
+        out['stick_slip'] = [dict(x) for x in self.stick_slip]
         return out
 
 
@@ -308,6 +321,74 @@ def _batch_se(x, batches):
     return float(np.std(means, ddof=1) / math.sqrt(k))
 
 
+def _resolution(q):
+    """The position's resolution: a low quantile of its non-zero steps (0: continuous)."""
+    d = np.abs(np.diff(q))
+    d = d[d > 0]
+    if len(d) < 10:
+        return 0.0
+    return float(np.quantile(d, 0.05))
+
+
+def _stick_slip(t, q, tick, parts=8):
+    """
+    Say whether a constant-speed window stuck and slipped; None when it slid steadily.
+
+    The window is cut into ``parts`` sub-windows; sliding steadily, each travels about
+    the same distance (within a quarter of it plus two position steps); sticking and
+    slipping, some barely move while others jump.  Returns ``{'speed', 'stuck'}``.
+    """
+    n = len(q)
+    if n < 4 * parts:
+        return None
+    edges = np.linspace(0, n - 1, parts + 1).astype(int)
+    travel = np.diff(q[edges])
+    total = q[-1] - q[0]
+    mean = total / parts
+    if mean == 0.0:
+        return None
+    spread = float(np.std(travel))
+    if spread <= 0.25 * abs(mean) + 2.0 * tick:
+        return None
+    stuck = float(np.mean(np.abs(travel) < 0.25 * abs(mean)))
+    if stuck == 0.0:
+        return None
+    return {'speed': float(abs(total) / (t[-1] - t[0])), 'stuck': stuck}
+
+
+def stick_slip_summary(plateaus: Plateaus) -> str | None:
+    """
+    Say in words which constant-speed commands stuck and slipped (None: none did).
+
+    Parameters
+    ----------
+    plateaus : Plateaus
+
+    Returns
+    -------
+    str or None
+
+    """
+    ss = plateaus.stick_slip
+    if not ss:
+        return None
+    speeds = sorted(x['speed'] for x in ss)
+    steady = np.abs(plateaus.qd)
+    slow = float(steady.min()) if len(steady) else None
+    top = max(speeds)
+    text = (f'{len(ss)} constant-speed window(s) stuck and slipped (mean speeds '
+            f'{speeds[0]:.3g}..{top:.3g} rad/s, the position stuck in up to '
+            f'{100 * max(x["stuck"] for x in ss):.0f} % of each): left out of the fit; ')
+    if slow is not None and slow > top:
+        text += (f'the joint slides steadily from {slow:.3g} rad/s up, not at or below '
+                 f'{top:.3g} rad/s in these recordings (stiffen the speed loop or accept the '
+                 'slowest plateau as the limit of the curve)')
+    else:
+        text += ('slower plateaus elsewhere did slide steadily (the stick-slip depends on the '
+                 'load, temperature or controller there)')
+    return text
+
+
 def _segments(t, qd, tau_r, opt):
     """Index ranges [i0, i1) of plateaus in one contiguous piece."""
     dt = float(np.median(np.diff(t))) if len(t) > 1 else 1.0
@@ -320,8 +401,16 @@ def _segments(t, qd, tau_r, opt):
     half = m // 2
     slope = (vb[:, half:].mean(axis=1) - vb[:, :half].mean(axis=1)) / (0.5 * m * dt)
     speed = np.abs(mean)
+    # the tolerances grow with the recording's own noise of a block mean and of a block
+    # slope (robust spreads over the piece: a coarse encoder or a slow logger makes the
+    # velocity of a block noisier than any fixed tolerance)
+    noise_b = 1.4826 * float(np.median(np.abs(np.diff(mean)))) / math.sqrt(2.0) \
+        if nb > 2 else 0.0
+    noise_s = 1.4826 * float(np.median(np.abs(slope - np.median(slope))))
+    abs_tol = opt['abs_tol'] + NOISE_SIGMAS * noise_b
     steady = ((speed >= opt['v_floor'])
-              & (np.abs(slope) <= opt['rel_slope'] * speed + opt['abs_slope']))
+              & (np.abs(slope) <= opt['rel_slope'] * speed + opt['abs_slope']
+                 + NOISE_SIGMAS * noise_s))
     sign = np.sign(mean)
     out = []
     j = 0
@@ -333,7 +422,7 @@ def _segments(t, qd, tau_r, opt):
         vals = [mean[j]]
         while k + 1 < nb and steady[k + 1] and sign[k + 1] == sign[j]:
             ref = float(np.median(vals))
-            if abs(mean[k + 1] - ref) > opt['rel_tol'] * abs(ref) + opt['abs_tol']:
+            if abs(mean[k + 1] - ref) > opt['rel_tol'] * abs(ref) + abs_tol:
                 break
             k += 1
             vals.append(mean[k])
@@ -427,7 +516,7 @@ def plateaus_from_arrays(t: ArrayLike, q: ArrayLike, qd: ArrayLike, effort: Arra
     t_first = float(t[0])
     t = t - t_first
     cut = split_pieces(t, qd, gap=opt['gap_factor'])
-    rows = []
+    rows, stick = [], []
     for a, b in cut.ranges:
         if b - a < 10:
             continue
@@ -439,14 +528,26 @@ def plateaus_from_arrays(t: ArrayLike, q: ArrayLike, qd: ArrayLike, effort: Arra
         tau_r = ee - te - inertia * qdd
         dt = float(np.median(np.diff(tt)))
         tl = np.abs(_moving_average(te, max(1, int(round(opt['load_smooth'] / dt)))))
+        tick = _resolution(qq)
         for i0, i1 in _segments(tt, vv, tau_r, opt):
             sl = np.arange(i0, i1)[ok[i0:i1]]
             if len(sl) < opt['min_samples']:
                 continue
+            slip = _stick_slip(tt[i0:i1], qq[i0:i1], tick)
+            if slip is not None:
+                stick.append(dict(slip, source=0, t0=float(tt[i0]) + t_first,
+                                  t1=float(tt[i1 - 1]) + t_first))
+                continue
             x = xx[sl]
             lo = tl[sl]
+            v_mean = _robust_mean(vv[sl], opt['clip_mad'])
+            v_pos = (qq[i1 - 1] - qq[i0]) / (tt[i1 - 1] - tt[i0])
+            if abs(v_mean - v_pos) > 0.05 * abs(v_pos) + 2.0 * tick / (tt[i1 - 1] - tt[i0]):
+                # a velocity column too coarse for this speed (single encoder ticks as
+                # spikes): the position's travel gives the mean speed
+                v_mean = float(v_pos)
             rows.append((
-                _robust_mean(vv[sl], opt['clip_mad']), _batch_se(vv[sl], opt['batches']),
+                v_mean, _batch_se(vv[sl], opt['batches']),
                 _robust_mean(tau_r[sl], opt['clip_mad']), _batch_se(tau_r[sl], opt['batches']),
                 float(x.mean()), _batch_se(x, opt['batches']), float(x.max() - x.min()),
                 float(lo.mean()), _batch_se(lo, opt['batches']),
@@ -454,11 +555,14 @@ def plateaus_from_arrays(t: ArrayLike, q: ArrayLike, qd: ArrayLike, effort: Arra
                 float(te[sl].mean()), float(qq[sl].mean()),
                 float(tt[i0]) + t_first, float(tt[i1 - 1]) + t_first, len(sl), 0))
     if not rows:
-        return Plateaus.empty(sources=(source,), torque_source=(torque_source,))
+        return dataclasses.replace(Plateaus.empty(sources=(source,),
+                                                  torque_source=(torque_source,)),
+                                   stick_slip=tuple(stick))
     cols = list(zip(*rows))
     data = {f: np.array(c, dtype=int if f in ('n', 'source') else float)
             for f, c in zip(_FIELDS, cols)}
-    return Plateaus(**data, sources=(source,), torque_source=(torque_source,))
+    return Plateaus(**data, sources=(source,), torque_source=(torque_source,),
+                    stick_slip=tuple(stick))
 
 
 def find_plateaus(recording: Recording, structure: GearParams, *,

@@ -74,9 +74,11 @@ from numpy.typing import ArrayLike
 
 from .folds import held_out_sse, random_folds
 from .static_problem import (CoefficientLayout, covariance, fit_structure, load_reference,
-                             Problem, single_init, temperature_range, theta_from_values)
-from .static_structure import (check_excitation, distinct_levels, group_table, PARAMETER_UNITS,
-                               StaticStructure)
+                             Problem, temperature_range)
+from .identifiability import held_out_validation, identifiability
+from .physical_fit import fit_physical
+from .static_structure import (carry_structure, check_excitation, distinct_levels, group_table,
+                               PARAMETER_UNITS, StaticStructure)
 from ..exceptions import ExcitationError, GearConfigError
 from ..gear.schema import TEMPERATURE_BOUNDS
 from ..models.static import PARAMETERS, StaticFriction
@@ -331,7 +333,11 @@ class StaticIdentifier:
         Raises
         ------
         ExcitationError
-            The plateaus cannot determine a coefficient of the structure.
+            No plateaus, plateaus in one direction only, or fewer plateaus than the
+            coefficients the data can determine.  What the data cannot pin (a Stribeck
+            dip below the slowest plateau, a temperature or load order the ranges cannot
+            carry, delta_v over too narrow a speed range) is not an error: it is kept
+            and said (:attr:`identifiability`).
 
         """
         t_start = time.perf_counter()
@@ -343,84 +349,69 @@ class StaticIdentifier:
                 load_orders=dict.fromkeys(PARAMETERS, 0)))
         s = self._structure(plateaus)
         self.info['time_order_selection_s'] = time.perf_counter() - t0
-        check_excitation(plateaus, s)
-        self.structure = s
+        s, notes = carry_structure(plateaus, s, prior=self.structure_gear.friction)
+        check_excitation(plateaus, s, stribeck=False)
         self.plateaus = plateaus
         t_range, load_ref = temperature_range(plateaus), load_reference(plateaus)
         if self.progress:
             self.progress(f'fitting {s.describe()} to {len(plateaus)} plateaus '
                           f'(xi {t_range[0]:.1f}..{t_range[1]:.1f} degC)')
         t0 = time.perf_counter()
-        theta0 = self._initial(s, plateaus, t_range, load_ref)
-        layout, theta, prob, info = fit_structure(s, plateaus, t_range, load_ref, theta0=theta0,
-                                                  progress=self.progress)
+        fit = fit_physical(s, plateaus, t_range, load_ref, prior=self.structure_gear.friction,
+                           progress=self.progress)
         self.info['time_fit_s'] = time.perf_counter() - t0
-        self.info.update(info)
-        self.layout, self.theta = layout, theta
-        cov, s2 = covariance(prob, theta)
-        a = layout.transform()
+        self.structure = fit.structure
+        self.layout, self.theta = fit.layout, fit.theta
+        self.info['steps'] = fit.steps
+        self.info['multistart'] = fit.starts
+        cov, s2 = fit.cov, fit.s2
+        a = fit.layout.transform()
         cov_c = a @ cov @ a.T
         se_all = np.sqrt(np.clip(np.diag(cov_c), 0.0, None))
-        coefs = layout.coefficients(theta)
+        coefs = fit.layout.coefficients(fit.theta)
         self.coefficients = {k: [float(x) for x in v] for k, v in coefs.items()}
         self.standard_errors = {name: [float(x) for x in se_all[sl]]
-                                for name, _, sl in layout.blocks}
+                                for name, _, sl in fit.layout.blocks}
+        if 'delta_s' in self.coefficients:             # a scalar of the file, not a list
+            self.coefficients['delta_s'] = self.coefficients['delta_s'][:1]
         node_se = np.sqrt(np.clip(np.diag(cov), 0.0, None))
-        self.info['nodes'] = {name: {'xi': layout.nodes[name].tolist(),
-                                     'value': theta[sl].tolist(), 'se': node_se[sl].tolist()}
-                              for name, kind, sl in layout.blocks if kind == 'temp'}
+        self.info['nodes'] = {name: {'xi': fit.layout.nodes[name].tolist(),
+                                     'value': fit.theta[sl].tolist(), 'se': node_se[sl].tolist()}
+                              for name, kind, sl in fit.layout.blocks if kind == 'temp'}
         self.info['residual_variance'] = s2
+        self.info['covariance_method'] = fit.cov_method
         self.info['temperature_range'] = list(t_range)
         self.info['load_ref'] = load_ref
-        self.info['nfev'] = prob.nfev
-        r = prob.residual_batch(theta)[0]
-        self.residuals = r
-        self.rms = float(np.sqrt(np.mean(r ** 2)))
-        self.gear = self._gear(coefs, t_range)
+        self.info['nfev'] = fit.nfev
+        self.residuals = fit.residuals
+        self.rms = float(np.sqrt(np.mean(fit.residuals ** 2)))
+        self.gear = self._gear(coefs, t_range, fit)
+        self.identifiability = identifiability(self, fit, notes)
+        t0 = time.perf_counter()
+        self.validation = held_out_validation(fit, plateaus, t_range, load_ref)
+        self.info['time_validation_s'] = time.perf_counter() - t0
         t0 = time.perf_counter()
         self.group_fits = self._group_fits(plateaus, load_ref)
         self.info['time_group_fits_s'] = time.perf_counter() - t0
         self.info['time_identifier_s'] = time.perf_counter() - t_start
         return self
 
-    def _initial(self, s, plateaus, t_range, load_ref):
-        """Start values: per-temperature-group order-0 fits, polynomials through them."""
-        layout = CoefficientLayout(s, t_range, load_ref)
-        pooled = single_init(s, plateaus)
-        labels, groups = group_table(plateaus)
-        vals = []
-        single = s.with_orders(orders=dict.fromkeys(s.params, 0),
-                               load_orders=dict.fromkeys(PARAMETERS, 0))
-        for g in range(labels.max() + 1):
-            m = labels == g
-            sub = plateaus.select(m)
-            if m.sum() < 8 or distinct_levels(sub.qd) < 4 or min(np.sum(sub.qd > 0),
-                                                                 np.sum(sub.qd < 0)) < 1:
-                continue
-            lay1 = CoefficientLayout(single, temperature_range(sub), 1.0)
-            th = theta_from_values(lay1, pooled)
-            th, _ = Problem(lay1, sub).solve(th, np.ones(lay1.size, dtype=bool))
-            vals.append((float(sub.xi.mean()), lay1.coefficients(th)))
-        values = {}
-        for p in s.params:
-            n = s.orders[p]
-            if len(vals) >= n + 1 and n > 0:
-                x = np.array([v[0] for v in vals])
-                y = np.array([v[1][p][0] for v in vals])
-                c = np.polynomial.polynomial.polyfit(x, y, n)
-                values[p] = (lambda c_: lambda xi: np.polynomial.polynomial.polyval(xi, c_))(c)
-            elif vals:
-                values[p] = float(np.median([v[1][p][0] for v in vals]))
-            else:
-                values[p] = pooled[p]
-        return theta_from_values(layout, values)
-
-    def _gear(self, coefs, t_range):
-        fr = {p: [float(x) for x in c] for p, c in coefs.items()}
+    def _gear(self, coefs, t_range, fit=None):
+        fr = {p: [float(x) for x in c] for p, c in coefs.items()
+              if p not in ('delta_s', 'fs_ratio')}
         for p in self.base.load_orders:              # load terms dropped by auto orders
             key = p + '_load'
             if key not in fr and self.base.load_orders.get(p, 0) > 0:
                 fr[key] = []
+        if fit is not None:
+            st = fit.structure
+            fr['delta_s'] = float(st.delta_s)
+            for p, c in st.fixed.items():            # kept where the data do not pin them
+                fr[p] = [float(x) for x in c]
+            if fit.fs_ratio is not None:             # F_s as a ratio of F_c
+                r = fit.fs_ratio
+                fr['fs'] = [r * x for x in fr['fc']]
+                fr['fs_load'] = [r * x for x in fr.get('fc_load', [])]
         lo = math.floor(t_range[0] * 10.0) / 10.0
         hi = math.ceil(t_range[1] * 10.0) / 10.0
         fr['temperature_range'] = [lo, hi]
@@ -586,5 +577,9 @@ class StaticIdentifier:
             'nodes': self.info['nodes'],
             'steps': self.info['steps'],
             'order_selection': self.info.get('order_selection'),
+            'identifiability': self.identifiability,
+            'validation': self.validation,
+            'multistart': self.info.get('multistart'),
+            'covariance': self.info.get('covariance_method'),
             'timings': {k: v for k, v in self.info.items() if k.startswith('time_')},
         }

@@ -42,12 +42,13 @@ if TYPE_CHECKING:
 
 __all__ = ['LOWER', 'UPPER', 'PARAMETER_UNITS', 'GROUP_WIDTH', 'MIN_GROUP', 'SPEED_TOL',
            'StaticStructure', 'temperature_groups', 'distinct_levels', 'group_table',
-           'check_excitation']
+           'check_excitation', 'carry_structure', 'temperature_levels', 'load_levels']
 
 #: temperature-polynomial parameters, in the order of the packed arrays of :mod:`static`
 LOWER = {'fc': 0.0, 'fs': 0.0, 'fv': 0.0, 'vs': 1e-6, 'delta_v': 0.05}
 UPPER = {'fc': np.inf, 'fs': np.inf, 'fv': np.inf, 'vs': np.inf, 'delta_v': 3.0}
-PARAMETER_UNITS = {'fc': 'Nm', 'fs': 'Nm', 'fv': 'Nm/(rad/s)^dv', 'vs': 'rad/s', 'delta_v': '1'}
+PARAMETER_UNITS = {'fc': 'Nm', 'fs': 'Nm', 'fv': 'Nm/(rad/s)^dv', 'vs': 'rad/s', 'delta_v': '1',
+                   'delta_s': '1'}
 
 #: temperature-group width (degC): plateaus within this span count as one temperature
 GROUP_WIDTH = 1.0
@@ -239,7 +240,36 @@ def group_table(plateaus):
     return labels, groups
 
 
-def check_excitation(plateaus: Plateaus, structure: StaticStructure) -> None:
+def temperature_levels(plateaus: Plateaus) -> tuple[int, float]:
+    """
+    Return the number of distinct plateau temperatures and the width that merges them.
+
+    Temperatures closer than four times the plateaus' median temperature standard error
+    (their own noise; at least 1e-3 degC) count once: a temperature that only rises
+    gives many levels, a constant one gives one.
+    """
+    if not len(plateaus):
+        return 0, 0.0
+    width = max(4.0 * float(np.median(plateaus.xi_se)), 1e-3)
+    return distinct_levels(plateaus.xi, rel=0.0, absolute=width), width
+
+
+def load_levels(plateaus: Plateaus) -> int:
+    """
+    Return the number of distinct plateau loads.
+
+    Loads closer than four times the plateaus' median load standard error, or than 5 %
+    of the largest load, count once.
+    """
+    if not len(plateaus):
+        return 0
+    loads = plateaus.load
+    width = max(4.0 * float(np.median(plateaus.load_se)), 0.05 * float(np.max(loads)), 1e-9)
+    return distinct_levels(loads, rel=0.0, absolute=width)
+
+
+def check_excitation(plateaus: Plateaus, structure: StaticStructure, *,
+                     stribeck: bool = True) -> None:
     """
     Raise :class:`ExcitationError` if the plateaus cannot determine the structure's coefficients.
 
@@ -254,6 +284,10 @@ def check_excitation(plateaus: Plateaus, structure: StaticStructure) -> None:
         The data.
     structure : StaticStructure
         The model structure.
+    stribeck : bool
+        Check the low-speed plateaus of the Stribeck parameters (the identification
+        itself decides from the residual's profile over v_s instead, and keeps them
+        when the data do not pin them).
 
     """
     src = ', '.join(plateaus.sources) or 'the data'
@@ -272,21 +306,20 @@ def check_excitation(plateaus: Plateaus, structure: StaticStructure) -> None:
             f'record plateaus in both directions (also {miss} velocities); with one direction '
             'friction cannot be told from a torque offset or a gravity error')
     lo, hi = float(plateaus.xi.min()), float(plateaus.xi.max())
-    _, groups = group_table(plateaus)
-    temps = ', '.join(f'{x:.1f}' for x, _ in groups) or 'none'
+    levels, width = temperature_levels(plateaus)
     for p, order in structure.orders.items():
-        if order >= 1 and len(groups) < order + 1:
-            coeffs = ', '.join(f'c{i}' for i in range(max(1, len(groups))))
+        if order >= 1 and levels < order + 1:
+            coeffs = ', '.join(f'c{i}' for i in range(max(1, levels)))
             raise ExcitationError(
                 f'the recording covers xi = {lo:.1f}..{hi:.1f} degC: a temperature polynomial '
                 f'of order {order} for {p} needs plateaus at >= {order + 1} distinct '
-                f'temperatures (found {len(groups)}: {temps} degC, groups of >= {MIN_GROUP} '
-                f'plateaus {GROUP_WIDTH:g} degC wide); record at more temperatures or use '
-                f'{p}: [{coeffs}]')
+                f'temperatures (found {levels}, temperatures within {width:.2g} degC counted '
+                f'once); record at more temperatures or use {p}: [{coeffs}]')
     speed = np.abs(plateaus.qd)
     vmin, vmax = float(speed.min()), float(speed.max())
     nspeeds = distinct_levels(speed)
-    if structure.stribeck and ('fs' in structure.orders or 'vs' in structure.orders):
+    if stribeck and structure.stribeck and ('fs' in structure.orders
+                                            or 'vs' in structure.orders):
         low = distinct_levels(speed[speed <= 10.0 * vmin])
         if vmax < 30.0 * vmin or low < 3:
             raise ExcitationError(
@@ -303,17 +336,93 @@ def check_excitation(plateaus: Plateaus, structure: StaticStructure) -> None:
     for p in structure.load_params:
         m = structure.load_orders[p]
         loads = plateaus.load
-        span = float(loads.max() - loads.min())
-        levels = distinct_levels(loads, rel=0.0, absolute=max(0.5, 0.1 * span))
-        if span < 1.0 or levels < m + 1:
+        levels = load_levels(plateaus)
+        if levels < m + 1:
             raise ExcitationError(
                 f"the plateaus' loads span tau_L = {loads.min():.2f}..{loads.max():.2f} Nm "
                 f'({levels} distinct levels): the load polynomial of order {m} for {p}_load '
-                f'needs plateaus at >= {m + 1} clearly different loads (at least 1 Nm apart, '
-                'e.g. the lever at different angles); record with varying load or use '
+                f'needs plateaus at >= {m + 1} clearly different loads (e.g. the lever at '
+                'different angles); record with varying load or use '
                 f'{p}_load: []')
     npar = sum(o + 1 for o in structure.orders.values()) + sum(structure.load_orders.values())
     if n < npar + 2:
         raise ExcitationError(
             f'{n} plateaus for {npar} coefficients: record more plateaus (at least {npar + 2}; '
             'the paper used 34 per temperature series)')
+
+
+def carry_structure(plateaus: Plateaus, structure: StaticStructure, *,
+                    prior=None) -> tuple[StaticStructure, dict]:
+    """
+    Lower what the plateaus cannot carry, and say so, instead of refusing the fit.
+
+    * a temperature order above what the distinct temperatures carry (order + 1
+      groups of :data:`MIN_GROUP` plateaus :data:`GROUP_WIDTH` degC wide) is lowered;
+    * delta_v over less than a decade of speed, or fewer than 4 distinct speeds, is
+      kept from the structure file (``prior``);
+    * a load order above what the distinct loads carry is dropped.
+
+    Parameters
+    ----------
+    plateaus : Plateaus
+        The data.
+    structure : StaticStructure
+        The structure asked for.
+    prior : FrictionParams, optional
+        The structure file's friction section (values kept for delta_v).
+
+    Returns
+    -------
+    structure : StaticStructure
+        What the data can carry.
+    notes : dict
+        Name (``'fc temperature order'``, ``'delta_v'``, ``'fc_load'``, ...) ->
+        ``{'why', 'kept', 'advice'}`` in plain words.
+
+    """
+    notes = {}
+    if not len(plateaus):
+        return structure, notes
+    orders = dict(structure.orders)
+    fixed = dict(structure.fixed)
+    load_orders = dict(structure.load_orders)
+    lo, hi = float(plateaus.xi.min()), float(plateaus.xi.max())
+    # distinct temperatures: further apart than the plateaus' own temperature noise (a
+    # temperature that only rises gives many; a constant one gives one)
+    levels, width = temperature_levels(plateaus)
+    for p, order in structure.orders.items():
+        if order >= 1 and levels < order + 1:
+            new = max(levels - 1, 0)
+            orders[p] = new
+            notes[f'{p} temperature order'] = {
+                'why': f'{p} of order {order} in temperature needs plateaus at {order + 1} '
+                       f'distinct temperatures; the recordings hold {levels} (xi {lo:.2f}..'
+                       f'{hi:.2f} degC, temperatures within {width:.2g} degC counted once)',
+                'kept': f'fitted to order {new}',
+                'advice': f'record plateaus at {order + 1} or more temperatures'}
+    speed = np.abs(plateaus.qd)
+    vmin, vmax = float(speed.min()), float(speed.max())
+    nspeeds = distinct_levels(speed)
+    if 'delta_v' in orders and (vmax < 10.0 * vmin or nspeeds < 4):
+        value = list(getattr(prior, 'delta_v', None) or [1.0])
+        orders.pop('delta_v')
+        fixed['delta_v'] = value
+        notes['delta_v'] = {
+            'why': f'plateau speeds span {vmin:.3g}..{vmax:.3g} rad/s ({nspeeds} distinct): '
+                   'the viscous exponent needs a decade of speed and 4 distinct speeds',
+            'kept': f'delta_v = {value} from the structure file',
+            'advice': 'record plateaus over at least a decade of speed'}
+    for p in list(structure.load_params):
+        m = structure.load_orders[p]
+        loads = plateaus.load
+        levels = load_levels(plateaus)
+        if levels < m + 1:
+            load_orders[p] = 0
+            notes[f'{p}_load'] = {
+                'why': f"the plateaus' loads span tau_L = {loads.min():.2f}..{loads.max():.2f} "
+                       f'Nm ({levels} distinct levels); a load polynomial of order {m} needs '
+                       f'{m + 1} clearly different loads',
+                'kept': f'{p}_load not fitted (no load dependence)',
+                'advice': 'record with varying load (e.g. the lever at different angles)'}
+    return dataclasses.replace(structure, orders=orders, fixed=fixed,
+                               load_orders=load_orders), notes

@@ -33,6 +33,7 @@ import numpy as np
 
 from ..gear import format_gear, parse_gear
 from ..identification import identify_recordings
+from ..identification.plateaus import stick_slip_summary
 from ..identification.report import identification_figures
 from ..output import OutputSet
 from ..results import ExperimentResult, result_files
@@ -70,7 +71,23 @@ def _header(run, paths, structure_path):
     for name, vals in ident.coefficients.items():
         lines.append(f'  {name}: {_fmt_list(vals, ident.standard_errors[name])}')
     for name, vals in ident.structure.fixed.items():
-        lines.append(f'  {name}: {list(vals)} (fixed)')
+        lines.append(f'  {name}: {[float(f"{v:.6g}") for v in vals]} (kept, not fitted)')
+    lines.append(f'  delta_s: {ident.structure.delta_s:.4g}'
+                 + (' (kept, not fitted)' if 'delta_s' not in ident.coefficients else ''))
+    lines.append('what the data pin (standard errors: '
+                 f'{ident.info["covariance_method"]["method"]}):')
+    lines += [f'  {line}' for line in ident.identifiability['lines']]
+    val = ident.validation
+    if val.get('blocks'):
+        lines.append(f'held-out check ({val["blocks"]} blocks of plateaus, each predicted by a '
+                     f'fit without it): RMS {val["rms"]:.4f} Nm (in-sample {val["rms_in_sample"]:.4f})')
+        lines += [f'  |qd| {b["v_low"]:.3g}..{b["v_high"]:.3g} rad/s: RMS {b["rms"]:.4f} Nm '
+                  f'({100 * b["rel_rms"]:.2g} %), worst {b["worst"]:.4f} Nm '
+                  f'({100 * b["worst_rel"]:.2g} %), {b["plateaus"]} plateaus'
+                  for b in val['bands']]
+    slip = stick_slip_summary(p)
+    if slip:
+        lines.append(f'stick-slip: {slip}')
     s3 = run.presliding
     if s3['status'] == 'done':
         for model, r in s3['models'].items():

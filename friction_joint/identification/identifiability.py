@@ -1,0 +1,229 @@
+# Copyright 2026 friction_joint maintainers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""
+What the data pin, how well, and how far the identified curve can be trusted.
+
+* :func:`identifiability`: per parameter of the static curve, whether the data pin
+  it (kept from the structure file and why, from
+  :func:`~friction_joint.identification.physical_fit.fit_physical` and
+  :func:`~friction_joint.identification.static_structure.carry_structure`), its
+  relative standard error at the middle of the recorded temperature range (a
+  parameter fitted with more than :data:`WEAK` of its value is *weakly pinned*), and
+  plain-language lines for the gear file's header, ``identification.json`` and the
+  report.
+* :func:`held_out_validation`: the curve refitted without each block of plateaus
+  (consecutive in time) predicts them; RMS and worst error per speed band.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from .physical_fit import _solve, PhysicalProblem
+from ..models.static import PARAMETERS
+
+__all__ = ['WEAK', 'SPEED_BANDS', 'identifiability', 'held_out_validation']
+
+#: a fitted parameter whose standard error exceeds this fraction of its value is weakly pinned
+WEAK = 0.5
+#: speed bands of the held-out validation (log-spaced over the plateau speeds)
+SPEED_BANDS = 4
+
+_IDX = {p: i for i, p in enumerate(PARAMETERS)}
+
+
+def _value_se(fit, name, xi, load):
+    """Value of a curve parameter at (xi, load) and its standard error (delta method)."""
+    layout, theta = fit.layout, fit.theta
+    x, lo = np.array([xi]), np.array([load])
+    v0 = float(layout.physics(theta[None, :], x, lo)[0, _IDX[name], 0])
+    h = 1e-6 * np.maximum(np.abs(theta), 1e-3)
+    th = np.repeat(theta[None, :], len(theta), axis=0) + np.diag(h)
+    g = (layout.physics(th, x, lo)[:, _IDX[name], 0] - v0) / h
+    var = float(g @ fit.cov @ g)
+    return v0, math.sqrt(max(var, 0.0))
+
+
+def _change_se(fit, name, xa, xb, load):
+    """Change of a curve parameter from xa to xb at ``load`` and its standard error."""
+    layout, theta = fit.layout, fit.theta
+    x, lo = np.array([xa, xb]), np.array([load, load])
+
+    def change(th):
+        v = layout.physics(th, x, lo)[:, _IDX[name]]
+        return v[:, 1] - v[:, 0]
+
+    c0 = float(change(theta[None, :])[0])
+    h = 1e-6 * np.maximum(np.abs(theta), 1e-3)
+    g = (change(np.repeat(theta[None, :], len(theta), axis=0) + np.diag(h)) - c0) / h
+    return c0, math.sqrt(max(float(g @ fit.cov @ g), 0.0))
+
+
+def identifiability(ident, fit, notes):
+    """
+    Say per parameter whether and how well the data pin it.
+
+    Parameters
+    ----------
+    ident : StaticIdentifier
+        The fitted identifier (its plateaus and structure).
+    fit : PhysicalFit
+        The fit (kept parameters, profile intervals, covariance).
+    notes : dict
+        What :func:`~friction_joint.identification.static_structure.carry_structure`
+        lowered.
+
+    Returns
+    -------
+    dict
+        ``curve_identified`` (bool), ``not_identified`` (name -> ``why``, ``kept``,
+        ``advice``), ``weak`` (name -> ``value``, ``se``, ``rel_se``), ``parameters``
+        (name -> ``value``, ``se``, ``rel_se``, ``pinned``), ``intervals``,
+        ``covariance``, ``lines`` (plain words).
+
+    """
+    p = ident.plateaus
+    xm = 0.5 * sum(ident.info['temperature_range'])
+    load = float(np.mean(p.load)) if len(p) else 0.0
+    kappa = fit.structure.velocity_scale
+    missing = {}
+    for name, k in fit.kept.items():
+        missing[name] = {'why': k['why'], 'kept': f'{k["value"]} ({k["source"]})'
+                         if not isinstance(k['value'], float) else
+                         f'{k["value"]:.4g} ({k["source"]})', 'advice': k['advice']}
+    missing.update(notes)
+    params, weak = {}, {}
+    fitted = {n for n, k, _ in fit.layout.blocks if k == 'temp'}
+    for name in PARAMETERS:
+        if name not in fitted:
+            continue
+        v, se = _value_se(fit, name, xm, load)
+        scale = 1.0 / kappa if name == 'vs' else 1.0
+        rel = se / abs(v) if v else math.inf
+        params[name] = {'value': v * scale, 'se': se * scale, 'rel_se': rel,
+                        'pinned': bool(rel <= WEAK)}
+        if rel > WEAK:
+            weak[name] = params[name]
+    lo_t, hi_t = ident.info['temperature_range']
+    for name, kind, sl in fit.layout.blocks:
+        if kind != 'temp' or sl.stop - sl.start < 2:
+            continue
+        change, se = _change_se(fit, name, lo_t, hi_t, load)
+        scale = 1.0 / kappa if name == 'vs' else 1.0
+        entry = {'change': change * scale, 'se': se * scale, 'from_xi': lo_t, 'to_xi': hi_t,
+                 'resolved': bool(abs(change) > 2.0 * se)}
+        params.setdefault(name, {})['temperature_change'] = entry
+        if not entry['resolved']:
+            weak[f'{name} temperature dependence'] = entry
+    if any(k == 'scalar' for _, k, _ in fit.layout.blocks):
+        sl = [s for _, k, s in fit.layout.blocks if k == 'scalar'][0]
+        v = float(fit.theta[sl][0])
+        se = float(math.sqrt(max(fit.cov[sl, sl][0, 0], 0.0)))
+        params['delta_s'] = {'value': v, 'se': se, 'rel_se': se / v, 'pinned': se / v <= WEAK}
+        if se / v > WEAK:
+            weak['delta_s'] = params['delta_s']
+    lines = []
+    for name, m in missing.items():
+        lines.append(f'{name} not identified: {m["why"]}; kept: {m["kept"]}; {m["advice"]}')
+    for name, w in weak.items():
+        if w.get('bound'):
+            continue
+        if 'change' in w:
+            lines.append(f'{name} not resolved: the change from {w["from_xi"]:.1f} to '
+                         f'{w["to_xi"]:.1f} degC is {w["change"]:.3g} +- {w["se"]:.2g} (within '
+                         'two standard errors of none): the recorded temperature range is too '
+                         'narrow for it')
+            continue
+        lines.append(f'{name} weakly pinned: {w["value"]:.4g} +- {w["se"]:.2g} '
+                     f'({100 * w["rel_se"]:.0f} % at {xm:.1f} degC)')
+    for name in getattr(fit, 'at_bound', []):
+        if name in ('fc', 'fv', 'fs'):
+            continue                      # F >= 0 and F_s >= F_c: physics, not a search bound
+        entry = dict(params.get(name, {}), bound=True)
+        weak[name] = entry
+        lines.append(f'{name} ended on the bound of its search range (v_s: '
+                     f'{fit.layout.band[0] / kappa if fit.layout.band else 0:.3g}..'
+                     f'{fit.layout.band[1] / kappa if fit.layout.band else 0:.3g} rad/s, from a '
+                     'thirtieth of the slowest plateau to the fastest; delta_s 0.4..3; delta_v '
+                     '0.05..3): the data do not pin it')
+    speed = np.abs(p.qd)
+    where = (f'|qd| {speed.min():.3g}..{speed.max():.3g} rad/s, xi {lo_t:.1f}..{hi_t:.1f} degC, '
+             f'tau_L {p.load.min():.2f}..{p.load.max():.2f} Nm')
+    if weak:
+        lines.insert(0, f'the static curve is NOT pinned everywhere in the recorded ranges '
+                        f'({where}): see the weakly pinned parameters below')
+    else:
+        lines.insert(0, f'the static curve is pinned in the recorded ranges ({where})'
+                        + ('' if not missing else '; the recordings cannot tell what is kept '
+                           'below'))
+    if not missing and not weak:
+        lines.append('every parameter of the structure is pinned by the data (relative '
+                     f'standard errors at most {100 * WEAK:.0f} %)')
+    return {'curve_identified': not weak, 'not_identified': missing, 'weak': weak,
+            'parameters': params, 'intervals': fit.intervals, 'covariance': fit.cov_method,
+            'lines': lines}
+
+
+def held_out_validation(fit, plateaus, t_range, load_ref, *, blocks=5):
+    """
+    Predict each block of plateaus (consecutive in time) from a fit without it.
+
+    Parameters
+    ----------
+    fit : PhysicalFit
+        The fit on all plateaus (its layout and parameters start each refit).
+    plateaus : Plateaus
+    t_range : tuple of float
+    load_ref : float
+    blocks : int
+        Blocks of plateaus (fewer when there are few plateaus).
+
+    Returns
+    -------
+    dict
+        ``blocks``, ``rms`` and ``rms_in_sample`` (Nm), ``bands``: per speed band
+        ``v_low``, ``v_high`` (rad/s), ``plateaus``, ``rms`` (Nm), ``worst`` (Nm),
+        ``rel_rms`` and ``worst_rel`` (of the measured friction torque).
+
+    """
+    n = len(plateaus)
+    k = int(min(blocks, n // 6))
+    if k < 2:
+        return {'blocks': 0, 'note': f'{n} plateaus: too few to hold any out'}
+    order = np.lexsort((plateaus.t0, plateaus.source))
+    err = np.full(n, np.nan)
+    for part in np.array_split(order, k):
+        train = np.setdiff1d(np.arange(n), part)
+        sub = PhysicalProblem(fit.layout, plateaus.select(train))
+        th, _, _ = _solve(sub, fit.theta)
+        held = plateaus.select(part)
+        err[part] = fit.layout.torque(th, held.qd, held.xi, held.load)[0] - held.tau_r
+    speed = np.abs(plateaus.qd)
+    edges = np.geomspace(speed.min(), speed.max() * (1 + 1e-9), SPEED_BANDS + 1)
+    bands = []
+    for a, b in zip(edges[:-1], edges[1:]):
+        m = (speed >= a) & (speed < b)
+        if not m.any():
+            continue
+        level = np.abs(plateaus.tau_r[m])
+        rel = np.abs(err[m]) / np.maximum(level, 1e-12)
+        bands.append({'v_low': float(a), 'v_high': float(b), 'plateaus': int(m.sum()),
+                      'rms': float(np.sqrt(np.mean(err[m] ** 2))),
+                      'worst': float(np.max(np.abs(err[m]))),
+                      'rel_rms': float(np.sqrt(np.mean(rel ** 2))),
+                      'worst_rel': float(np.max(rel))})
+    return {'blocks': k, 'rms': float(np.sqrt(np.mean(err ** 2))),
+            'rms_in_sample': float(np.sqrt(np.mean(fit.residuals ** 2))), 'bands': bands}

@@ -1,0 +1,721 @@
+# Copyright 2026 friction_joint maintainers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""
+A static-curve fit that stays physical, starts from many points and says what it cannot pin.
+
+Steps 1-2 of the identification (:class:`~friction_joint.identification.static_fit.
+StaticIdentifier`) run here:
+
+* **Physical by construction.**  Temperature polynomials are node values over the
+  recorded temperature range (:class:`~friction_joint.identification.static_problem.
+  CoefficientLayout`) with bounds F_c, F_s, F_v >= 0, 0.05 <= delta_v <= 3 and v_s in a
+  band set by the data (:func:`vs_band`: from a thirtieth of the slowest plateau
+  speed to the fastest); the coupled conditions F_s >= F_c >= 0 and F_v >= 0 over the
+  whole recorded temperature *and* load range are one-sided penalty residuals so
+  stiff (:data:`PENALTY` per plateau) that a violation costs more than the noise.
+  delta_s is fitted within :data:`DELTA_S_BOUNDS` when the data pin it.
+* **Many starts.**  The curve is linear in F_c, F_s, F_v and their load terms once
+  v_s, delta_v and delta_s are given: for every point of a grid over those three
+  (:func:`grid_profile`) the linear part is solved exactly (bounded linear least
+  squares), which gives the profile of the residual over v_s and delta_s and the
+  starts of the nonlinear fit: the best grid point and the best one of each other
+  local minimum of the v_s profile.  Every start is refined; among the minima whose
+  residual the data cannot tell apart, the one with the best held-out error wins.
+* **Identifiability.**  The v_s and delta_s profiles give likelihood-ratio
+  intervals (the residual at most ``1 + 4 / (n - p)`` times the best: about two
+  standard errors).  An interval that reaches the slow end of the band means the
+  data do not see the Stribeck dip (no plateau near or below v_s): v_s and F_s are
+  reported as not identified and kept (v_s from the structure file, moved into the
+  interval; F_s as the structure's F_s / F_c ratio times the fitted F_c), never
+  fitted to an absurdity.  An interval over the whole delta_s range keeps delta_s
+  from the structure.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from scipy.optimize import least_squares, lsq_linear
+
+from .static_problem import CoefficientLayout, Problem
+from .static_structure import LOWER, UPPER
+from ..models.static import PackedStatic, PARAMETERS, StaticFriction
+
+__all__ = ['PENALTY', 'DELTA_S_BOUNDS', 'VS_BAND', 'FS_RATIO_MAX', 'fit_physical', 'PhysicalFit', 'PhysicalLayout', 'PhysicalProblem',
+           'vs_band', 'grid_profile', 'profile_interval', 'parameter_values']
+
+#: weight of a physics violation (Nm) relative to a plateau residual, times sqrt(n)
+PENALTY = 30.0
+#: delta_s is fitted within these bounds
+DELTA_S_BOUNDS = (0.4, 3.0)
+#: v_s band: from VS_BAND[0] x the slowest plateau speed to VS_BAND[1] x the fastest
+VS_BAND = (1.0 / 30.0, 1.0)
+#: F_s at most this multiple of F_c (break-away torque of gears: 1 to about 2 F_c)
+FS_RATIO_MAX = 4.0
+
+_IDX = {p: i for i, p in enumerate(PARAMETERS)}
+
+
+def vs_band(plateaus, velocity_scale=1.0):
+    """Return the v_s band (curve units: velocity_scale x rad/s) the data can speak to."""
+    speed = velocity_scale * np.abs(plateaus.qd)
+    return float(VS_BAND[0] * speed.min()), float(VS_BAND[1] * speed.max())
+
+
+class PhysicalLayout(CoefficientLayout):
+    """
+    :class:`CoefficientLayout` with a free delta_s, F_s tied to F_c and a v_s band.
+
+    Parameters
+    ----------
+    structure : StaticStructure
+        The fitted structure.
+    t_range : tuple of float
+        Recorded temperature range (degC).
+    load_ref : float
+        Load scale (Nm).
+    ties : dict, optional
+        ``{'fs': r}``: F_s = r F_c (temperature and load coefficients), not fitted.
+    free_delta_s : bool
+        Fit delta_s (a ``'scalar'`` block named ``delta_s``).
+    band : tuple of float, optional
+        Bounds of the v_s node values.
+    load_max : float
+        Largest load of the data (the physics conditions hold up to it).
+
+    """
+
+    def __init__(self, structure, t_range, load_ref, *, ties=None, free_delta_s=False,
+                 band=None, load_max=0.0):
+        super().__init__(structure, t_range, load_ref)
+        self.ties = dict(ties or {})
+        self.band = band
+        self.load_max = float(load_max)
+        if free_delta_s:
+            self.blocks.append(('delta_s', 'scalar', slice(self.size, self.size + 1)))
+            self.maps['delta_s'] = np.eye(1)
+            self.size += 1
+        if self.ties.get('fs') == 'free':             # F_s = r F_c with r fitted
+            self.blocks.append(('fs_ratio', 'scalar', slice(self.size, self.size + 1)))
+            self.maps['fs_ratio'] = np.eye(1)
+            self.size += 1
+
+    def bounds(self):
+        lo = np.full(self.size, -np.inf)
+        hi = np.full(self.size, np.inf)
+        for name, kind, sl in self.blocks:
+            if kind == 'temp':
+                lo[sl], hi[sl] = LOWER[name], UPPER[name]
+                if name == 'vs' and self.band is not None:
+                    lo[sl], hi[sl] = self.band
+            elif name == 'delta_s':
+                lo[sl], hi[sl] = DELTA_S_BOUNDS
+            elif name == 'fs_ratio':
+                lo[sl], hi[sl] = 1.0, FS_RATIO_MAX
+        return lo, hi
+
+    def packed(self, thetas):
+        thetas = np.atleast_2d(thetas)
+        b = thetas.shape[0]
+        temp = np.zeros((b, 5, self.nt))
+        load = np.zeros((b, 5, self.nl))
+        ds = np.full(b, float(self.s.delta_s))
+        ratio = np.full(b, self.ties['fs']) if 'fs' in self.ties and \
+            self.ties['fs'] != 'free' else None
+        for p, c in self.s.fixed.items():
+            temp[:, _IDX[p], :len(c)] = c
+        for name, kind, sl in self.blocks:
+            coef = thetas[:, sl] @ self.maps[name].T
+            if kind == 'temp':
+                temp[:, _IDX[name], :coef.shape[1]] = coef
+            elif kind == 'load':
+                load[:, _IDX[name[:-5]], :coef.shape[1]] = coef
+            elif name == 'delta_s':
+                ds = coef[:, 0]
+            else:
+                ratio = coef[:, 0]
+        if ratio is not None:
+            temp[:, _IDX['fs']] = ratio[:, None] * temp[:, _IDX['fc']]
+            load[:, _IDX['fs']] = ratio[:, None] * load[:, _IDX['fc']]
+        if not self.s.stribeck:
+            temp[:, _IDX['fs']] = temp[:, _IDX['fc']]
+            load[:, _IDX['fs']] = load[:, _IDX['fc']]
+            temp[:, _IDX['vs'], 0] = 1.0
+        ones = np.ones(b)
+        return PackedStatic(temp, load, ds, self.s.velocity_scale * ones, -1e9 * ones,
+                            1e9 * ones)
+
+    def physics(self, thetas, xi, load):
+        """
+        Raw parameter values (not clipped) at the (xi, load) points: (B, 5, K).
+
+        Parameters
+        ----------
+        thetas : ndarray (B, size)
+        xi, load : ndarray (K,)
+
+        """
+        pk = self.packed(thetas)
+        xp = np.vstack([xi ** i for i in range(pk.temp.shape[2])])
+        lp = np.vstack([load ** (j + 1) for j in range(pk.load.shape[2])])
+        return pk.temp @ xp + pk.load @ lp
+
+    def corners(self, n=5):
+        """Temperature and load points where the physics conditions are checked."""
+        # the written file's range is the recorded one rounded outwards to 0.1 degC
+        xi = np.linspace(self.t_range[0] - 0.1, self.t_range[1] + 0.1, n)
+        loads = np.array([0.0, self.load_max]) if self.load_max > 0 else np.zeros(1)
+        x, lo = np.meshgrid(xi, loads)
+        return x.ravel(), lo.ravel()
+
+
+class PhysicalProblem(Problem):
+    """Plateau residuals plus one-sided physics penalties (:data:`PENALTY`)."""
+
+    def __init__(self, layout, plateaus, *, penalty=PENALTY):
+        super().__init__(layout, plateaus)
+        self.weight = penalty * math.sqrt(max(len(self.y), 1))
+        self.cx, self.cl = layout.corners()
+        self.stribeck = layout.s.stribeck and 'fs' not in layout.ties
+
+    def data_residuals(self, thetas):
+        """(B, n) model minus measured friction torque."""
+        return self.layout.torque(thetas, self.qd, self.xi, self.load) - self.y
+
+    def penalties(self, thetas):
+        v = self.layout.physics(np.atleast_2d(thetas), self.cx, self.cl)
+        parts = [np.maximum(0.0, -v[:, _IDX['fc']]), np.maximum(0.0, -v[:, _IDX['fv']])]
+        if self.stribeck:
+            parts.append(np.maximum(0.0, v[:, _IDX['fc']] - v[:, _IDX['fs']]))
+            parts.append(np.maximum(0.0, v[:, _IDX['fs']] - FS_RATIO_MAX * v[:, _IDX['fc']]))
+        return self.weight * np.concatenate(parts, axis=1)
+
+    def residual_batch(self, thetas):
+        thetas = np.atleast_2d(thetas)
+        self.nfev += len(thetas)
+        return np.concatenate([self.data_residuals(thetas), self.penalties(thetas)], axis=1)
+
+    def data_jacobian(self, theta, free):
+        """Jacobian of the plateau residuals only (covariance)."""
+        idx = np.flatnonzero(free)
+        h = 1e-6 * np.maximum(np.abs(theta[idx]), 0.1)
+        th = np.repeat(theta[None, :], 2 * len(idx), axis=0)
+        for j, i in enumerate(idx):
+            th[j, i] += h[j]
+            th[len(idx) + j, i] -= h[j]
+        r = self.data_residuals(th)
+        k = len(idx)
+        return ((r[:k] - r[k:]) / (2.0 * h[:, None])).T
+
+
+def _linear_mask(layout):
+    """Entries of theta the curve is linear in: F_c, F_s, F_v nodes and their load terms."""
+    m = np.zeros(layout.size, dtype=bool)
+    for name, kind, sl in layout.blocks:
+        base = name[:-5] if kind == 'load' else name
+        if base in ('fc', 'fs', 'fv'):
+            m[sl] = True
+    return m
+
+
+def grid_profile(layout, plateaus, *, vs_grid, dv_grid, ds_grid):
+    """
+    Residual over a grid of (v_s, delta_v, delta_s), the linear part solved exactly.
+
+    Returns
+    -------
+    sse : ndarray (len(vs_grid), len(dv_grid), len(ds_grid))
+    thetas : ndarray (same + (size,))
+        The parameter vector of each grid point.
+
+    """
+    lin = _linear_mask(layout)
+    idx = np.flatnonzero(lin)
+    lo, hi = layout.bounds()
+    lo, hi = lo[idx], hi[idx]
+    y = plateaus.tau_r.astype(float)
+    shape = (len(vs_grid), len(dv_grid), len(ds_grid))
+    sse = np.full(shape, np.inf)
+    thetas = np.zeros(shape + (layout.size,))
+    blocks = {name: sl for name, _, sl in layout.blocks}
+    base = np.zeros((int(np.prod(shape)), layout.size))
+    for k, (a, b, c) in enumerate(np.ndindex(*shape)):
+        if 'vs' in blocks:
+            base[k, blocks['vs']] = vs_grid[a]
+        if 'delta_v' in blocks:
+            base[k, blocks['delta_v']] = dv_grid[b]
+        if 'delta_s' in blocks:
+            base[k, blocks['delta_s']] = ds_grid[c]
+    # columns: the torque at theta = base + e_j minus the torque at base (one batch)
+    n_lin = len(idx)
+    batch = np.repeat(base, n_lin + 1, axis=0)
+    for j, i in enumerate(idx):
+        batch[j + 1::n_lin + 1, i] += 1.0
+    tq = layout.torque(batch, plateaus.qd, plateaus.xi, plateaus.load)
+    tq = tq.reshape(len(base), n_lin + 1, -1)
+    for k, (a, b, c) in enumerate(np.ndindex(*shape)):
+        r0 = tq[k, 0]
+        cols = (tq[k, 1:] - r0).T
+        res = lsq_linear(cols, y - r0, bounds=(lo, hi), method='bvls')
+        th = base[k].copy()
+        th[idx] = res.x
+        thetas[a, b, c] = th
+        sse[a, b, c] = float(np.sum((cols @ res.x + r0 - y) ** 2))
+    return sse, thetas
+
+
+def profile_interval(grid, profile, best, n, p):
+    """
+    Grid values whose profile residual is within the likelihood-ratio bound of ``best``.
+
+    The bound is ``best (1 + 4 / (n - p))``: an F-type interval of about two standard
+    errors.  Returns ``(lo, hi, at_low_end, at_high_end)``.
+    """
+    bound = best * (1.0 + 4.0 / max(n - p, 1))
+    ok = np.flatnonzero(profile <= bound)
+    if not len(ok):
+        k = int(np.argmin(profile))
+        ok = np.array([k])
+    return (float(grid[ok.min()]), float(grid[ok.max()]), bool(ok.min() == 0),
+            bool(ok.max() == len(grid) - 1))
+
+
+def parameter_values(gear_friction, xi, load=0.0):
+    """Evaluated (F_c, F_s, F_v, v_s, delta_v) of a friction section at xi (dict of floats)."""
+    v = StaticFriction(gear_friction).parameters(np.atleast_1d(float(xi)), float(load))
+    return {k: float(np.asarray(x).ravel()[0]) for k, x in v.items()}
+
+
+# ------------------------------------------------------------------ the fit ---
+
+class PhysicalFit:
+    """
+    The result of :func:`fit_physical`.
+
+    Attributes
+    ----------
+    structure : StaticStructure
+        The structure finally fitted: parameters the data do not pin are in its
+        ``fixed`` (kept values), delta_s is the fitted or kept value.
+    layout : PhysicalLayout
+    theta : ndarray
+        Fitted parameter vector.
+    problem : PhysicalProblem
+    cov : ndarray
+        Covariance of ``theta``; ``cov_method`` says how it was obtained.
+    s2 : float
+        Residual variance.
+    residuals : ndarray
+        Model minus measured friction torque per plateau.
+    kept : dict
+        Parameter -> what was kept and why (the data do not pin it).
+    intervals : dict
+        ``vs`` and ``delta_s`` likelihood-ratio intervals of the profiles.
+    starts : list of dict
+        The starts of the nonlinear fit and where each ended.
+    steps : list of dict
+        Fit passes (cost, evaluations, time).
+    nfev : int
+
+    """
+
+    def __init__(self, **kw):
+        self.__dict__.update(kw)
+
+
+def _solve(problem, theta0, free=None, *, tol=1e-10, max_nfev=200):
+    """Minimise a problem over the ``free`` entries; returns (theta, plateau SSE, result)."""
+    free = np.ones(problem.layout.size, dtype=bool) if free is None else free
+    theta0 = np.asarray(theta0, dtype=float).copy()
+    idx = np.flatnonzero(free)
+    lo, hi = problem.layout.bounds()
+    lo, hi = lo[idx], hi[idx]
+    with np.errstate(invalid='ignore'):
+        pad_lo = np.where(np.isfinite(lo), lo + 1e-9 * (1 + np.abs(lo)), -np.inf)
+        pad_hi = np.where(np.isfinite(hi), hi - 1e-9 * (1 + np.abs(hi)), np.inf)
+    x0 = np.clip(theta0[idx], pad_lo, pad_hi)
+
+    def full(x):
+        th = np.broadcast_to(theta0, (np.atleast_2d(x).shape[0], theta0.size)).copy()
+        th[:, idx] = np.atleast_2d(x)
+        return th
+
+    def jac(x):
+        h = 1e-6 * np.maximum(np.abs(x), 0.1)
+        r = problem.residual_batch(full(np.concatenate([x + np.diag(h), x - np.diag(h)])))
+        k = len(x)
+        return ((r[:k] - r[k:]) / (2.0 * h[:, None])).T
+
+    res = least_squares(lambda x: problem.residual_batch(full(x))[0], x0, jac=jac,
+                        bounds=(lo, hi), method='trf', x_scale='jac', max_nfev=max_nfev,
+                        ftol=tol, xtol=tol, gtol=tol)
+    theta = theta0.copy()
+    theta[idx] = res.x
+    sse = float(np.sum(problem.data_residuals(theta)[0] ** 2))
+    return theta, sse, res
+
+
+def _prior_value(prior, name, xi):
+    coef = getattr(prior, name)
+    if coef is None or not len(coef):
+        return None
+    return float(np.polynomial.polynomial.polyval(xi, coef))
+
+
+def _best_at(sse, thetas, index):
+    """The grid point of least residual with the first axis at ``index``."""
+    sub = sse[index]
+    j = np.unravel_index(int(np.argmin(sub)), sub.shape)
+    return thetas[index][j]
+
+
+def _profile(problem, sse, thetas, block, grid):
+    """
+    Residual with one nonlinear parameter held at each grid value, the rest refitted.
+
+    Each point starts from its best grid point and from its neighbour's solution
+    (a sweep down the grid, then one up), so one stuck local fit does not dent it.
+    """
+    p = problem.layout.size
+    free = np.ones(p, dtype=bool)
+    free[block] = False
+    prof = np.full(len(grid), np.inf)
+    sols = [None] * len(grid)
+
+    def attempt(i, th0):
+        th0 = th0.copy()
+        th0[block] = grid[i]
+        th, e, _ = _solve(problem, th0, free, tol=1e-8, max_nfev=60)
+        if e < prof[i]:
+            prof[i], sols[i] = e, th
+
+    for i in range(len(grid) - 1, -1, -1):
+        attempt(i, _best_at(sse, thetas, i))
+        if i + 1 < len(grid):
+            attempt(i, sols[i + 1])
+    for i in range(1, len(grid)):
+        if prof[i - 1] < prof[i]:
+            attempt(i, sols[i - 1])
+    return prof, sols
+
+
+def _local_minima(profile, limit=4):
+    """Indices of the local minima of a profile, best first."""
+    out = []
+    for i in range(len(profile)):
+        left = profile[i - 1] if i > 0 else np.inf
+        right = profile[i + 1] if i + 1 < len(profile) else np.inf
+        if profile[i] <= left and profile[i] <= right:
+            out.append(i)
+    return sorted(out, key=lambda i: profile[i])[:limit]
+
+
+def fit_physical(structure, plateaus, t_range, load_ref, *, prior, progress=None, cv_folds=5):
+    """
+    Fit a static structure physically, from many starts, keeping what the data cannot pin.
+
+    Parameters
+    ----------
+    structure : StaticStructure
+        What to fit (after :func:`~friction_joint.identification.static_structure.
+        carry_structure`).
+    plateaus : Plateaus
+    t_range : tuple of float
+        Recorded temperature range (degC).
+    load_ref : float
+        Load scale (Nm).
+    prior : FrictionParams
+        The structure file's friction section: the values kept for what is not pinned.
+    progress : callable, optional
+    cv_folds : int
+        Folds of the held-out choice between minima the residual cannot tell apart.
+
+    Returns
+    -------
+    PhysicalFit
+
+    """
+    import dataclasses
+    import time
+    t_start = time.perf_counter()
+    n = len(plateaus)
+    kappa = structure.velocity_scale
+    band = vs_band(plateaus, kappa)
+    xm = 0.5 * (t_range[0] + t_range[1])
+    load_max = float(np.max(plateaus.load)) if n else 0.0
+    stribeck = structure.stribeck and 'vs' in structure.orders and 'fs' in structure.orders
+    layout = PhysicalLayout(structure, t_range, load_ref, free_delta_s=stribeck, band=band,
+                            load_max=load_max)
+    vs_grid = np.geomspace(band[0], band[1], 16) if stribeck else np.array([1.0])
+    dv_grid = (np.linspace(0.3, 1.5, 7) if 'delta_v' in structure.orders
+               else np.array([1.0]))
+    ds_grid = np.array([0.5, 1.0, 1.5, 2.0, 2.5, 3.0]) if stribeck else \
+        np.array([structure.delta_s])
+    sse, thetas = grid_profile(layout, plateaus, vs_grid=vs_grid, dv_grid=dv_grid,
+                               ds_grid=ds_grid)
+    problem = PhysicalProblem(layout, plateaus)
+    p = layout.size
+    factor = 1.0 + 4.0 / max(n - p, 1)
+    kept, intervals, starts, steps = {}, {}, [], []
+    blocks = {name: sl for name, _, sl in layout.blocks}
+    if stribeck:
+        # profiles: v_s (resp. delta_s) held at each grid value, everything else refitted
+        prof_vs, th_vs = _profile(problem, sse, thetas, blocks['vs'], vs_grid)
+        prof_ds, _ = _profile(problem, np.moveaxis(sse, 2, 0), np.moveaxis(thetas, 2, 0),
+                              blocks['delta_s'], ds_grid)
+        cand = [th_vs[i] for i in _local_minima(prof_vs)]
+        results = []
+        for th0 in cand:
+            t0 = time.perf_counter()
+            th, e, res = _solve(problem, th0)
+            steps.append({'step': 'joint', 'cost': e, 'nfev': int(res.nfev),
+                          'time_s': time.perf_counter() - t0})
+            results.append((e, th))
+            starts.append({'vs_start': float(th0[blocks['vs']][0] / kappa), 'final_sse': e})
+        best = min(min(r[0] for r in results), float(prof_vs.min()), float(prof_ds.min()))
+        vlo, vhi, at_lo, _ = profile_interval(vs_grid, prof_vs, best, n, p)
+        dlo, dhi, d_lo, d_hi = profile_interval(ds_grid, prof_ds, best, n, p)
+        intervals['vs'] = {'low': vlo / kappa, 'high': vhi / kappa,
+                           'band': [band[0] / kappa, band[1] / kappa], 'at_slow_end': at_lo,
+                           'profile': [[float(v / kappa), float(e)]
+                                       for v, e in zip(vs_grid, prof_vs)]}
+        intervals['delta_s'] = {'low': dlo, 'high': dhi, 'band': [float(ds_grid[0]),
+                                                                   float(ds_grid[-1])]}
+        vmin = float(np.min(np.abs(plateaus.qd)))
+        if at_lo:
+            # the data do not see the Stribeck dip: keep v_s (moved into the interval) and
+            # F_s / F_c from the structure file
+            v_prior = _prior_value(prior, 'vs', xm)
+            v_keep = float(np.clip(v_prior if v_prior and v_prior > 0 else vlo, vlo, vhi))
+            fc_p, fs_p = _prior_value(prior, 'fc', xm), _prior_value(prior, 'fs', xm)
+            ratio = float(max(1.0, fs_p / fc_p)) if fc_p and fs_p and fc_p > 0 else 1.0
+            ds_keep = float(np.clip(prior.delta_s, DELTA_S_BOUNDS[0], DELTA_S_BOUNDS[1]))
+            orders = {k: v for k, v in structure.orders.items() if k not in ('vs', 'fs')}
+            lo_ord = {k: (0 if k in ('vs', 'fs') else v)
+                      for k, v in structure.load_orders.items()}
+            s2 = dataclasses.replace(structure, orders=orders, load_orders=lo_ord,
+                                     delta_s=ds_keep)
+            start = th_vs[int(np.argmin(np.abs(np.log(vs_grid / v_keep))))]
+            # the kept pair must still agree with the data: slide v_s down until it does
+            for v_try in [v_keep] + [float(v) for v in vs_grid[::-1] if v < v_keep]:
+                s2 = dataclasses.replace(s2, fixed=dict(structure.fixed, vs=[v_try]))
+                lay2 = PhysicalLayout(s2, t_range, load_ref, ties={'fs': ratio}, band=band,
+                                      load_max=load_max)
+                th2 = _project(layout, lay2, start)
+                prob2 = PhysicalProblem(lay2, plateaus)
+                th2, e2, _ = _solve(prob2, th2)
+                if e2 <= best * factor or v_try <= vs_grid[0]:
+                    break
+            why = (f'the slowest plateau is {vmin:.3g} rad/s and the data fit as well with v_s '
+                   f'anywhere below {vhi / kappa:.3g} rad/s: no plateau near or below v_s')
+            advice = (f'record plateaus down to {vlo / kappa:.2g} rad/s or slower to identify '
+                      'the Stribeck dip')
+            kept['vs'] = {'value': v_try / kappa, 'source': 'structure file' if v_prior and abs(
+                v_try - v_prior) <= 1e-9 * v_try else 'structure file, moved into the range '
+                'the data allow', 'why': why, 'advice': advice}
+            kept['fs'] = {'value': f'{ratio:.3g} x fc', 'source': "the structure file's F_s / "
+                          'F_c ratio', 'why': why, 'advice': advice}
+            kept['delta_s'] = {'value': ds_keep, 'source': 'structure file', 'why': why,
+                               'advice': advice}
+            structure, layout, problem = s2, lay2, prob2
+            results = [(e2, th2)]
+        elif d_lo and d_hi:
+            ds_keep = float(np.clip(prior.delta_s, dlo, dhi))
+            structure = dataclasses.replace(structure, delta_s=ds_keep)
+            lay2 = PhysicalLayout(structure, t_range, load_ref, band=band, load_max=load_max)
+            prob2 = PhysicalProblem(lay2, plateaus)
+            results = [_solve(prob2, _project(layout, lay2, th))[:2][::-1] for _, th in results]
+            kept['delta_s'] = {'value': ds_keep, 'source': 'structure file',
+                               'why': f'the data fit as well with any delta_s in '
+                                      f'{ds_grid[0]:g}..{ds_grid[-1]:g}: the plateaus do not '
+                                      'resolve the shape of the Stribeck dip',
+                               'advice': 'record more plateaus between v_s / 3 and 3 v_s'}
+            layout, problem = lay2, prob2
+    else:
+        th0 = thetas.reshape(-1, p)[int(np.argmin(sse))]
+        t0 = time.perf_counter()
+        th, e, res = _solve(problem, th0)
+        steps.append({'step': 'joint', 'cost': e, 'nfev': int(res.nfev),
+                      'time_s': time.perf_counter() - t0})
+        results = [(e, th)]
+    results.sort(key=lambda r: r[0])
+    e_best = results[0][0]
+    close = [r for r in results if r[0] <= e_best * factor]
+    chosen = close[0]
+    if len(close) > 1 and n >= 2 * cv_folds:
+        scores = [_held_out(layout, plateaus, th, cv_folds) for _, th in close]
+        chosen = close[int(np.argmin(scores))]
+        for st, (e, _), sc in zip(starts, close, scores):
+            st['held_out_mse'] = sc
+    e, theta = chosen
+    theta = _feasible(layout, theta)
+    fs_terms = structure.orders.get('fs', -1) + 1 + structure.load_orders.get('fs', 0)
+    if 'fs' in structure.orders and 'fs' not in layout.ties and fs_terms > 1 and n > p + 2:
+        # does the data carry F_s's own temperature and load dependence, or only a ratio?
+        e, theta, layout, problem, structure = _try_ratio(
+            e, theta, layout, problem, structure, plateaus, t_range, load_ref, band, load_max,
+            kept, fs_terms, xm)
+    if progress:
+        progress(f'  {len(results)} start(s) from a grid of {sse.size} (v_s, delta_v, delta_s) '
+                 f'points; RMS {math.sqrt(e / max(n, 1)):.4f} Nm')
+    if any(k == 'scalar' for _, k, _ in layout.blocks):
+        sl = [s for _, k, s in layout.blocks if k == 'scalar'][0]
+        structure = dataclasses.replace(structure, delta_s=float(theta[sl][0]))
+    fs_ratio = None
+    if 'fs' in layout.ties:                       # the tie, as the values it gives
+        fs_ratio = layout.ties['fs']
+        if fs_ratio == 'free':
+            fs_ratio = float(theta[[s_ for n_, _, s_ in layout.blocks if n_ == 'fs_ratio'][0]][0])
+        fc = layout.coefficients(theta)['fc']
+        structure = dataclasses.replace(structure, fixed=dict(
+            structure.fixed, fs=[float(fs_ratio * c) for c in fc]))
+    r = problem.data_residuals(theta)[0]
+    dof = max(n - layout.size, 1)
+    s2 = float(r @ r) / dof
+    jac = problem.data_jacobian(theta, np.ones(layout.size, dtype=bool))
+    cov, method = _covariance(jac, s2, problem, layout, plateaus, theta)
+    # few plateaus per coefficient: +-2 standard errors should still cover 95 %, so the
+    # covariance carries the Student-t factor of the residual degrees of freedom
+    from scipy.stats import t as t_dist
+    factor_t = float(t_dist.ppf(0.975, dof) / 1.959964)
+    cov = cov * factor_t ** 2
+    method['student_t_factor'] = factor_t
+    lo_b, hi_b = layout.bounds()
+    with np.errstate(invalid='ignore'):
+        on = ((theta - lo_b <= 1e-6 * np.maximum(np.abs(lo_b), 1e-9))
+              | (hi_b - theta <= 1e-6 * np.maximum(np.abs(hi_b), 1e-9)))
+    at_bound = [name for name, kind, sl in layout.blocks if kind != 'load' and on[sl].any()]
+    return PhysicalFit(structure=structure, layout=layout, theta=theta, problem=problem,
+                       cov=cov, s2=s2, cov_method=method, residuals=r, kept=kept,
+                       intervals=intervals, starts=starts, steps=steps, nfev=problem.nfev,
+                       fs_ratio=fs_ratio, at_bound=at_bound,
+                       time_s=time.perf_counter() - t_start)
+
+
+def _feasible(layout, theta):
+    """
+    Lift what the stiff penalties left a hair below physics (F_c, F_v >= 0, F_s >= F_c).
+
+    A constant added to every node value of a temperature polynomial adds it to the
+    polynomial; the lift is the largest violation over the checked temperatures and
+    loads (nanonewton-metres to micronewton-metres after a converged fit).
+    """
+    theta = theta.copy()
+    blocks = {name: sl for name, kind, sl in layout.blocks if kind == 'temp'}
+    x, lo = layout.corners(n=21)
+    for name, ref in (('fc', None), ('fv', None), ('fs', 'fc')):
+        if name not in blocks:
+            continue
+        v = layout.physics(theta[None, :], x, lo)[0]
+        gap = v[_IDX[name]] - (v[_IDX[ref]] if ref else 0.0)
+        low = float(gap.min())
+        if low < 0.0:
+            theta[blocks[name]] += -low * (1.0 + 1e-9) + 1e-12
+    return theta
+
+
+def _try_ratio(e, theta, layout, problem, structure, plateaus, t_range, load_ref, band,
+               load_max, kept, fs_terms, xm):
+    """
+    F_s as a fitted ratio of F_c when the data do not carry F_s's own dependencies.
+
+    The nested model F_s = r F_c (one coefficient instead of ``fs_terms``) is kept when
+    an F-test at 95 % finds the full model no better.
+    """
+    import dataclasses
+    from scipy.stats import f as f_dist
+    n = len(plateaus)
+    orders = {k: v for k, v in structure.orders.items() if k != 'fs'}
+    lo_ord = {k: (0 if k == 'fs' else v) for k, v in structure.load_orders.items()}
+    s_t = dataclasses.replace(structure, orders=orders, load_orders=lo_ord)
+    free_ds = any(name == 'delta_s' for name, _, _ in layout.blocks)
+    lay_t = PhysicalLayout(s_t, t_range, load_ref, ties={'fs': 'free'}, free_delta_s=free_ds,
+                           band=band, load_max=load_max)
+    th0 = _project(layout, lay_t, theta)
+    par = layout.physics(theta[None, :], np.array([xm]), np.array([float(np.mean(plateaus.load))]))
+    fc, fs = float(par[0, _IDX['fc'], 0]), float(par[0, _IDX['fs'], 0])
+    th0[[s_ for n_, _, s_ in lay_t.blocks if n_ == 'fs_ratio'][0]] = np.clip(
+        fs / fc if fc > 0 else 1.0, 1.0 + 1e-6, FS_RATIO_MAX - 1e-6)
+    prob_t = PhysicalProblem(lay_t, plateaus)
+    th_t, e_t, _ = _solve(prob_t, th0)
+    q = fs_terms - 1
+    dof = max(n - layout.size, 1)
+    stat = max(e_t - e, 0.0) / q / max(e / dof, 1e-300)
+    if stat >= f_dist.ppf(0.95, q, dof):
+        return e, theta, layout, problem, structure
+    r = float(th_t[[s_ for n_, _, s_ in lay_t.blocks if n_ == 'fs_ratio'][0]][0])
+    kept['fs'] = {'value': f'{r:.4g} x fc', 'source': 'fitted as a ratio of F_c',
+                  'why': f"the data do not carry F_s's own temperature and load dependence "
+                         f'({fs_terms} coefficients fit no better than one ratio to F_c: F = '
+                         f'{stat:.2g}, 95 % level {f_dist.ppf(0.95, q, dof):.2g})',
+                  'advice': 'record the slowest plateaus at several temperatures and loads to '
+                            "identify F_s's own dependence"}
+    return e_t, th_t, lay_t, prob_t, s_t
+
+
+def _project(src, dst, theta):
+    """A parameter vector of layout ``src`` carried over to layout ``dst`` (blocks by name)."""
+    out = np.zeros(dst.size)
+    have = {name: sl for name, _, sl in src.blocks}
+    lo, hi = dst.bounds()
+    for name, _, sl in dst.blocks:
+        if name in have and (have[name].stop - have[name].start) == (sl.stop - sl.start):
+            out[sl] = theta[have[name]]
+    return np.clip(out, np.where(np.isfinite(lo), lo, -np.inf), np.where(np.isfinite(hi), hi,
+                                                                           np.inf))
+
+
+def _held_out(layout, plateaus, theta, folds):
+    """Held-out mean squared error of a layout started from ``theta`` (random folds)."""
+    from .folds import held_out_sse, random_folds
+    n = len(plateaus)
+
+    def fit_predict(fold, train, test):
+        sub = PhysicalProblem(layout, plateaus.select(train))
+        tt, _, _ = _solve(sub, theta, tol=1e-8, max_nfev=100)
+        held = plateaus.select(test)
+        return layout.torque(tt, held.qd, held.xi, held.load)[0] - held.tau_r
+
+    sse, count = held_out_sse(random_folds(n, folds, seed=0), n, fit_predict)
+    return float(np.sum(sse)) / max(int(count.sum()), 1)
+
+
+#: covariance from s^2 (J^T J)^-1 only while the column-scaled J^T J is conditioned better
+CONDITION_LIMIT = 1e8
+#: bootstrap resamples where it is not
+BOOTSTRAP = 30
+
+
+def _covariance(jac, s2, problem, layout, plateaus, theta):
+    """Covariance of theta: analytic when well conditioned, else a bootstrap over plateaus."""
+    norms = np.linalg.norm(jac, axis=0)
+    norms[norms == 0] = 1.0
+    js = jac / norms
+    sv = np.linalg.svd(js, compute_uv=False)
+    cond = float(sv[0] / sv[-1]) ** 2 if sv[-1] > 0 else np.inf
+    if cond < CONDITION_LIMIT:
+        cov = s2 * np.linalg.pinv(js.T @ js) / np.outer(norms, norms)
+        return cov, {'method': 'analytic', 'condition': cond}
+    rng = np.random.default_rng(0)
+    n = len(plateaus)
+    samples = []
+    for _ in range(BOOTSTRAP):
+        idx = rng.integers(0, n, n)
+        sub = PhysicalProblem(layout, plateaus.select(idx))
+        th, _, _ = _solve(sub, theta, tol=1e-8, max_nfev=100)
+        samples.append(th)
+    cov = np.cov(np.array(samples).T)
+    return np.atleast_2d(cov), {'method': 'bootstrap', 'condition': cond,
+                                'resamples': BOOTSTRAP}
