@@ -42,6 +42,7 @@ WEAK = 0.5
 #: speed bands of the held-out validation (log-spaced over the plateau speeds)
 SPEED_BANDS = 4
 
+
 _IDX = {p: i for i, p in enumerate(PARAMETERS)}
 
 

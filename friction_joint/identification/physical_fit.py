@@ -53,7 +53,7 @@ from .static_problem import CoefficientLayout, Problem
 from .static_structure import LOWER, UPPER
 from ..models.static import PackedStatic, PARAMETERS, StaticFriction
 
-__all__ = ['PENALTY', 'DELTA_S_BOUNDS', 'VS_BAND', 'FS_RATIO_MAX', 'fit_physical', 'PhysicalFit', 'PhysicalLayout', 'PhysicalProblem',
+__all__ = ['PENALTY', 'DELTA_S_BOUNDS', 'VS_BAND', 'FS_RATIO_MAX', 'PROFILE_SPAN', 'fit_physical', 'PhysicalFit', 'PhysicalLayout', 'PhysicalProblem',
            'vs_band', 'grid_profile', 'profile_interval', 'parameter_values']
 
 #: weight of a physics violation (Nm) relative to a plateau residual, times sqrt(n)
@@ -64,6 +64,8 @@ DELTA_S_BOUNDS = (0.4, 3.0)
 VS_BAND = (1.0 / 30.0, 1.0)
 #: F_s at most this multiple of F_c (break-away torque of gears: 1 to about 2 F_c)
 FS_RATIO_MAX = 4.0
+#: v_s is not pinned when its profile interval spans more than this factor
+PROFILE_SPAN = 3.0
 
 _IDX = {p: i for i, p in enumerate(PARAMETERS)}
 
@@ -244,8 +246,18 @@ def grid_profile(layout, plateaus, *, vs_grid, dv_grid, ds_grid):
     lin = _linear_mask(layout)
     idx = np.flatnonzero(lin)
     lo, hi = layout.bounds()
-    lo, hi = lo[idx], hi[idx]
     y = plateaus.tau_r.astype(float)
+    # starts within reason: no torque term beyond a few times the largest measured torque
+    # (else a dip far below the data trades a huge F_s against a huge negative load term)
+    cap = FS_RATIO_MAX * float(np.max(np.abs(y))) if len(y) else np.inf
+    for name, kind, sl in layout.blocks:
+        base = name[:-5] if kind == 'load' else name
+        if base in ('fc', 'fs'):
+            lo[sl] = np.maximum(lo[sl], -cap)
+            hi[sl] = np.minimum(hi[sl], cap)
+        elif kind == 'load':
+            lo[sl], hi[sl] = -cap, cap
+    lo, hi = lo[idx], hi[idx]
     shape = (len(vs_grid), len(dv_grid), len(ds_grid))
     sse = np.full(shape, np.inf)
     thetas = np.zeros(shape + (layout.size,))
@@ -494,9 +506,10 @@ def fit_physical(structure, plateaus, t_range, load_ref, *, prior, progress=None
         intervals['delta_s'] = {'low': dlo, 'high': dhi, 'band': [float(ds_grid[0]),
                                                                    float(ds_grid[-1])]}
         vmin = float(np.min(np.abs(plateaus.qd)))
-        if at_lo:
-            # the data do not see the Stribeck dip: keep v_s (moved into the interval) and
-            # F_s / F_c from the structure file
+        wide = vhi > PROFILE_SPAN * vlo
+        if at_lo or wide:
+            # the data do not see the Stribeck dip (or not its width): keep v_s (moved into
+            # the interval the data allow) and F_s / F_c from the structure file
             v_prior = _prior_value(prior, 'vs', xm)
             v_keep = float(np.clip(v_prior if v_prior and v_prior > 0 else vlo, vlo, vhi))
             fc_p, fs_p = _prior_value(prior, 'fc', xm), _prior_value(prior, 'fs', xm)
@@ -508,25 +521,54 @@ def fit_physical(structure, plateaus, t_range, load_ref, *, prior, progress=None
             s2 = dataclasses.replace(structure, orders=orders, load_orders=lo_ord,
                                      delta_s=ds_keep)
             start = th_vs[int(np.argmin(np.abs(np.log(vs_grid / v_keep))))]
-            # the kept pair must still agree with the data: slide v_s down until it does
-            for v_try in [v_keep] + [float(v) for v in vs_grid[::-1] if v < v_keep]:
-                s2 = dataclasses.replace(s2, fixed=dict(structure.fixed, vs=[v_try]))
-                lay2 = PhysicalLayout(s2, t_range, load_ref, ties={'fs': ratio}, band=band,
+            # the kept values must still agree with the data: the structure's ratio, else a
+            # fitted ratio, at the kept v_s; else slide v_s down until they do
+            tries = [(v_keep, ratio), (v_keep, 'free')]
+            tries += [(float(v), ratio) for v in vs_grid[::-1] if v < v_keep]
+            done = []
+            for v_try, tie in tries:
+                s3 = dataclasses.replace(s2, fixed=dict(structure.fixed, vs=[v_try]))
+                lay2 = PhysicalLayout(s3, t_range, load_ref, ties={'fs': tie}, band=band,
                                       load_max=load_max)
                 th2 = _project(layout, lay2, start)
+                if tie == 'free':
+                    th2[[s_ for n_, _, s_ in lay2.blocks if n_ == 'fs_ratio'][0]] = ratio
                 prob2 = PhysicalProblem(lay2, plateaus)
                 th2, e2, _ = _solve(prob2, th2)
-                if e2 <= best * factor or v_try <= vs_grid[0]:
+                done.append((e2, v_try, tie, s3, lay2, prob2, th2))
+                if e2 <= best * factor:
                     break
-            why = (f'the slowest plateau is {vmin:.3g} rad/s and the data fit as well with v_s '
-                   f'anywhere below {vhi / kappa:.3g} rad/s: no plateau near or below v_s')
-            advice = (f'record plateaus down to {vlo / kappa:.2g} rad/s or slower to identify '
-                      'the Stribeck dip')
-            kept['vs'] = {'value': v_try / kappa, 'source': 'structure file' if v_prior and abs(
-                v_try - v_prior) <= 1e-9 * v_try else 'structure file, moved into the range '
-                'the data allow', 'why': why, 'advice': advice}
-            kept['fs'] = {'value': f'{ratio:.3g} x fc', 'source': "the structure file's F_s / "
-                          'F_c ratio', 'why': why, 'advice': advice}
+            else:                                   # none agrees: the closest of them
+                done.sort(key=lambda d: d[0])
+            e2, v_try, tie, s2, lay2, prob2, th2 = done[-1] if done[-1][0] <= best * factor \
+                else done[0]
+            if at_lo:
+                why = (f'the slowest plateau is {vmin:.3g} rad/s and the data fit as well with '
+                       f'v_s anywhere below {vhi / kappa:.3g} rad/s: no plateau near or below '
+                       'v_s')
+            else:
+                why = (f'the data fit as well with v_s anywhere in {vlo / kappa:.3g}..'
+                       f'{vhi / kappa:.3g} rad/s (the slowest plateau is {vmin:.3g} rad/s): the '
+                       "dip's width trades against its depth F_s - F_c and its shape delta_s")
+            advice = (f'record plateaus down to {vlo / kappa:.2g} rad/s or slower, several '
+                      'around the dip, to identify it')
+            if v_prior and abs(v_try - v_prior) <= 1e-9 * v_try:
+                source = 'structure file'
+            elif vlo <= v_try <= vhi:
+                source = 'structure file, moved into the range the data allow'
+            else:
+                source = ('below the range the data allow: the structure file\'s F_s / F_c '
+                          'does not fit the data with a wider dip')
+            kept['vs'] = {'value': v_try / kappa, 'source': source, 'why': why,
+                          'advice': advice}
+            if tie == 'free':
+                r = float(th2[[s_ for n_, _, s_ in lay2.blocks if n_ == 'fs_ratio'][0]][0])
+                kept['fs'] = {'value': f'{r:.4g} x fc', 'source': 'fitted as a ratio of F_c '
+                              "at the kept v_s (the structure file's ratio disagrees with the "
+                              'data)', 'why': why, 'advice': advice}
+            else:
+                kept['fs'] = {'value': f'{ratio:.3g} x fc', 'source': "the structure file's "
+                              'F_s / F_c ratio', 'why': why, 'advice': advice}
             kept['delta_s'] = {'value': ds_keep, 'source': 'structure file', 'why': why,
                                'advice': advice}
             structure, layout, problem = s2, lay2, prob2

@@ -330,16 +330,22 @@ def _resolution(q):
     return float(np.quantile(d, 0.05))
 
 
-def _stick_slip(t, q, tick, parts=8):
+def _stick_slip(t, q, tick, parts=None):
     """
     Say whether a constant-speed window stuck and slipped; None when it slid steadily.
 
-    The window is cut into ``parts`` sub-windows; sliding steadily, each travels about
-    the same distance (within a quarter of it plus two position steps); sticking and
+    The window is cut into ``parts`` sub-windows (default: as many as leave each about
+    eight position steps of travel, 8 to 64); sliding steadily, each travels about the
+    same distance (within a quarter of it plus two position steps); sticking and
     slipping, some barely move while others jump.  Returns ``{'speed', 'stuck'}``.
     """
     n = len(q)
+    if parts is None:
+        travel_steps = abs(q[-1] - q[0]) / tick if tick > 0 else np.inf
+        parts = int(np.clip(travel_steps / 8.0, 8, 64))
     if n < 4 * parts:
+        parts = n // 4
+    if parts < 4:
         return None
     edges = np.linspace(0, n - 1, parts + 1).astype(int)
     travel = np.diff(q[edges])
@@ -354,6 +360,45 @@ def _stick_slip(t, q, tick, parts=8):
     if stuck == 0.0:
         return None
     return {'speed': float(abs(total) / (t[-1] - t[0])), 'stuck': stuck}
+
+
+def _stick_slip_scan(t, q, tick, segs, opt):
+    """
+    Windows outside the plateaus where the joint moved one way, sticking and slipping.
+
+    Windows of four times the shortest plateau; a window counts when the position
+    travels at least ``v_floor`` on average, one way, and :func:`_stick_slip` finds it
+    stuck and slipped; neighbouring windows of one sign merge.  Yields ``(i0, i1, info)``.
+    """
+    n = len(t)
+    if n < 10:
+        return
+    dt = float(np.median(np.diff(t)))
+    m = max(int(round(4.0 * opt['min_duration'] / dt)), 40)
+    used = np.zeros(n, dtype=bool)
+    for a, b in segs:
+        used[a:b] = True
+    found = []
+    for a in range(0, n - m + 1, m):
+        b = a + m
+        if used[a:b].any():
+            continue
+        travel = q[b - 1] - q[a]
+        v = travel / (t[b - 1] - t[a])
+        step = np.diff(q[a:b])
+        if abs(v) < opt['v_floor'] or np.any(np.sign(step) == -np.sign(travel)) and \
+                np.sum(np.abs(step[np.sign(step) == -np.sign(travel)])) > 0.1 * abs(travel):
+            continue
+        info = _stick_slip(t[a:b], q[a:b], tick)
+        if info is None:
+            continue
+        if found and found[-1][1] == a and np.sign(found[-1][3]) == np.sign(travel):
+            i0, _, stuck, tr = found[-1]
+            found[-1] = (i0, b, max(stuck, info['stuck']), tr + travel)
+        else:
+            found.append((a, b, info['stuck'], travel))
+    for i0, i1, stuck, travel in found:
+        yield i0, i1, {'speed': float(abs(travel) / (t[i1 - 1] - t[i0])), 'stuck': stuck}
 
 
 def stick_slip_summary(plateaus: Plateaus) -> str | None:
@@ -529,7 +574,11 @@ def plateaus_from_arrays(t: ArrayLike, q: ArrayLike, qd: ArrayLike, effort: Arra
         dt = float(np.median(np.diff(tt)))
         tl = np.abs(_moving_average(te, max(1, int(round(opt['load_smooth'] / dt)))))
         tick = _resolution(qq)
-        for i0, i1 in _segments(tt, vv, tau_r, opt):
+        segs = _segments(tt, vv, tau_r, opt)
+        for w0, w1, slip in _stick_slip_scan(tt, qq, tick, segs, opt):
+            stick.append(dict(slip, source=0, t0=float(tt[w0]) + t_first,
+                              t1=float(tt[w1 - 1]) + t_first))
+        for i0, i1 in segs:
             sl = np.arange(i0, i1)[ok[i0:i1]]
             if len(sl) < opt['min_samples']:
                 continue
