@@ -136,21 +136,28 @@ def evaluate(seed, step3):
     out['speed_range'] = [float(np.abs(p.qd).min()), float(np.abs(p.qd).max())]
     out['error'] = curve_error(run.gear, case.truth, p)
     rep = ident.report()
-    flags = rep.get('identifiability', {}).get('not_identified', {})
+    idf = rep.get('identifiability', {})
+    flags = dict(idf.get('not_identified', {}), **idf.get('weak', {}))
     out['flagged'] = sorted(flags)
-    out['curve_identified'] = rep.get('identifiability', {}).get('curve_identified', True)
+    out['curve_identified'] = idf.get('curve_identified', True)
     noise = float(np.median(p.tau_r_se)) if len(p) else 0.0
     visible = stribeck_visible(case.truth, p, max(noise, 1e-3 * float(np.mean(np.abs(p.tau_r)))))
     right = []
-    for name in [f.split()[0] for f in out['flagged']]:
+    for flag in out['flagged']:
+        name = flag.split()[0]
+        if name == 'fs_ratio':
+            name = 'fs'
         if name in ('vs', 'fs', 'delta_s'):
             right.append(not visible or _rel_err(run.gear, case.truth, name) > 0.2)
+        elif 'temperature' in flag:
+            right.append(_change_err(run.gear, case.truth, name, p) > 0.3)
         else:
             right.append(_rel_err(run.gear, case.truth, name) > 0.2)
     out['flags_right'] = right
+    said = {f.split()[0] for f in flags}
     covered, absurd = [], []
     for name, vals in ident.coefficients.items():
-        if name in flags:
+        if name in said or name == 'fs_ratio':
             continue
         se = ident.standard_errors.get(name, [])
         tv = truth_value(case.truth, name)
@@ -158,11 +165,9 @@ def evaluate(seed, step3):
             w = tv[i] if i < len(tv) else 0.0
             if e is not None and np.isfinite(e):
                 covered.append(bool(abs(v - w) <= 2.0 * e))
-        if name in ('fc', 'fs', 'fv', 'vs', 'delta_v', 'delta_s') and _rel_err(
-                run.gear, case.truth, name) > 1.0:
+    for name in ('fc', 'fs', 'fv', 'vs', 'delta_v', 'delta_s'):
+        if name not in said and _rel_err(run.gear, case.truth, name) > 1.0:
             absurd.append(name)
-    if 'delta_s' in ident.coefficients or 'delta_s' in flags:
-        pass
     out['covered'] = covered
     out['absurd'] = absurd
     if step3 and run.presliding.get('status') == 'done':
@@ -180,6 +185,15 @@ def evaluate(seed, step3):
                 errs['c'] = r['params']['c'] / tf.gms.c - 1.0
         out['step3'] = errs
     return out
+
+
+def _change_err(gear, truth, name, plateaus):
+    """Error of a parameter's change over the recorded temperatures, relative to the truth's."""
+    x = np.array([plateaus.xi.min(), plateaus.xi.max()])
+    a = StaticFriction(gear.friction).parameters(x)[name]
+    b = StaticFriction(truth.friction).parameters(x)[name]
+    dt = float(b[1] - b[0])
+    return abs(float(a[1] - a[0]) - dt) / max(abs(dt), 1e-12)
 
 
 def _rel_err(gear, truth, name):

@@ -35,12 +35,14 @@ import numpy as np
 from .physical_fit import _solve, PhysicalProblem
 from ..models.static import PARAMETERS
 
-__all__ = ['WEAK', 'SPEED_BANDS', 'identifiability', 'held_out_validation']
+__all__ = ['WEAK', 'SPEED_BANDS', 'HELD_OUT_TOLERANCE', 'identifiability', 'held_out_validation']
 
 #: a fitted parameter whose standard error exceeds this fraction of its value is weakly pinned
 WEAK = 0.5
 #: speed bands of the held-out validation (log-spaced over the plateau speeds)
 SPEED_BANDS = 4
+#: a band whose held-out worst error exceeds this fraction of the friction torque is not pinned
+HELD_OUT_TOLERANCE = 0.02
 
 
 _IDX = {p: i for i, p in enumerate(PARAMETERS)}
@@ -73,7 +75,7 @@ def _change_se(fit, name, xa, xb, load):
     return c0, math.sqrt(max(float(g @ fit.cov @ g), 0.0))
 
 
-def identifiability(ident, fit, notes):
+def identifiability(ident, fit, notes, *, validation=None):
     """
     Say per parameter whether and how well the data pin it.
 
@@ -86,6 +88,10 @@ def identifiability(ident, fit, notes):
     notes : dict
         What :func:`~friction_joint.identification.static_structure.carry_structure`
         lowered.
+    validation : dict, optional
+        :func:`held_out_validation`: a speed band whose plateaus a fit without them
+        misses by more than :data:`HELD_OUT_TOLERANCE` of the friction torque (and three
+        of their standard errors) is where the curve is not pinned.
 
     Returns
     -------
@@ -129,8 +135,8 @@ def identifiability(ident, fit, notes):
         params.setdefault(name, {})['temperature_change'] = entry
         if not entry['resolved']:
             weak[f'{name} temperature dependence'] = entry
-    if any(k == 'scalar' for _, k, _ in fit.layout.blocks):
-        sl = [s for _, k, s in fit.layout.blocks if k == 'scalar'][0]
+    if any(name == 'delta_s' for name, _, _ in fit.layout.blocks):
+        sl = [s for name, _, s in fit.layout.blocks if name == 'delta_s'][0]
         v = float(fit.theta[sl][0])
         se = float(math.sqrt(max(fit.cov[sl, sl][0, 0], 0.0)))
         params['delta_s'] = {'value': v, 'se': se, 'rel_se': se / v, 'pinned': se / v <= WEAK}
@@ -140,7 +146,7 @@ def identifiability(ident, fit, notes):
     for name, m in missing.items():
         lines.append(f'{name} not identified: {m["why"]}; kept: {m["kept"]}; {m["advice"]}')
     for name, w in weak.items():
-        if w.get('bound'):
+        if w.get('bound') or w.get('held_out'):
             continue
         if 'change' in w:
             lines.append(f'{name} not resolved: the change from {w["from_xi"]:.1f} to '
@@ -160,6 +166,14 @@ def identifiability(ident, fit, notes):
                      f'{fit.layout.band[1] / kappa if fit.layout.band else 0:.3g} rad/s, from a '
                      'thirtieth of the slowest plateau to the fastest; delta_s 0.4..3; delta_v '
                      '0.05..3): the data do not pin it')
+    for b in (validation or {}).get('bands', []):
+        if b['worst_rel'] > HELD_OUT_TOLERANCE and b['worst'] > 3.0 * b.get('se', 0.0):
+            key = f'curve at {b["v_low"]:.3g}..{b["v_high"]:.3g} rad/s'
+            weak[key] = dict(b, held_out=True)
+            lines.append(f'{key} not pinned: a fit without those plateaus misses them by up to '
+                         f'{100 * b["worst_rel"]:.2g} % of the friction torque '
+                         f'({b["worst"]:.3g} Nm; held-out RMS {100 * b["rel_rms"]:.2g} %): '
+                         'record more plateaus in that speed range')
     speed = np.abs(p.qd)
     where = (f'|qd| {speed.min():.3g}..{speed.max():.3g} rad/s, xi {lo_t:.1f}..{hi_t:.1f} degC, '
              f'tau_L {p.load.min():.2f}..{p.load.max():.2f} Nm')
@@ -222,6 +236,7 @@ def held_out_validation(fit, plateaus, t_range, load_ref, *, blocks=5):
         level = np.abs(plateaus.tau_r[m])
         rel = np.abs(err[m]) / np.maximum(level, 1e-12)
         bands.append({'v_low': float(a), 'v_high': float(b), 'plateaus': int(m.sum()),
+                      'se': float(np.median(plateaus.tau_r_se[m])),
                       'rms': float(np.sqrt(np.mean(err[m] ** 2))),
                       'worst': float(np.max(np.abs(err[m]))),
                       'rel_rms': float(np.sqrt(np.mean(rel ** 2))),

@@ -612,8 +612,8 @@ def fit_physical(structure, plateaus, t_range, load_ref, *, prior, progress=None
     if progress:
         progress(f'  {len(results)} start(s) from a grid of {sse.size} (v_s, delta_v, delta_s) '
                  f'points; RMS {math.sqrt(e / max(n, 1)):.4f} Nm')
-    if any(k == 'scalar' for _, k, _ in layout.blocks):
-        sl = [s for _, k, s in layout.blocks if k == 'scalar'][0]
+    if any(name == 'delta_s' for name, _, _ in layout.blocks):
+        sl = [s for name, _, s in layout.blocks if name == 'delta_s'][0]
         structure = dataclasses.replace(structure, delta_s=float(theta[sl][0]))
     fs_ratio = None
     if 'fs' in layout.ties:                       # the tie, as the values it gives

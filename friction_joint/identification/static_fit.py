@@ -350,7 +350,7 @@ class StaticIdentifier:
         s = self._structure(plateaus)
         self.info['time_order_selection_s'] = time.perf_counter() - t0
         s, notes = carry_structure(plateaus, s, prior=self.structure_gear.friction)
-        check_excitation(plateaus, s, stribeck=False)
+        check_excitation(plateaus, s, stribeck=False, temperature=False, load=False)
         self.plateaus = plateaus
         t_range, load_ref = temperature_range(plateaus), load_reference(plateaus)
         if self.progress:
@@ -386,10 +386,10 @@ class StaticIdentifier:
         self.residuals = fit.residuals
         self.rms = float(np.sqrt(np.mean(fit.residuals ** 2)))
         self.gear = self._gear(coefs, t_range, fit)
-        self.identifiability = identifiability(self, fit, notes)
         t0 = time.perf_counter()
         self.validation = held_out_validation(fit, plateaus, t_range, load_ref)
         self.info['time_validation_s'] = time.perf_counter() - t0
+        self.identifiability = identifiability(self, fit, notes, validation=self.validation)
         t0 = time.perf_counter()
         self.group_fits = self._group_fits(plateaus, load_ref)
         self.info['time_group_fits_s'] = time.perf_counter() - t0

@@ -269,7 +269,8 @@ def load_levels(plateaus: Plateaus) -> int:
 
 
 def check_excitation(plateaus: Plateaus, structure: StaticStructure, *,
-                     stribeck: bool = True) -> None:
+                     stribeck: bool = True, temperature: bool = True,
+                     load: bool = True) -> None:
     """
     Raise :class:`ExcitationError` if the plateaus cannot determine the structure's coefficients.
 
@@ -284,10 +285,13 @@ def check_excitation(plateaus: Plateaus, structure: StaticStructure, *,
         The data.
     structure : StaticStructure
         The model structure.
-    stribeck : bool
-        Check the low-speed plateaus of the Stribeck parameters (the identification
-        itself decides from the residual's profile over v_s instead, and keeps them
-        when the data do not pin them).
+    stribeck, temperature, load : bool
+        Check the low-speed plateaus of the Stribeck parameters, the temperature groups
+        of the temperature orders (:data:`MIN_GROUP` plateaus within :data:`GROUP_WIDTH`
+        degC per group: the fleet's rule for a day's recording) and the load spread of
+        the load orders.  ``identify`` turns them off: it lowers what the data cannot
+        carry and says so (:func:`carry_structure`, scaled with the data) and decides the
+        Stribeck parameters from the residual's profile over v_s.
 
     """
     src = ', '.join(plateaus.sources) or 'the data'
@@ -306,15 +310,17 @@ def check_excitation(plateaus: Plateaus, structure: StaticStructure, *,
             f'record plateaus in both directions (also {miss} velocities); with one direction '
             'friction cannot be told from a torque offset or a gravity error')
     lo, hi = float(plateaus.xi.min()), float(plateaus.xi.max())
-    levels, width = temperature_levels(plateaus)
+    _, groups = group_table(plateaus)
+    temps = ', '.join(f'{x:.1f}' for x, _ in groups) or 'none'
     for p, order in structure.orders.items():
-        if order >= 1 and levels < order + 1:
-            coeffs = ', '.join(f'c{i}' for i in range(max(1, levels)))
+        if temperature and order >= 1 and len(groups) < order + 1:
+            coeffs = ', '.join(f'c{i}' for i in range(max(1, len(groups))))
             raise ExcitationError(
                 f'the recording covers xi = {lo:.1f}..{hi:.1f} degC: a temperature polynomial '
                 f'of order {order} for {p} needs plateaus at >= {order + 1} distinct '
-                f'temperatures (found {levels}, temperatures within {width:.2g} degC counted '
-                f'once); record at more temperatures or use {p}: [{coeffs}]')
+                f'temperatures (found {len(groups)}: {temps} degC, groups of >= {MIN_GROUP} '
+                f'plateaus {GROUP_WIDTH:g} degC wide); record at more temperatures or use '
+                f'{p}: [{coeffs}]')
     speed = np.abs(plateaus.qd)
     vmin, vmax = float(speed.min()), float(speed.max())
     nspeeds = distinct_levels(speed)
@@ -333,16 +339,17 @@ def check_excitation(plateaus: Plateaus, structure: StaticStructure, *,
             f'plateau speeds span {vmin:.3g}..{vmax:.3g} rad/s ({nspeeds} distinct): the '
             'viscous exponent delta_v needs plateaus over at least a decade of speed '
             '(>= 4 distinct speeds); record a wider velocity range or fix delta_v')
-    for p in structure.load_params:
+    for p in structure.load_params if load else ():
         m = structure.load_orders[p]
         loads = plateaus.load
-        levels = load_levels(plateaus)
-        if levels < m + 1:
+        span = float(loads.max() - loads.min())
+        levels = distinct_levels(loads, rel=0.0, absolute=max(0.5, 0.1 * span))
+        if span < 1.0 or levels < m + 1:
             raise ExcitationError(
                 f"the plateaus' loads span tau_L = {loads.min():.2f}..{loads.max():.2f} Nm "
                 f'({levels} distinct levels): the load polynomial of order {m} for {p}_load '
-                f'needs plateaus at >= {m + 1} clearly different loads (e.g. the lever at '
-                'different angles); record with varying load or use '
+                f'needs plateaus at >= {m + 1} clearly different loads (at least 1 Nm apart, '
+                'e.g. the lever at different angles); record with varying load or use '
                 f'{p}_load: []')
     npar = sum(o + 1 for o in structure.orders.values()) + sum(structure.load_orders.values())
     if n < npar + 2:
