@@ -37,7 +37,7 @@ from ..diagnosis import diagnose, Diagnosis, EFFECTS
 from ..diagnosis.findings import candidate_summary
 from ..diagnosis.report import figures, markdown
 from ..gear import gear_from_dict, load_gear
-from ..output import OutputSet
+from ..output import OutputSet, recording_inputs
 from ..report_html import markdown_to_html
 from ..results import json_bytes
 
@@ -116,7 +116,7 @@ def run_diagnose(paths: Sequence[str | os.PathLike], model_path: str | os.PathLi
 
     """
     start = time.perf_counter()
-    inputs = [('--model', model_path)] + [('recording', p) for p in paths]
+    inputs = [('--model', model_path)] + recording_inputs(paths)
     with OutputSet(force=force, inputs=inputs) as outputs:
         outputs.add_directory(out)
         outputs.check()

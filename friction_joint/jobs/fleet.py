@@ -17,7 +17,9 @@ The ``fleet`` command's work: manifest -> per-recording tasks on Dask -> verdict
 :func:`run_fleet` reads and checks the manifest and the model gear file,
 checks the output directory (one output set,
 :class:`~friction_joint.output.OutputSet`: an existing DIR is refused unless
-``force``), then
+``force``; a DIR that is, contains or lies inside the manifest, the model or
+any recording it lists -- :func:`~friction_joint.output.recording_inputs` --
+always), then
 
 1. hashes every recording (:func:`content_hash`: SHA-256 over its bytes; a
    rosbag2 directory: over its files' names and bytes) and looks the result up
@@ -54,7 +56,7 @@ from ..fleet.recording import analyse_recording, FIT_VERSION
 from ..fleet.report import fleet_files
 from ..gear import parse_gear
 from ..inputs import check_input_dir, open_input, read_input
-from ..output import json_bytes, OutputSet
+from ..output import json_bytes, OutputSet, recording_inputs
 
 __all__ = ['run_fleet', 'content_hash', 'CACHE_NAME']
 
@@ -164,7 +166,10 @@ def run_fleet(manifest: str | os.PathLike, model: str | os.PathLike, out: str | 
         raise GearConfigError(f'{model}: not UTF-8 text') from None
     gear = parse_gear(gear_text, os.fspath(model))
     model_hash = hashlib.sha256(raw).hexdigest()
-    with OutputSet(force=force, inputs=[('--manifest', manifest), ('--model', model)]) as outputs:
+    inputs = [('--manifest', manifest), ('--model', model)]
+    for e in entries:                   # never written over, into or above: even with force
+        inputs += recording_inputs([e.path], label=f'recording of {manifest} row {e.row}')
+    with OutputSet(force=force, inputs=inputs) as outputs:
         outputs.add_directory(out, label='--out')
         outputs.check()
         cache = _read_cache(out) if force else {}
