@@ -28,7 +28,6 @@ from __future__ import annotations
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 import os
-import tempfile
 import time
 
 import yaml
@@ -52,12 +51,8 @@ def _gear_yaml(gear, header):
 
 
 def _html(md, figs):
-    """Return ``report.md`` as one self-contained HTML page, the figures embedded."""
-    with tempfile.TemporaryDirectory(prefix='friction_joint-report-') as tmp:
-        for name, data in figs:
-            with open(os.path.join(tmp, name), 'wb') as fh:
-                fh.write(data)
-        return markdown_to_html(md, base_dir=tmp, title='friction_joint diagnose report')
+    """Return ``report.md`` as one self-contained HTML page, the figures embedded (only they)."""
+    return markdown_to_html(md, images=dict(figs), title='friction_joint diagnose report')
 
 
 @dataclass(frozen=True)

@@ -225,7 +225,7 @@ def run_fleet(manifest: str | os.PathLike, model: str | os.PathLike, out: str | 
         info = {'manifest': os.fspath(manifest), 'model': os.fspath(model),
                 'computed': len(todo), 'cached': n_cached, 'workers': nworkers,
                 'scheduler': where}
-        files = fleet_files(assessment, info, os.path.dirname(os.path.abspath(manifest)))
+        files = fleet_files(assessment, info)
         files.append((CACHE_NAME, json_bytes({'version': FIT_VERSION, 'entries': new_cache})))
         t_assess = time.perf_counter() - t0
         outputs.write_directory(out, files)

