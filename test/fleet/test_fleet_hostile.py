@@ -31,15 +31,23 @@ poisoned ``cache.json``:
 import base64
 import csv
 import html.parser
+import json
+import math
 import os
 import re
 import shutil
+import warnings
 
 from friction_joint.cli import main
+from friction_joint.exceptions import CacheWarning, InputFileError
 from friction_joint.experiments.fleet import simulate_fleet
+from friction_joint.fleet import local_cluster
+from friction_joint.fleet.recording import FIT_VERSION, result_problem
 from friction_joint.fleet.report import csv_cell, FORMULA_START
-from friction_joint.report_html import markdown_text, markdown_to_html
-from hypothesis import given, settings, strategies as st
+from friction_joint.gear import load_gear
+from friction_joint.jobs.fleet import _read_cache, CACHE_NAME
+from friction_joint.report_html import markdown_text, markdown_to_html, write_html_report
+from hypothesis import given, HealthCheck, settings, strategies as st
 import pytest
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
@@ -239,3 +247,203 @@ def test_fuzz_csv_cells_never_start_a_formula(text):
     cell = csv_cell(text)
     assert not cell.startswith(FORMULA_START)
     assert cell in (text, "'" + text)
+
+
+# ------------------------------------------------------------ poisoned cache ---
+
+@pytest.fixture(scope='module')
+def scheduler():
+    """Start one worker for the module's recomputations (no cluster start per run)."""
+    with local_cluster(1) as (address, _):
+        yield address
+
+
+def _poisoned(monitored, tmp_path, poison):
+    """Copy DIR; apply ``poison(entry)`` to the cache entry of the manifest's first row."""
+    out = _site(monitored, tmp_path)
+    path = out / CACHE_NAME
+    doc = json.loads(path.read_text(encoding='utf-8'))
+    first = str(monitored['recordings'][0])
+    key = next(k for k, e in doc['entries'].items() if e['path'] == first)
+    doc['entries'][key] = poison(dict(doc['entries'][key]))
+    path.write_text(json.dumps(doc), encoding='utf-8')       # NaN, Infinity as Python writes
+    return out
+
+
+def _rerun(monitored, out, scheduler, capsys):
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter('always')
+        rc = main(['fleet', '--manifest', str(monitored['root'] / 'fleet' / 'manifest.csv'),
+                   '--model', MODEL, '--out', str(out), '--force', '--scheduler', scheduler,
+                   '--quiet'])
+    captured = capsys.readouterr()
+    assert rc == 0, captured.err
+    assert 'Traceback' not in captured.err
+    mine = [w for w in caught if issubclass(w.category, CacheWarning)]
+    assert len(mine) == 1, [str(w.message) for w in caught]
+    message = str(mine[0].message)
+    assert '\n' not in message and CACHE_NAME in message
+    gear = load_gear(MODEL)
+    doc = json.loads((out / CACHE_NAME).read_text(encoding='utf-8'))
+    assert len(doc['entries']) == 4
+    assert all(result_problem(e, gear) is None for e in doc['entries'].values())
+    return captured.out, message
+
+
+def _set(**changes):
+    return lambda e: dict(e, **changes)
+
+
+def _negative_variance(cov):
+    return [[-abs(x) - 1 if i == j else x for j, x in enumerate(row)]
+            for i, row in enumerate(cov)]
+
+
+#: poisons of one cache entry: (id, poison, words of the warning)
+ENTRY_POISONS = [
+    ('string-for-number', _set(speed='fast'), 'speed'),
+    ('string-digits', _set(rms='0.1'), 'rms'),
+    ('bool-for-count', _set(plateaus=True), 'plateaus'),
+    ('unknown-term', _set(terms=[['fc', 0], ['fv', 0], ['zz', 3]]), 'zz'),
+    ('term-index-out-of-model', _set(terms=[['fc', 0], ['fv', 0], ['fc', 9]]), 'term'),
+    ('term-twice', _set(terms=[['fc', 0], ['fc', 0]]), 'twice'),
+    ('cov-wrong-shape', _set(cov=[[1.0]]), 'cov'),
+    ('cov-ragged', lambda e: dict(e, cov=[row[:1] for row in e['cov']]), 'cov'),
+    ('cov-negative-variance', lambda e: dict(e, cov=_negative_variance(e['cov'])),
+     'covariance'),
+    ('delta-short', lambda e: dict(e, delta=e['delta'][:-1]), 'delta'),
+    ('nan-delta', lambda e: dict(e, delta=[math.nan] * len(e['delta'])), 'delta'),
+    ('nan-rms', _set(rms=math.nan), 'rms'),
+    ('inf-xi', _set(xi_mean=math.inf), 'xi_mean'),
+    ('huge-speed', _set(speed=1e300), 'speed'),
+    ('range-reversed', _set(xi_range=[40.0, 10.0]), 'xi_range'),
+    ('not-an-object', lambda e: [1, 2, 3], 'not an object'),
+    ('unknown-key', _set(extra=1), 'unknown key'),
+    ('missing-key', lambda e: {k: v for k, v in e.items() if k != 'cov'}, 'lacks cov'),
+    ('bad-status', _set(status='<b>ok</b>'), 'status'),
+    ('multi-line-reason', _set(reason='a\n<script>alert(1)</script>'), 'reason'),
+]
+
+
+@pytest.mark.parametrize('poison, words', [p[1:] for p in ENTRY_POISONS],
+                         ids=[p[0] for p in ENTRY_POISONS])
+def test_poisoned_cache_entry_is_recomputed_with_one_warning(monitored, tmp_path, capsys,
+                                                             scheduler, poison, words):
+    out = _poisoned(monitored, tmp_path, poison)
+    printed, message = _rerun(monitored, out, scheduler, capsys)
+    assert '1 computed, 3 from the cache' in printed, printed
+    assert 'row 2' in message and words in message and '1 cached result refused' in message
+
+
+@pytest.mark.parametrize('content', [
+    b'not json', b'{"entries": [1, 2]}', b'[' * 100000, b'{"entries": {"a": 1e999}}x',
+    b'\xff\xfe', b'{"entries": null}'])
+def test_unreadable_cache_file_recomputes_everything_with_one_warning(monitored, tmp_path,
+                                                                      capsys, scheduler,
+                                                                      content):
+    out = _site(monitored, tmp_path)
+    (out / CACHE_NAME).write_bytes(content)
+    printed, message = _rerun(monitored, out, scheduler, capsys)
+    assert '4 computed, 0 from the cache' in printed and 'recomputed' in message
+
+
+@pytest.mark.parametrize('special', ['fifo', 'dev-zero'])
+def test_special_cache_file_is_never_opened(monitored, tmp_path, capsys, scheduler, special):
+    out = _site(monitored, tmp_path)
+    os.unlink(out / CACHE_NAME)
+    if special == 'fifo':
+        os.mkfifo(out / CACHE_NAME)
+    else:
+        os.symlink('/dev/zero', out / CACHE_NAME)
+    printed, message = _rerun(monitored, out, scheduler, capsys)
+    assert '4 computed' in printed and ('FIFO' in message or 'device' in message), message
+
+
+def test_cached_failure_reason_is_shown_as_text(monitored, tmp_path, capsys):
+    def failed(e):
+        return {'path': e['path'], 'status': 'failed', 'version': FIT_VERSION, 'time_s': 0.1,
+                'reason': '<script>alert(1)</script> [x](javascript:alert(2)) '
+                          '<img src=/etc/passwd> =HYPERLINK("x")'}
+    out = _poisoned(monitored, tmp_path, failed)
+    rc = main(['fleet', '--manifest', str(monitored['root'] / 'fleet' / 'manifest.csv'),
+               '--model', MODEL, '--out', str(out), '--force', '--quiet'])
+    assert rc == 0 and '0 computed, 4 from the cache' in capsys.readouterr().out
+    page = (out / 'report.html').read_text(encoding='utf-8')
+    assert_inert(page, own_images=2)
+    assert '<script>alert(1)</script> [x](javascript:alert(2))' in _page_dom(page)[1]
+
+
+# ----------------------------------------------------------- fuzz: the cache ---
+
+def _json_values():
+    leaf = st.one_of(st.none(), st.booleans(), st.integers(-10 ** 20, 10 ** 20),
+                     st.floats(allow_nan=True, allow_infinity=True), st.text(max_size=5))
+
+    def nested(kids):
+        return st.one_of(st.lists(kids, max_size=4),
+                         st.dictionaries(st.text(max_size=4), kids, max_size=3))
+    return st.recursive(leaf, nested, max_leaves=12)
+
+
+@pytest.fixture(scope='module')
+def sound_entry(monitored):
+    doc = json.loads((monitored['root'] / 'out' / CACHE_NAME).read_text(encoding='utf-8'))
+    return next(iter(doc['entries'].values()))
+
+
+@settings(max_examples=300, deadline=None, derandomize=True, database=None,
+          suppress_health_check=[HealthCheck.function_scoped_fixture])
+@given(data=st.data())
+def test_fuzz_cache_entries_are_refused_or_usable(sound_entry, data):
+    entry = json.loads(json.dumps(sound_entry))
+    for _ in range(data.draw(st.integers(1, 3))):
+        key = data.draw(st.sampled_from(sorted(entry) + ['new']))
+        how = data.draw(st.sampled_from(['replace', 'delete', 'nudge']))
+        if how == 'delete':
+            entry.pop(key, None)
+        elif how == 'nudge' and isinstance(entry.get(key), list) and entry[key]:
+            entry[key] = entry[key][:-1] if data.draw(st.booleans()) else entry[key] * 2
+        else:
+            entry[key] = data.draw(_json_values())
+    gear = load_gear(MODEL)
+    if result_problem(entry, gear) is None:              # usable: the assessment works
+        from friction_joint.fleet.assess import assess_fleet
+        from friction_joint.fleet.manifest import ManifestEntry
+        import datetime
+        rows = [ManifestEntry(2 + k, f'r{k}', f'/r{k}', 'j1',
+                              datetime.datetime(2026, 3, 2 + k, tzinfo=datetime.timezone.utc))
+                for k in range(2)]
+        assess_fleet(rows, [entry, sound_entry], gear)
+
+
+@settings(max_examples=200, deadline=None, derandomize=True, database=None)
+@given(st.one_of(st.binary(max_size=200), _json_values().map(lambda v: json.dumps(
+    {'version': 1, 'entries': {'k': v}}).encode())))
+def test_fuzz_cache_files_never_raise(tmp_path_factory, content):
+    out = tmp_path_factory.mktemp('cache')
+    (out / CACHE_NAME).write_bytes(content)
+    entries, problem = _read_cache(out)
+    assert isinstance(entries, dict) and (problem is None or '\n' not in problem)
+    gear = load_gear(MODEL)
+    for e in entries.values():
+        assert result_problem(e, gear) is None or isinstance(result_problem(e, gear), str)
+
+
+@pytest.mark.parametrize('image, words', [
+    ('pipe.png', 'FIFO'), ('zero.png', 'outside'), ('{secret}', 'outside'),
+    ('file://{secret}', 'outside'), ('../secret.png', 'outside'), ('link.png', 'outside')])
+def test_markdown_report_embeds_only_its_own_directory(tmp_path, image, words):
+    """A Markdown report's local images: regular files inside its directory, else one line."""
+    secret = tmp_path / 'secret.png'
+    secret.write_bytes(PNG + b'private')
+    report = tmp_path / 'report'
+    report.mkdir()
+    os.mkfifo(report / 'pipe.png')
+    os.symlink('/dev/zero', report / 'zero.png')
+    os.symlink(secret, report / 'link.png')
+    md = report / 'report.md'
+    md.write_text(f'# R\n\n![i]({image.format(secret=secret)})\n', encoding='utf-8')
+    with pytest.raises(InputFileError) as err:
+        write_html_report(md)
+    assert words in str(err.value) and '\n' not in str(err.value)
+    assert not (report / 'report.html').exists()
