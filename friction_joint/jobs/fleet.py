@@ -53,9 +53,10 @@ import os
 import time
 import warnings
 
-from ..exceptions import CacheWarning, FrictionJointError, GearConfigError, InputFileError
+from ..exceptions import (ArgumentError, CacheWarning, FrictionJointError, GearConfigError,
+                          InputFileError)
 from ..fleet.assess import assess_fleet
-from ..fleet.cluster import map_recordings
+from ..fleet.cluster import check_scheduler, check_workers, map_recordings
 from ..fleet.manifest import read_manifest
 from ..fleet.monitor import FleetRun
 from ..fleet.recording import analyse_recording, FIT_VERSION, result_problem
@@ -187,6 +188,12 @@ def run_fleet(manifest: str | os.PathLike, model: str | os.PathLike, out: str | 
 
     """
     t_start = time.perf_counter()
+    if scheduler is not None:                    # the options first: refusals cost nothing
+        scheduler = check_scheduler(scheduler)
+        if workers is not None:
+            raise ArgumentError('--workers is for the embedded cluster: not with --scheduler')
+    if workers is not None:
+        check_workers(workers)
     entries = read_manifest(manifest)
     raw = read_input(model, kind='gear', what='a gear file', error=GearConfigError)
     try:
