@@ -172,3 +172,18 @@ def test_import_out_over_its_logs_refused_with_force(tmp_path, capsys, monkeypat
     rc = main(['import', 'logs/a.csv', '--out', out, '--force', '--quiet'])
     _refused(capsys, rc, *words)
     assert _tree(tmp_path) == before
+
+
+@pytest.mark.parametrize('path, out, words', [
+    ('rec/csd25_sample.mcap', 'rec/fixed.mcap', ('is inside the input', 'rosbag2 directory')),
+    ('rec/csd25_sample.mcap', 'rec', ('contains the input',)),
+    ('rec', 'rec/fixed', ('is inside the input',)),
+])
+def test_recover_out_in_its_recording_refused_with_force(tmp_path, capsys, monkeypatch,
+                                                         path, out, words):
+    monkeypatch.chdir(tmp_path)
+    shutil.copytree(SAMPLE, tmp_path / 'rec')
+    before = _tree(tmp_path)
+    rc = main(['recover', path, out, '--force'])
+    _refused(capsys, rc, *words)
+    assert _tree(tmp_path) == before
