@@ -171,11 +171,30 @@ def test_workers_bounded_by_the_machine(site, capsys, workers, words):
     ('rec\x00x,j1,2026-03-02T10:00:00', ('row 2', 'NUL')),
     ('rec,j\x001,2026-03-02T10:00:00', ('row 2', 'NUL')),
     ('re\x07c,j1,2026-03-02T10:00:00', ('row 2', 'control character')),
+    ('rec,j\x1b[31m1,2026-03-02T10:00:00', ('row 2', 'joint', 'control character')),
+    ('rec,j\x9b1,2026-03-02T10:00:00', ('row 2', 'joint', 'control character')),
 ])
 def test_bad_manifest_rows_are_one_line(site, capsys, row, words):
     (site / 'm.csv').write_text(f'recording,joint,time\n{row}\n', encoding='utf-8')
     _one_line(capsys, _fleet(), 'm.csv', *words)
     assert not (site / 'out').exists()
+
+
+def test_too_many_recordings_refused_before_any_work(site, capsys, monkeypatch):
+    from friction_joint.fleet import manifest
+    monkeypatch.setattr(manifest, 'MAX_ROWS', 50)
+    rows = ''.join(f'r{k}.mcap,j1,2026-03-02T10:00:00\n' for k in range(51))
+    (site / 'm.csv').write_text('recording,joint,time\n' + rows, encoding='utf-8')
+    _one_line(capsys, _fleet(), 'm.csv', 'row 52', 'more than 50 recordings', 'split')
+
+
+def test_a_real_million_row_manifest_is_refused_quickly(site, capsys):
+    rows = ''.join(f'recordings/r{k:07d}.mcap,robot07/j3,2026-03-02T10:00:00\n'
+                   for k in range(1000000))
+    (site / 'm.csv').write_text('recording,joint,time\n' + rows, encoding='utf-8')
+    t0 = time.monotonic()
+    _one_line(capsys, _fleet(), 'm.csv', 'more than 250000 recordings')
+    assert time.monotonic() - t0 < 60 and not (site / 'out').exists()
 
 
 @pytest.mark.parametrize('travel', ['1_000', '١٢', '１２', '1e999', 'nan', '-1', '0x10', '1,5'])
