@@ -451,3 +451,16 @@ def test_markdown_report_embeds_only_its_own_directory(tmp_path, image, words):
         write_html_report(md)
     assert words in str(err.value) and '\n' not in str(err.value)
     assert not (report / 'report.html').exists()
+
+
+def test_diagnose_report_of_a_payload_path_is_inert(tmp_path, monkeypatch):
+    """``diagnose`` quotes its recordings' paths: its report.html stays inert too."""
+    monkeypatch.chdir(tmp_path)
+    name = '<img src=x onerror=alert(1)>[x](javascript:alert(2))<script>alert(3)</script>'
+    shutil.copytree(os.path.join(ROOT, 'bags', 'csd25_sample'), tmp_path / name)
+    base = os.path.join(ROOT, 'config', 'csd25_base.yaml')
+    assert main(['diagnose', name, '--model', base, '--out', 'out', '--quiet']) == 0
+    page = (tmp_path / 'out' / 'report.html').read_text(encoding='utf-8')
+    figures = [f for f in os.listdir(tmp_path / 'out') if f.endswith('.png')]
+    assert_inert(page, own_images=len(figures))
+    assert name in _page_dom(page)[1]                     # shown as written
