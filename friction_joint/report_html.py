@@ -229,7 +229,11 @@ def _data_uri(src, base_dir, where):
     if not _inside(path, base_dir):
         raise InputFileError(f'{_error_prefix(where)}image {src!r} ({path}) lies outside '
                              f'{base_dir}: a report embeds only its own figures')
-    data = read_input(path, kind='report', what=f'{_error_prefix(where)}image {src!r}: an image')
+    try:
+        data = read_input(path, kind='report', what='an image')
+    except InputFileError as exc:
+        raise InputFileError(f'{_error_prefix(where)}cannot embed image {src!r}: '
+                             f'{exc}') from None
     return f'data:{mime};base64,{base64.b64encode(data).decode("ascii")}'
 
 
