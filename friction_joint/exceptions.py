@@ -17,7 +17,7 @@
 __all__ = ['FrictionJointError', 'ArgumentError', 'InputFileError', 'OutputError',
            'GearConfigError', 'GearConfigWarning', 'RecordingError', 'ExcitationError',
            'PreslidingDataError', 'ExperimentError', 'SimulationError', 'InputRejected',
-           'NodeError']
+           'NodeError', 'CacheWarning']
 
 
 class FrictionJointError(Exception):
@@ -49,6 +49,10 @@ class GearConfigError(FrictionJointError, ValueError):
 
 class GearConfigWarning(UserWarning):
     """A gear parameter set loads but is physically questionable."""
+
+
+class CacheWarning(UserWarning):
+    """A cached result is unusable (unreadable, malformed, out of bounds) and is recomputed."""
 
 
 class RecordingError(FrictionJointError):

@@ -58,7 +58,7 @@ from .exceptions import OutputError
 from .results import ExperimentResult, json_bytes, json_clean, render_png, result_files
 
 __all__ = ['json_clean', 'json_bytes', 'render_png', 'ExperimentResult', 'result_files',
-           'OutputSet', 'publish_outputs']
+           'OutputSet', 'publish_outputs', 'recording_inputs']
 
 _FILE = 'file'
 _DIRECTORY = 'directory'
@@ -120,8 +120,12 @@ _SPECIAL_NAMES = tuple(name for _, name in _SPECIAL) + ('a special file',)
 
 def _relation(a, b):
     """Return how ``a`` relates to ``b``: 'is', 'contains', 'is inside' or None."""
-    for x, y in ((os.path.abspath(a), os.path.abspath(b)),
-                 (os.path.realpath(a), os.path.realpath(b))):
+    pairs = [(os.path.abspath(a), os.path.abspath(b))]
+    try:
+        pairs.append((os.path.realpath(a), os.path.realpath(b)))
+    except (OSError, ValueError):            # a NUL byte, a symlink loop: the names only
+        pass
+    for x, y in pairs:
         if x == y:
             return 'is'
         if y.startswith(x.rstrip(os.sep) + os.sep):
@@ -131,7 +135,7 @@ def _relation(a, b):
     try:
         if os.path.samefile(a, b):
             return 'is'
-    except OSError:
+    except (OSError, ValueError):
         pass
     return None
 
@@ -139,6 +143,44 @@ def _relation(a, b):
 def _why(exc):
     """Return the reason of an ``OSError`` for a message."""
     return exc.strerror or str(exc)
+
+
+def recording_inputs(paths: Iterable[str | os.PathLike], *,
+                     label: str = 'recording') -> list[tuple[str, str]]:
+    """
+    Return the inputs a command that reads ``paths`` (recordings) registers with its outputs.
+
+    Each recording, and for a file that lies in a rosbag2 directory (a
+    ``metadata.yaml`` beside it) that directory too: the recording is the
+    whole directory, so no output may be written into it, even when the
+    command was given its ``.mcap`` file only.
+
+    Parameters
+    ----------
+    paths : iterable of str or os.PathLike
+        The recordings (rosbag2 directories or ``.mcap`` files).
+    label : str
+        How the inputs are named in error messages.
+
+    Returns
+    -------
+    list of tuple
+        ``(label, path)`` pairs for :class:`OutputSet`'s ``inputs``.
+
+    """
+    pairs = []
+    for path in paths:
+        path = os.fspath(path)
+        pairs.append((label, path))
+        parent = os.path.dirname(os.path.abspath(path))
+        try:
+            is_file = os.path.isfile(path)
+            in_bag = is_file and os.path.isfile(os.path.join(parent, 'metadata.yaml'))
+        except (OSError, ValueError):        # a NUL in the path: not a file of a bag
+            in_bag = False
+        if in_bag:
+            pairs.append((f'{label} {path} is part of the rosbag2 directory', parent))
+    return pairs
 
 
 class OutputSet:

@@ -25,11 +25,17 @@ result directory nor the network:
 
 * a local image is a ``src`` without a URL scheme (or a ``file:`` URL), taken
   relative to ``base_dir``; ``%20``-style escapes are decoded, a query or
-  fragment is ignored; remote (``http(s):``, ``//host``) and ``data:``
+  fragment is ignored; remote (``http(s):``, ``//host``) and ``data:image/``
   sources are left as they are;
-* a missing or unreadable image, or one of an unknown type, is a one-line
+* a missing or unreadable image, one of an unknown type, one outside
+  ``base_dir`` (an absolute path, ``..``, a symlink leading out) or one that
+  is not a regular file (a FIFO, ``/dev/zero``: read through the input gate,
+  :func:`~friction_joint.inputs.read_input`) is a one-line
   :class:`~friction_joint.exceptions.InputFileError` naming the file and
   the Markdown file (or ``base_dir``) it was looked up from;
+* a command that renders its own figures passes them as ``images`` (name ->
+  bytes): then no file is opened at all, and any other image is dropped
+  (its alt text kept);
 * links (``[summary](compensation/summary.json)``) are kept as written: they
   resolve when the HTML file lies beside the Markdown file, as
   :func:`write_html_report` writes it by default;
@@ -44,6 +50,16 @@ result directory nor the network:
 atomically (a hidden temporary sibling, then :func:`os.replace`), so a reader
 sees the old file or the complete new one, never a part.
 
+The page is inert, whatever the Markdown holds (a report quotes joint ids,
+recording paths and metadata written by its users): raw HTML in the Markdown
+is not passed through but shown as text (``<script>`` reads as
+``&lt;script&gt;``); a link whose target has a scheme other than
+:data:`SAFE_SCHEMES` (``javascript:``, ``data:``, ``vbscript:``, also spelt
+with entities, blanks or control characters) loses its ``href`` and stays
+text; no element has an ``on*`` handler, and ``script``, ``iframe``,
+``object`` and the like never appear.  :func:`markdown_text` escapes a
+user's text for Markdown, so that it shows as written.
+
 This module imports Python-Markdown; :mod:`friction_joint` does not import
 it, so ``import friction_joint`` does not load it.
 """
@@ -52,6 +68,7 @@ import html
 import os
 import re
 import secrets
+import unicodedata
 from urllib.parse import unquote, urlsplit
 from urllib.request import url2pathname
 import xml.etree.ElementTree as etree
@@ -62,8 +79,9 @@ from markdown.treeprocessors import Treeprocessor
 from markdown.util import AtomicString
 
 from .exceptions import InputFileError, OutputError
+from .inputs import read_input
 
-__all__ = ['markdown_to_html', 'write_html_report']
+__all__ = ['SAFE_SCHEMES', 'markdown_text', 'markdown_to_html', 'write_html_report']
 
 #: Python-Markdown extensions the reports are written for
 EXTENSIONS = ('tables', 'fenced_code', 'sane_lists', 'toc')
@@ -125,9 +143,21 @@ _PAGE = """<!DOCTYPE html>
 _MATH = (r'(?<![\\$])(?:\$\$(?:[^$\\]|\\.)+?\$\$'
          r'|\$(?=[^\s$])(?:[^$\n\\]|\\.)*?[^\s\\$]\$(?!\d))')
 _NUMBER = re.compile(r'[-+\u2212]?(?:\d[\d,_]*\.?\d*|\.\d+)(?:[eE][-+]?\d+)?\s*%?')
-_IMG = re.compile(r'<img\b[^>]*>', re.IGNORECASE)
-_SRC = re.compile(r"""(?<=\s)(src\s*=\s*)(?:"([^"]*)"|'([^']*)'|([^\s"'=<>`]+))""",
-                  re.IGNORECASE)
+#: URL schemes a link of a report may have (besides none: a relative link)
+SAFE_SCHEMES = ('http', 'https', 'mailto')
+#: elements that never appear in a report (raw HTML is not passed through: belt and braces)
+_FORBIDDEN = frozenset({'script', 'iframe', 'frame', 'frameset', 'object', 'embed', 'applet',
+                        'style', 'link', 'meta', 'base', 'form', 'input', 'button', 'textarea',
+                        'select', 'svg', 'math', 'template', 'noscript', 'audio', 'video',
+                        'source', 'track', 'portal'})
+#: attributes that never appear (and every ``on*`` event handler)
+_FORBIDDEN_ATTRS = frozenset({'style', 'srcdoc', 'srcset', 'formaction', 'action', 'background',
+                              'dynsrc', 'lowsrc', 'ping', 'xlink:href'})
+#: characters Markdown (or its tables, links, autolinks and math) gives a meaning
+_MD_SPECIAL = re.compile(r'([\\`*_{}\[\]()#+\-.!|>~<&$])')
+#: those escaped as an entity rather than a backslash
+_MD_ENTITY = {'<': '&lt;', '&': '&amp;', '|': '&#124;', '$': '&#36;', '~': '&#126;'}
+_CONTROL = re.compile(r'[\x00-\x1f\x7f\u2028\u2029]')
 
 
 class _MathProcessor(InlineProcessor):
@@ -165,6 +195,15 @@ def _error_prefix(where):
     return f'{where}: ' if where else ''
 
 
+def _inside(path, base_dir):
+    """Return whether ``path`` (symlinks followed) lies inside ``base_dir``."""
+    try:
+        real, base = os.path.realpath(path), os.path.realpath(base_dir)
+    except (OSError, ValueError):
+        return False
+    return real.startswith(base.rstrip(os.sep) + os.sep)
+
+
 def _data_uri(src, base_dir, where):
     """``src`` as a ``data:`` URI if it names a local file, else None (left alone)."""
     parts = urlsplit(src)
@@ -181,35 +220,116 @@ def _data_uri(src, base_dir, where):
             f'{_error_prefix(where)}cannot embed image {src!r}: unknown image type '
             f'{suffix or "(no suffix)"!r} (known: {", ".join(sorted(IMAGE_TYPES))})')
     try:
-        with open(path, 'rb') as fh:
-            data = fh.read()
-    except FileNotFoundError:
+        found = os.path.lexists(path)
+    except ValueError:                        # a NUL byte
+        found = False
+    if not found:
         raise InputFileError(f'{_error_prefix(where)}image {src!r} not found: no file '
-                             f'{path}') from None
-    except OSError as exc:
-        raise InputFileError(f'{_error_prefix(where)}cannot read image {src!r} ({path}): '
-                             f'{exc.strerror or exc}') from None
+                             f'{path}')
+    if not _inside(path, base_dir):
+        raise InputFileError(f'{_error_prefix(where)}image {src!r} ({path}) lies outside '
+                             f'{base_dir}: a report embeds only its own figures')
+    try:
+        data = read_input(path, kind='report', what='an image')
+    except InputFileError as exc:
+        raise InputFileError(f'{_error_prefix(where)}cannot embed image {src!r}: '
+                             f'{exc}') from None
     return f'data:{mime};base64,{base64.b64encode(data).decode("ascii")}'
 
 
-def _embed_images(body, base_dir, where):
-    """Replace the ``src`` of every ``<img>`` in ``body`` that names a local file."""
-    def one_src(m):
-        raw = next(g for g in m.groups()[1:] if g is not None)
-        uri = _data_uri(html.unescape(raw).strip(), base_dir, where)
-        return m.group(0) if uri is None else f'{m.group(1)}"{uri}"'
+def _safe_href(href):
+    """Return whether a link target is relative or has one of the :data:`SAFE_SCHEMES`."""
+    text = html.unescape(href)
+    # browsers skip ASCII whitespace and control characters in a URL's scheme
+    text = ''.join(c for c in text if not (c.isspace() or unicodedata.category(c)[0] == 'C'))
+    m = re.match(r'([^/?#]*?):', text)
+    return m is None or m.group(1).lower() in SAFE_SCHEMES
 
-    return _IMG.sub(lambda tag: _SRC.sub(one_src, tag.group(0), count=1), body)
+
+class _Inert(Treeprocessor):
+    """Make the page inert and its images self-contained (module docstring)."""
+
+    def __init__(self, md, base_dir, where, images):
+        super().__init__(md)
+        self.base_dir, self.where, self.images = base_dir, where, images
+
+    def _image(self, src):
+        """Return the ``src`` to use for image ``src``; None drops the image."""
+        src = html.unescape(src).strip()
+        if self.images is not None:
+            if src not in self.images:
+                return None
+            mime = IMAGE_TYPES.get(os.path.splitext(src)[1].lower(), 'image/png')
+            return f'data:{mime};base64,{base64.b64encode(self.images[src]).decode("ascii")}'
+        scheme = urlsplit(src).scheme.lower()
+        if scheme == 'data':
+            return src if src[5:].lower().startswith('image/') else None
+        if scheme not in ('', 'http', 'https', 'file'):
+            return None
+        uri = _data_uri(src, self.base_dir, self.where)
+        return src if uri is None else uri
+
+    def run(self, root):
+        """Strip handlers, scripts and unsafe links; embed or drop every image."""
+        parents = {child: parent for parent in root.iter() for child in parent}
+        for elem in list(root.iter()):
+            if not isinstance(elem.tag, str):
+                continue
+            for key in list(elem.keys()):
+                if key.lower().startswith('on') or key.lower() in _FORBIDDEN_ATTRS:
+                    del elem.attrib[key]
+            if elem.tag.lower() in _FORBIDDEN:
+                if elem in parents:
+                    parents[elem].remove(elem)
+            elif elem.tag == 'a' and not _safe_href(elem.get('href') or ''):
+                elem.tag = 'span'
+                elem.attrib.clear()
+            elif elem.tag == 'img':
+                uri = self._image(elem.get('src') or '')
+                if uri is None:
+                    alt = elem.get('alt') or ''
+                    elem.tag = 'span'
+                    elem.attrib.clear()
+                    elem.text = AtomicString(alt)
+                else:
+                    elem.set('src', uri)
 
 
-def _render(text, base_dir, title, where):
+def markdown_text(text: str) -> str:
+    """
+    Escape a user's text for Markdown: it shows as written, never as markup or a link.
+
+    Parameters
+    ----------
+    text : str
+        Any text (a joint id, a path, a metadata value, a reason).
+
+    Returns
+    -------
+    str
+        One line (line breaks and control characters become blanks, runs of
+        blanks one, as a browser shows them) with every character that
+        Markdown or its tables give a meaning escaped.
+
+    """
+    one = re.sub(' {2,}', ' ', _CONTROL.sub(' ', str(text))).strip(' ')     # never a code block
+    return _MD_SPECIAL.sub(lambda m: _MD_ENTITY.get(m.group(1), '\\' + m.group(1)), one)
+
+
+def _render(text, base_dir, title, where, images=None):
     """
     Render ``text``; ``title`` None takes the first level-1 heading (or the default).
 
-    ``where`` names the Markdown file (or ``base_dir``) in error messages.
+    ``where`` names the Markdown file (or ``base_dir``) in error messages;
+    ``images`` (name -> bytes), when given, are the page's only images.
     """
     md = markdown.Markdown(extensions=[*EXTENSIONS, _ReportExtension()],
                            output_format='html')
+    md.preprocessors.deregister('html_block')      # raw HTML is text, never markup
+    md.inlinePatterns.deregister('html')
+    base = None if base_dir is None else os.fspath(base_dir)
+    # after every other tree processor (unescape, at 0, restores escaped attributes)
+    md.treeprocessors.register(_Inert(md, base, where, images), 'friction_joint_inert', -10)
     body = md.convert(text)
     if title is None:
         first = md.toc_tokens[0] if md.toc_tokens else None
@@ -218,39 +338,47 @@ def _render(text, base_dir, title, where):
             html.escape(DEFAULT_TITLE)
     else:
         shown = html.escape(str(title))
-    body = _embed_images(body, os.fspath(base_dir), where)
     return _PAGE.format(title=shown, css=CSS.strip(), body=body)
 
 
-def markdown_to_html(text, *, base_dir, title=DEFAULT_TITLE):
+def markdown_to_html(text, *, base_dir=None, title=DEFAULT_TITLE, images=None):
     """
-    Render Markdown as a complete, self-contained HTML5 document.
+    Render Markdown as a complete, self-contained, inert HTML5 document.
 
     Parameters
     ----------
     text : str
         The Markdown source (Python-Markdown with tables, fenced code, sane
-        lists and heading anchors; ``$...$`` is kept as text).
-    base_dir : str or os.PathLike
+        lists and heading anchors; ``$...$`` is kept as text; raw HTML is
+        shown as text).
+    base_dir : str or os.PathLike, optional
         Directory that relative image paths are taken from (the Markdown
-        file's directory).
+        file's directory); required unless ``images`` is given.
     title : str
         The document's ``<title>`` (escaped here).
+    images : mapping, optional
+        The images the command rendered, name (as the Markdown gives it) ->
+        bytes (type by the name's suffix).  When given they are the only
+        images: no file is opened, any other image is dropped.
 
     Returns
     -------
     str
         The HTML document; every local image is a ``data:`` URI, remote and
-        ``data:`` images and all links are left as written.
+        ``data:image/`` images are left as written; links of the
+        :data:`SAFE_SCHEMES` or relative are kept, others become text.
 
     Raises
     ------
     InputFileError
-        An image is missing, unreadable or of an unknown type; the message
-        names it and ``base_dir``.
+        An image is missing, unreadable, of an unknown type, not a regular
+        file or outside ``base_dir``; the message names it and ``base_dir``.
 
     """
-    return _render(text, base_dir, title, f'base_dir {os.fspath(base_dir)}')
+    if base_dir is None and images is None:
+        raise TypeError('markdown_to_html needs base_dir or images')
+    where = f'base_dir {os.fspath(base_dir)}' if base_dir is not None else ''
+    return _render(text, base_dir, title, where, images=images)
 
 
 def _write_atomic(path, data):

@@ -363,7 +363,7 @@ def recover_recording(path: str | os.PathLike, out: str | os.PathLike, *, force:
     bytes read, counts).
 
     """
-    from ..output import OutputSet
+    from ..output import OutputSet, recording_inputs
 
     path, out = os.fspath(path), os.fspath(out)
     if not os.path.lexists(path):
@@ -374,7 +374,8 @@ def recover_recording(path: str | os.PathLike, out: str | os.PathLike, *, force:
                              f'{(read_marker(staging) or {}).get("pid", "?")}); stop it first')
     src = _source_file(path)
     qos = _marker_qos(staging)
-    with OutputSet(force=force, inputs=[('PATH', path)], error=RecordingError) as outputs:
+    inputs = recording_inputs([path], label='PATH') + [('its staging directory', staging)]
+    with OutputSet(force=force, inputs=inputs, error=RecordingError) as outputs:
         if out.endswith('.mcap'):
             outputs.add_file(out, label='OUT')
         else:

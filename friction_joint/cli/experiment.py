@@ -60,9 +60,10 @@ def add_arguments(parser):
     parser.add_argument('--joints', type=int, default=8, metavar='J',
                         help='fleet: number of joints (default 8)')
     parser.add_argument('--days', type=int, default=30, metavar='D',
-                        help='fleet: days, one recording per joint and day (default 30)')
+                        help='fleet: days, one recording per joint and day (default 30; '
+                             'joints x days at most 20000)')
     parser.add_argument('--seed', type=int, default=0, metavar='S',
-                        help='fleet: seed of every draw (default 0)')
+                        help='fleet: seed of every draw, >= 0 (default 0)')
     parser.add_argument('--quiet', action='store_true', help='no progress messages')
     parser.add_argument('--force', action='store_true',
                         help='replace an existing --out as a whole (an --out that is or '

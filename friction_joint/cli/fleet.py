@@ -43,10 +43,11 @@ def add_arguments(parser):
                         help='model gear file (structure, temperature and load dependence)')
     parser.add_argument('--out', required=True, metavar='DIR', help='result directory')
     parser.add_argument('--scheduler', default=None, metavar='ADDRESS',
-                        help='Dask scheduler, e.g. tcp://HOST:8786 (default: an embedded '
-                             'LocalCluster)')
+                        help='Dask scheduler, tcp://HOST:PORT, e.g. tcp://HOST:8786 (default: '
+                             'an embedded LocalCluster)')
     parser.add_argument('--workers', type=int, default=None, metavar='N',
-                        help='worker processes of the embedded cluster (default: the cores)')
+                        help='worker processes of the embedded cluster (default: the cores; at '
+                             'most 4 per core)')
     parser.add_argument('--force', action='store_true',
                         help='replace an existing DIR, reusing its cached per-recording results')
     parser.add_argument('--quiet', action='store_true', help='no progress lines')
@@ -59,10 +60,14 @@ def run(args):
     from ..exceptions import ArgumentError
     from ..jobs import run_fleet
 
-    if args.workers is not None and args.workers < 1:
-        raise ArgumentError(f'--workers must be >= 1, got {args.workers}')
-    if args.workers is not None and args.scheduler:
+    from ..fleet.cluster import check_scheduler, check_workers
+
+    if args.workers is not None and args.scheduler is not None:
         raise ArgumentError('--workers is for the embedded cluster: not with --scheduler')
+    if args.scheduler is not None:
+        check_scheduler(args.scheduler)
+    if args.workers is not None:
+        check_workers(args.workers)
     res = run_fleet(args.manifest, args.model, args.out, scheduler=args.scheduler,
                     workers=args.workers, force=args.force,
                     progress=progress_printer(args.quiet))

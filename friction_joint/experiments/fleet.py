@@ -69,7 +69,8 @@ from ..models.static import StaticFriction
 from ..output import OutputSet
 from ..testbed.plant import Plant
 
-__all__ = ['FLEET', 'simulate_fleet', 'fleet_recording', 'draw_fleet', 'default_gear']
+__all__ = ['FLEET', 'MAX_RECORDINGS', 'simulate_fleet', 'fleet_recording', 'draw_fleet',
+           'default_gear', 'check_fleet_size']
 
 #: simulator settings (keyword ``cfg`` of :func:`simulate_fleet` overrides them)
 FLEET = {
@@ -94,6 +95,36 @@ FLEET = {
     'rate': 1000.0,                 # Hz, simulation
     'publish_rate': 500.0,          # Hz, /joint_states and /link_torque
 }
+
+
+#: most recordings (joints x days) a simulated fleet may have: bounded before any work
+MAX_RECORDINGS = 20000
+#: rough cost of one recording at the default settings: seconds on one core, bytes on disk
+_COST = (0.7, 0.35e6)
+
+
+def check_fleet_size(joints, days, seed=0):
+    """
+    Check a simulated fleet's size and seed before any work; raise ExperimentError if refused.
+
+    ``joints`` >= 1, ``days`` >= 2, ``joints x days`` at most :data:`MAX_RECORDINGS`
+    (the message estimates the time and disk a larger fleet would take), ``seed``
+    a whole number >= 0.
+    """
+    for name, v in (('--joints', joints), ('--days', days), ('--seed', seed)):
+        if isinstance(v, bool) or not isinstance(v, (int, np.integer)):
+            raise ExperimentError(f'{name} must be a whole number, got {v!r}')
+    if seed < 0:
+        raise ExperimentError(f'--seed must be >= 0, got {seed}')
+    if joints < 1 or days < 2:
+        raise ExperimentError(f'a fleet needs >= 1 joint and >= 2 days, got {joints} x {days}')
+    n = int(joints) * int(days)
+    if n > MAX_RECORDINGS:
+        hours = n * _COST[0] / 3600.0
+        gb = n * _COST[1] / 1e9
+        raise ExperimentError(f'--joints {joints} x --days {days} = {n} recordings, about '
+                              f'{hours:.3g} h of simulation on one core and {gb:.3g} GB: more '
+                              f'than the {MAX_RECORDINGS} a simulated fleet may have')
 
 
 def _iso(t):
@@ -125,10 +156,9 @@ def draw_fleet(gear, joints, days, seed=0, cfg=None):
         ``wear``, ``seed``); ``season`` (degC/day); ``cfg``.
 
     """
+    check_fleet_size(joints, days, seed)
     c = _config(cfg)
     joints, days = int(joints), int(days)
-    if joints < 1 or days < 2:
-        raise ExperimentError(f'a fleet needs >= 1 joint and >= 2 days, got {joints} x {days}')
     rng = np.random.default_rng(seed)
     start = datetime.datetime.fromisoformat(c['start'])
     season = float(rng.uniform(-c['season'], c['season']))
@@ -313,9 +343,10 @@ def simulate_fleet(out, *, joints, days, seed=0, gear=None, cfg=None, jobs=1, ex
         Directory to write, one output (:class:`~friction_joint.output.OutputSet`: built
         beside it and renamed into place; an existing one is an error unless ``force``).
     joints, days : int
-        Fleet size: one recording per joint and day.
+        Fleet size: one recording per joint and day (:func:`check_fleet_size`: at most
+        :data:`MAX_RECORDINGS`, refused before any work with an estimate).
     seed : int
-        Draws everything (conditions, wear, noise).
+        Draws everything (conditions, wear, noise); >= 0.
     gear : str, optional
         The joints' nominal gear file (default :func:`default_gear`).
     cfg : dict, optional
@@ -337,6 +368,7 @@ def simulate_fleet(out, *, joints, days, seed=0, gear=None, cfg=None, jobs=1, ex
 
     """
     out = os.fspath(out)
+    check_fleet_size(joints, days, seed)          # before anything: a refusal costs nothing
     gear = os.fspath(gear) if gear is not None else default_gear()
     with OutputSet(force=force, inputs=[('--truth', gear)], error=ExperimentError) as outputs:
         outputs.add_directory(out)

@@ -33,16 +33,30 @@ Results are handed to a callback as they complete
 The client (and an embedded cluster) is closed at the end, also on an error
 or Ctrl-C (pending tasks are cancelled).  Dask is imported lazily, inside
 :func:`map_recordings`.
+
+The options are checked before use, each problem one
+:class:`~friction_joint.exceptions.ArgumentError` line:
+:func:`check_scheduler` takes ``tcp://HOST:PORT`` (or ``HOST:PORT``) only --
+a host name, an IPv4 address or a bracketed IPv6 one, a port 1..65535, no
+path --, :func:`check_workers` at most :data:`WORKERS_PER_CORE` embedded
+workers per core.  Connecting to a scheduler is bounded by
+:data:`CONNECT_TIMEOUT` whatever the other end does (answers garbage,
+accepts and stays silent), and a scheduler without workers is waited for
+:data:`WORKER_WAIT` s, then refused.
 """
 import contextlib
+import ipaddress
 import logging
 import os
+import re
+import threading
 import uuid
 
 from ..exceptions import ArgumentError
 
-__all__ = ['MEMORY_LIMIT', 'CONNECT_TIMEOUT', 'CLOSE_TIMEOUT', 'STALL_TIMEOUT', 'map_recordings',
-           'default_workers', 'local_cluster']
+__all__ = ['MEMORY_LIMIT', 'CONNECT_TIMEOUT', 'CLOSE_TIMEOUT', 'STALL_TIMEOUT', 'WORKER_WAIT',
+           'WORKERS_PER_CORE', 'map_recordings', 'default_workers', 'local_cluster',
+           'check_scheduler', 'check_workers']
 
 #: memory limit per worker of the embedded cluster
 MEMORY_LIMIT = '2GiB'
@@ -54,6 +68,13 @@ CLOSE_TIMEOUT = 30
 #: failed and the run goes on (a recording's task takes well under a second; a stuck
 #: worker or scheduler must not hang the command)
 STALL_TIMEOUT = 600
+#: seconds to wait for a worker when the scheduler given by address has none
+WORKER_WAIT = 30
+#: most embedded worker processes per core (the analysis is CPU-bound: more only queue)
+WORKERS_PER_CORE = 4
+
+_HOST = re.compile(r'(?=.{1,253}\Z)[A-Za-z0-9](?:[A-Za-z0-9_-]{0,62})?'
+                   r'(?:\.[A-Za-z0-9](?:[A-Za-z0-9_-]{0,62})?)*\.?', re.ASCII)
 
 
 def default_workers():
@@ -64,18 +85,142 @@ def default_workers():
         return max(1, os.cpu_count() or 1)
 
 
+def check_scheduler(address: str) -> str:
+    """
+    Check a Dask scheduler address; return it as ``tcp://HOST:PORT``.
+
+    Parameters
+    ----------
+    address : str
+        ``tcp://HOST:PORT`` or ``HOST:PORT``: a host name, an IPv4 address or a
+        bracketed IPv6 address (``[::1]``), a port 1..65535.
+
+    Returns
+    -------
+    str
+        The address with its ``tcp://``.
+
+    Raises
+    ------
+    ArgumentError
+        Anything else (empty, no port, another protocol, a path, blanks), one line.
+
+    """
+    shown = repr(address) if not isinstance(address, str) or not address.isprintable() or \
+        address != address.strip() or not address else address
+
+    def bad(problem):
+        return ArgumentError(f'--scheduler {shown}: {problem}; give tcp://HOST:PORT (e.g. '
+                             'tcp://127.0.0.1:8786), or leave --scheduler out for an embedded '
+                             'cluster')
+
+    if not isinstance(address, str) or not address.strip():
+        raise bad('empty')
+    scheme, sep, rest = address.partition('://')
+    if not sep:
+        scheme, rest = 'tcp', address
+    if scheme.lower() == 'tls':
+        raise bad('TLS needs certificates, which the fleet command does not take')
+    if scheme.lower() != 'tcp':
+        raise bad(f'protocol {scheme!r} is not supported (only tcp)')
+    m = re.fullmatch(r'(\[[^\]]*\]|[^:/\[\]]*):([0-9]+)', rest, re.ASCII)
+    if m is None:
+        raise bad('not HOST:PORT (a host, a colon, a port number; nothing after)')
+    host, port = m.groups()
+    if host.startswith('['):
+        try:
+            ipaddress.IPv6Address(host[1:-1])
+        except ValueError:
+            raise bad(f'{host} is not an IPv6 address') from None
+    elif not _HOST.fullmatch(host):
+        raise bad(f'{host!r} is not a host name or IPv4 address')
+    if not 1 <= int(port) <= 65535:
+        raise bad(f'port {port} is not in 1..65535')
+    return f'tcp://{host}:{int(port)}'
+
+
+def check_workers(workers: int) -> int:
+    """
+    Check the number of embedded workers: 1 .. :data:`WORKERS_PER_CORE` x the cores.
+
+    Parameters
+    ----------
+    workers : int
+        Worker processes asked for.
+
+    Returns
+    -------
+    int
+        ``workers``.
+
+    Raises
+    ------
+    ArgumentError
+        Not an integer, below 1 or beyond the machine, one line.
+
+    """
+    cores = default_workers()
+    top = WORKERS_PER_CORE * cores
+    if isinstance(workers, bool) or not isinstance(workers, int):
+        raise ArgumentError(f'--workers must be a whole number, got {workers!r}')
+    if workers < 1:
+        raise ArgumentError(f'--workers must be >= 1, got {workers}')
+    if workers > top:
+        shown = str(workers) if workers < 10 ** 12 else f'{str(workers)[:6]}... ' \
+            f'({len(str(workers))} digits)'
+        raise ArgumentError(f'--workers {shown}: more than this machine can run ({cores} '
+                            f'cores: at most {top}, {WORKERS_PER_CORE} per core)')
+    return workers
+
+
+def _client(address):
+    """Connect to ``address`` within CONNECT_TIMEOUT, whatever the other end does."""
+    from distributed import Client
+    box = {}
+
+    def connect():
+        try:
+            box['client'] = Client(address, timeout=CONNECT_TIMEOUT)
+        except BaseException as exc:                # noqa: B902 - reported in the caller
+            box['error'] = exc
+
+    thread = threading.Thread(target=connect, name='friction_joint-connect', daemon=True)
+    thread.start()
+    thread.join(CONNECT_TIMEOUT + 5)
+    if thread.is_alive():
+        raise ArgumentError(f'cannot connect to the Dask scheduler {address}: no answer within '
+                            f'{CONNECT_TIMEOUT} s (is it a Dask scheduler?)')
+    if 'error' in box:
+        exc = box['error']
+        if isinstance(exc, KeyboardInterrupt):
+            raise exc
+        msg = ' '.join(str(exc).split())[:200] or type(exc).__name__
+        what = '' if isinstance(exc, (OSError, TimeoutError)) else \
+            f'not a Dask scheduler? {type(exc).__name__}: '
+        raise ArgumentError(f'cannot connect to the Dask scheduler {address}: {what}{msg}')
+    return box['client']
+
+
+def _wait_for_workers(client, address):
+    """Return the scheduler's worker count, waiting up to WORKER_WAIT s for the first."""
+    n = len(client.scheduler_info().get('workers', {}))
+    if n:
+        return n
+    try:
+        client.wait_for_workers(1, timeout=WORKER_WAIT)
+    except Exception:                               # noqa: B902 - a timeout, however spelt
+        raise ArgumentError(f'the Dask scheduler {address} has no workers (waited '
+                            f'{WORKER_WAIT} s); start some with "dask worker {address}"') \
+            from None
+    return len(client.scheduler_info().get('workers', {}))
+
+
 def _connect(scheduler, workers, memory_limit):
     from distributed import Client, LocalCluster
-    if scheduler:
-        try:
-            return Client(scheduler, timeout=CONNECT_TIMEOUT), None
-        except (OSError, TimeoutError) as exc:
-            msg = ' '.join(str(exc).split()) or type(exc).__name__
-            raise ArgumentError(f'cannot connect to the Dask scheduler {scheduler}: '
-                                f'{msg}') from None
-    n = int(workers or default_workers())
-    if n < 1:
-        raise ArgumentError(f'--workers must be >= 1, got {n}')
+    if scheduler is not None:
+        address = check_scheduler(scheduler)
+        return _client(address), None
+    n = check_workers(int(workers or default_workers()))
     cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
                            memory_limit=memory_limit, silence_logs=logging.CRITICAL,
                            dashboard_address=':0')    # its HTTP endpoint on a free port
@@ -178,8 +323,8 @@ def map_recordings(func, paths, *, args=(), kwargs=None, scheduler=None, workers
     client, cluster = _connect(scheduler, workers, memory_limit)
     futures = []
     try:
-        info = client.scheduler_info()
-        nworkers = len(info.get('workers', {}))
+        nworkers = (len(client.scheduler_info().get('workers', {})) if cluster is not None
+                    else _wait_for_workers(client, check_scheduler(scheduler)))
         tag = uuid.uuid4().hex[:8]
         index = {}
         for i, path in enumerate(paths):
@@ -206,7 +351,8 @@ def map_recordings(func, paths, *, args=(), kwargs=None, scheduler=None, workers
                 on_result(i, res)
             fut.release()
         return {'results': results, 'workers': nworkers, 'tasks': len(paths),
-                'scheduler': 'embedded LocalCluster' if cluster is not None else scheduler}
+                'scheduler': ('embedded LocalCluster' if cluster is not None
+                              else check_scheduler(scheduler))}
     finally:
         try:
             if futures:

@@ -21,18 +21,24 @@ A CSV file (UTF-8, comma-separated, a header line) with the columns
     path of the recording (rosbag2 directory or ``.mcap`` file), relative to the
     manifest's directory (or absolute);
 ``joint``
-    the joint's id in the fleet (any non-empty text, e.g. ``robot07/j3``);
+    the joint's id in the fleet (any non-empty text without control
+    characters, e.g. ``robot07/j3``);
 ``time``
     when the recording was made, ISO 8601 (``2026-03-02T14:05:00+00:00``; a time
-    without a zone is taken as UTC);
+    without a zone is taken as UTC), within :data:`TIME_RANGE`;
 
 and optionally ``travel``: the joint's odometer at the recording (rad of
 output travel since a fixed start, non-decreasing per joint), as a robot
-controller counts it.  Further columns are kept as metadata.  A manifest that
-breaks a rule is a one-line :class:`~friction_joint.exceptions.InputFileError`
-naming the file and the row (header = row 1); the recordings themselves are
-not opened here (a missing or broken recording is reported per recording by
-the run, which goes on).
+controller counts it: a plain decimal number (ASCII digits, no ``_``
+separators).  Further columns are kept as metadata.  No field holds a NUL
+byte, and a recording path or joint id no other control character.  A
+recording is listed once, also through a symlink or another spelling of its
+path; at most :data:`MAX_ROWS` are listed, in a file of at most
+:data:`MANIFEST_LIMIT` bytes.  A manifest that breaks a rule is a one-line
+:class:`~friction_joint.exceptions.InputFileError` naming the file and the
+row (header = row 1); the recordings themselves are not opened here (a
+missing or broken recording is reported per recording by the run, which goes
+on).
 """
 import csv
 import dataclasses
@@ -40,13 +46,25 @@ import datetime
 import io
 import math
 import os
+import re
 
 from ..exceptions import InputFileError
 from ..inputs import open_input
 
-__all__ = ['REQUIRED_COLUMNS', 'ManifestEntry', 'read_manifest']
+__all__ = ['REQUIRED_COLUMNS', 'TIME_RANGE', 'MAX_ROWS', 'MANIFEST_LIMIT', 'ManifestEntry',
+           'read_manifest']
 
 REQUIRED_COLUMNS = ('recording', 'joint', 'time')
+#: the times a recording may have (UTC): from the Unix epoch to the year 2200
+TIME_RANGE = (datetime.datetime(1970, 1, 1, tzinfo=datetime.timezone.utc),
+              datetime.datetime(2200, 1, 1, tzinfo=datetime.timezone.utc))
+_DECIMAL = re.compile(r'[+-]?(?:[0-9]+(?:\.[0-9]*)?|\.[0-9]+)(?:[eE][+-]?[0-9]+)?', re.ASCII)
+_CONTROL = re.compile(r'[\x00-\x1f\x7f-\x9f]')
+#: most recordings a manifest may list: a run holds every one's result in memory (a few kB
+#: each), so a larger fleet is split into several manifests (refused before any work)
+MAX_ROWS = 250000
+#: largest manifest file read (bytes)
+MANIFEST_LIMIT = 256 << 20
 
 
 @dataclasses.dataclass(frozen=True)
@@ -88,10 +106,25 @@ class ManifestEntry:
 
 
 def _parse_time(text):
-    t = datetime.datetime.fromisoformat(text.strip().replace('Z', '+00:00'))
+    text = text.strip()
+    if not text.isascii():
+        raise ValueError(text)
+    t = datetime.datetime.fromisoformat(text.replace('Z', '+00:00'))
     if t.tzinfo is None:
         t = t.replace(tzinfo=datetime.timezone.utc)
     return t
+
+
+def _rows(reader, path):
+    """Yield the CSV records after the header; a CSV error is one line naming the file."""
+    while True:
+        try:
+            row = next(reader)
+        except StopIteration:
+            return
+        except csv.Error as exc:
+            raise InputFileError(f'{path}: not a CSV file: {exc}') from None
+        yield row
 
 
 def read_manifest(path):
@@ -111,21 +144,25 @@ def read_manifest(path):
 
     """
     path = os.fspath(path)
-    with open_input(path, kind='table', what='a fleet manifest') as fh:
-        raw = fh.read()
+    with open_input(path, kind='table', what='a fleet manifest', limit=MANIFEST_LIMIT) as fh:
+        raw = fh.read(MANIFEST_LIMIT + 1)
+    if len(raw) > MANIFEST_LIMIT:
+        raise InputFileError(f'{path}: larger than the {MANIFEST_LIMIT >> 20} MiB limit of a '
+                             'fleet manifest')
     try:
         text = raw.decode('utf-8-sig')
     except UnicodeDecodeError as exc:
         raise InputFileError(f'{path}: the fleet manifest is not UTF-8 text ({exc.reason} at '
                              f'byte {exc.start})') from None
+    reader = csv.reader(io.StringIO(text, newline=''))
     try:
-        rows = list(csv.reader(io.StringIO(text, newline='')))
+        first = next(reader, None)
     except csv.Error as exc:
         raise InputFileError(f'{path}: not a CSV file: {exc}') from None
-    if not rows:
+    if first is None:
         raise InputFileError(f'{path}: the fleet manifest is empty: it needs a header with the '
                              f'columns {", ".join(REQUIRED_COLUMNS)}')
-    header = [h.strip() for h in rows[0]]
+    header = [h.strip() for h in first]
     missing = [c for c in REQUIRED_COLUMNS if c not in header]
     if missing:
         raise InputFileError(f'{path}: row 1 (header): no column {", ".join(missing)} '
@@ -136,35 +173,55 @@ def read_manifest(path):
         raise InputFileError(f'{path}: row 1 (header): column {", ".join(dup)} appears twice')
     base = os.path.dirname(os.path.abspath(path))
     entries, seen, last_travel = [], {}, {}
-    for k, row in enumerate(rows[1:], start=2):
+    for k, row in enumerate(_rows(reader, path), start=2):
         if not any(cell.strip() for cell in row):
             continue                                          # blank line
+        if len(entries) >= MAX_ROWS:
+            raise InputFileError(f'{path}: row {k}: more than {MAX_ROWS} recordings (a run '
+                                 'keeps every result in memory); split the fleet into several '
+                                 'manifests')
         if len(row) != len(header):
             raise InputFileError(f'{path}: row {k}: {len(row)} fields, the header has '
                                  f'{len(header)}')
         rec = dict(zip(header, (c.strip() for c in row)))
+        for col, value in rec.items():
+            if '\0' in value:
+                raise InputFileError(f'{path}: row {k}: column {col!r} holds a NUL byte (not '
+                                     'text)')
         for col in REQUIRED_COLUMNS:
             if not rec[col]:
                 raise InputFileError(f'{path}: row {k}: empty {col}')
+        for col in ('recording', 'joint'):
+            if _CONTROL.search(rec[col]):
+                raise InputFileError(f'{path}: row {k}: {col} {rec[col]!r} holds a control '
+                                     'character (a tab, a line break, an escape)')
         try:
             when = _parse_time(rec['time'])
-        except ValueError:
+        except (ValueError, OverflowError):
             raise InputFileError(f'{path}: row {k}: time {rec["time"]!r} is not an ISO 8601 '
                                  'date and time (e.g. 2026-03-02T14:05:00+00:00)') from None
+        try:
+            inside = TIME_RANGE[0] <= when < TIME_RANGE[1]
+        except OverflowError:                     # a zone that pushes it out of datetime's
+            inside = False
+        if not inside:
+            raise InputFileError(f'{path}: row {k}: time {rec["time"]!r} is outside '
+                                 f'{TIME_RANGE[0].year}..{TIME_RANGE[1].year - 1} (UTC)')
         travel = None
         if 'travel' in rec:
-            try:
-                travel = float(rec['travel'])
-            except ValueError:
-                travel = math.nan
+            text = rec['travel']
+            travel = float(text) if _DECIMAL.fullmatch(text) else math.nan
             if not math.isfinite(travel) or travel < 0:
-                raise InputFileError(f'{path}: row {k}: travel {rec["travel"]!r} is not a '
-                                     'finite number >= 0 (rad)')
+                raise InputFileError(f'{path}: row {k}: travel {text!r} is not a finite '
+                                     'decimal number >= 0 (rad; ASCII digits, no separators)')
         full = os.path.normpath(os.path.join(base, rec['recording']))
-        if full in seen:
+        same = os.path.realpath(full)
+        if full in seen or same in seen:
+            first = seen.get(full, seen.get(same))
+            how = '' if full in seen else ' (the same file through a symlink)'
             raise InputFileError(f'{path}: row {k}: recording {rec["recording"]} is already '
-                                 f'listed in row {seen[full]}')
-        seen[full] = k
+                                 f'listed in row {first}{how}')
+        seen[full] = seen[same] = k
         meta = {h: v for h, v in rec.items() if h not in REQUIRED_COLUMNS + ('travel',)}
         entries.append(ManifestEntry(k, rec['recording'], full, rec['joint'], when, travel,
                                      meta))

@@ -24,13 +24,25 @@ recording's temperature on a second axis, the fitted hinge and the onset
 marked when the joint is flagged.
 """
 import datetime
+import re
 
 import numpy as np
 
-__all__ = ['TREND_SIZE', 'trend_figure', 'trend_figures']
+__all__ = ['TREND_SIZE', 'plain_text', 'trend_figure', 'trend_figures']
 
 #: figure size (inches) of a trend plot
 TREND_SIZE = (8.0, 4.2)
+
+
+def plain_text(text):
+    """
+    Return ``text`` for a matplotlib label, shown as written (never mathtext).
+
+    A joint id with ``$`` signs would otherwise be parsed as TeX math (and a
+    malformed one fails the whole report); every ``$`` is escaped, control
+    characters (tabs, line breaks) become blanks.
+    """
+    return re.sub(r'[\x00-\x1f\x7f]', ' ', str(text)).replace('$', r'\$')
 
 
 def _dates(start, days):
@@ -53,6 +65,7 @@ def trend_figure(joint, verdict, xi_ref, v_ref):
     """
     s = verdict['series']
     pts = s['points']
+    joint = plain_text(joint)
 
     def draw(fig):
         ax = fig.add_subplot(111)

@@ -55,7 +55,8 @@ from ..gear import parse_gear
 from ..identification import check_excitation, find_plateaus, StaticStructure
 from ..models.static import pack_static, PackedStatic, StaticFriction
 
-__all__ = ['FIT_VERSION', 'analyse_recording', 'reference_friction', 'fitted_terms']
+__all__ = ['FIT_VERSION', 'analyse_recording', 'reference_friction', 'fitted_terms',
+           'result_problem']
 
 #: bumped when the per-recording analysis changes (old cached results are recomputed)
 FIT_VERSION = 1
@@ -246,3 +247,151 @@ def reference_friction(fit, gear, xi_ref, v_ref):
             'fc_se': float(math.sqrt(max(g_fc @ cov @ g_fc, 0.0))),
             'torque': float(both[0] + g_tq @ delta),
             'torque_se': float(math.sqrt(max(g_tq @ cov @ g_tq, 0.0)))}
+
+
+#: the keys of a result (``ok``: all of them; ``failed``: the first five)
+_KEYS_FAILED = ('path', 'status', 'reason', 'version', 'time_s')
+_KEYS_OK = _KEYS_FAILED + ('terms', 'delta', 'cov', 'rms', 'plateaus', 'speed',
+                           'raw_friction', 'raw_friction_se', 'xi_range', 'xi_mean',
+                           'load_range', 'travel', 'duration')
+#: bounds of a result's numbers (physical, generous): key -> (low, high)
+_BOUNDS = {'time_s': (0.0, 1e9), 'rms': (0.0, 1e9), 'speed': (1e-12, 1e4),
+           'raw_friction': (0.0, 1e9), 'raw_friction_se': (0.0, 1e9),
+           'xi_mean': (-273.15, 1e4), 'travel': (0.0, 1e15), 'duration': (0.0, 1e9)}
+#: longest reason kept (a reason is one line of text)
+_REASON_CHARS = 2000
+
+
+def _number(v):
+    """Return ``v`` as a float if it is a finite JSON number (not a bool), else None."""
+    if isinstance(v, bool) or not isinstance(v, (int, float)):
+        return None
+    v = float(v)
+    return v if math.isfinite(v) else None
+
+
+def _bounded(key, v, lo, hi):
+    x = _number(v)
+    if x is None:
+        return f'{key} is {_shown(v)}, not a finite number'
+    if not lo <= x <= hi:
+        return f'{key} {x:g} is outside {lo:g}..{hi:g}'
+    return None
+
+
+def _shown(v):
+    text = repr(v)
+    return text if len(text) <= 40 else text[:37] + '...'
+
+
+def _range_problem(key, v, lo, hi):
+    if not isinstance(v, list) or len(v) != 2:
+        return f'{key} is {_shown(v)}, not a pair of numbers'
+    for x in v:
+        problem = _bounded(key, x, lo, hi)
+        if problem:
+            return problem
+    if v[0] > v[1]:
+        return f'{key} {_shown(v)} is not increasing'
+    return None
+
+
+def _matrix_problem(terms, delta, cov):
+    n = len(terms)
+    if not isinstance(delta, list) or len(delta) != n:
+        return f'delta is {_shown(delta)}, not {n} numbers (one per term)'
+    if any(_number(x) is None or abs(x) > 1e9 for x in delta):
+        return 'delta holds a value that is not a finite number'
+    if not isinstance(cov, list) or len(cov) != n or \
+            any(not isinstance(row, list) or len(row) != n for row in cov):
+        return f'cov is not a {n}x{n} matrix (one row and column per term)'
+    if any(_number(x) is None or abs(x) > 1e18 for row in cov for x in row):
+        return 'cov holds a value that is not a finite number'
+    c = np.array(cov, dtype=float)
+    if np.any(np.diag(c) < 0) or not np.allclose(c, c.T, rtol=1e-6, atol=1e-300):
+        return 'cov is not a covariance (symmetric, variances >= 0)'
+    return None
+
+
+def _terms_problem(terms, gear):
+    if not isinstance(terms, list) or not terms:
+        return f'terms is {_shown(terms)}, not a list of [name, index] pairs'
+    f = gear.friction
+    known = set(_terms_for(gear, {'fc': len(f.fc) - 1, 'fv': len(f.fv) - 1},
+                           {'fc': len(f.fc_load), 'fv': len(f.fv_load)}))
+    seen = set()
+    for t in terms:
+        if not (isinstance(t, list) and len(t) == 2 and isinstance(t[0], str)
+                and isinstance(t[1], int) and not isinstance(t[1], bool)):
+            return f'term {_shown(t)} is not a [name, index] pair'
+        if (t[0], t[1]) not in known:
+            return f'term {_shown(t)} is not a coefficient of the model gear file'
+        if (t[0], t[1]) in seen:
+            return f'term {_shown(t)} appears twice'
+        seen.add((t[0], t[1]))
+    if not {('fc', 0), ('fv', 0)} <= seen:
+        return 'terms lack the constant F_c or F_v coefficient'
+    return None
+
+
+def result_problem(result, gear):
+    """
+    Return what is wrong with a per-recording result read from outside, None if it is sound.
+
+    The fleet's cache is data, not trust: before a cached result is used it is
+    checked against the schema of :func:`analyse_recording`'s results -- the
+    keys of its status (no more, no fewer), their types, finite numbers within
+    physical bounds, ranges in order, ``terms`` coefficients of ``gear``
+    (each once, the constant F_c and F_v among them), ``delta`` one number per
+    term, ``cov`` a symmetric matrix of their size with variances >= 0, a
+    ``reason`` of one line.
+
+    Parameters
+    ----------
+    result : object
+        The result as parsed from JSON.
+    gear : GearParams
+        The model gear file the result must have been fitted around.
+
+    Returns
+    -------
+    str or None
+        The first problem found (a short phrase), or None.
+
+    """
+    if not isinstance(result, dict):
+        return f'is {_shown(result)}, not an object'
+    status = result.get('status')
+    if status not in ('ok', 'failed'):
+        return f'status is {_shown(status)}, not "ok" or "failed"'
+    keys = _KEYS_OK if status == 'ok' else _KEYS_FAILED
+    missing = [k for k in keys if k not in result]
+    unknown = sorted(str(k) for k in result if k not in keys)
+    if missing:
+        return f'lacks {", ".join(missing)}'
+    if unknown:
+        return f'has unknown key {_shown(unknown[0])}'
+    if result['version'] != FIT_VERSION or isinstance(result['version'], bool):
+        return f'version is {_shown(result["version"])}, not {FIT_VERSION}'
+    for key in ('path', 'reason'):
+        if not isinstance(result[key], str):
+            return f'{key} is {_shown(result[key])}, not text'
+    reason = result['reason']
+    if len(reason) > _REASON_CHARS or '\n' in reason or '\r' in reason:
+        return f'reason is not one line of at most {_REASON_CHARS} characters'
+    if status == 'failed':
+        return _bounded('time_s', result['time_s'], *_BOUNDS['time_s']) or \
+            (None if reason else 'reason is empty')
+    for key, (lo, hi) in _BOUNDS.items():
+        problem = _bounded(key, result[key], lo, hi)
+        if problem:
+            return problem
+    n = result['plateaus']
+    if isinstance(n, bool) or not isinstance(n, int) or not 1 <= n <= 10 ** 9:
+        return f'plateaus is {_shown(n)}, not a count >= 1'
+    for key, lo, hi in (('xi_range', -273.15, 1e4), ('load_range', 0.0, 1e9)):
+        problem = _range_problem(key, result[key], lo, hi)
+        if problem:
+            return problem
+    return _terms_problem(result['terms'], gear) or \
+        _matrix_problem(result['terms'], result['delta'], result['cov'])

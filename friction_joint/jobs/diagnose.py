@@ -28,7 +28,6 @@ from __future__ import annotations
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 import os
-import tempfile
 import time
 
 import yaml
@@ -37,7 +36,7 @@ from ..diagnosis import diagnose, Diagnosis, EFFECTS
 from ..diagnosis.findings import candidate_summary
 from ..diagnosis.report import figures, markdown
 from ..gear import gear_from_dict, load_gear
-from ..output import OutputSet
+from ..output import OutputSet, recording_inputs
 from ..report_html import markdown_to_html
 from ..results import json_bytes
 
@@ -52,12 +51,8 @@ def _gear_yaml(gear, header):
 
 
 def _html(md, figs):
-    """Return ``report.md`` as one self-contained HTML page, the figures embedded."""
-    with tempfile.TemporaryDirectory(prefix='friction_joint-report-') as tmp:
-        for name, data in figs:
-            with open(os.path.join(tmp, name), 'wb') as fh:
-                fh.write(data)
-        return markdown_to_html(md, base_dir=tmp, title='friction_joint diagnose report')
+    """Return ``report.md`` as one self-contained HTML page, the figures embedded (only they)."""
+    return markdown_to_html(md, images=dict(figs), title='friction_joint diagnose report')
 
 
 @dataclass(frozen=True)
@@ -116,7 +111,7 @@ def run_diagnose(paths: Sequence[str | os.PathLike], model_path: str | os.PathLi
 
     """
     start = time.perf_counter()
-    inputs = [('--model', model_path)] + [('recording', p) for p in paths]
+    inputs = [('--model', model_path)] + recording_inputs(paths)
     with OutputSet(force=force, inputs=inputs) as outputs:
         outputs.add_directory(out)
         outputs.check()

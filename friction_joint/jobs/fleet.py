@@ -17,14 +17,21 @@ The ``fleet`` command's work: manifest -> per-recording tasks on Dask -> verdict
 :func:`run_fleet` reads and checks the manifest and the model gear file,
 checks the output directory (one output set,
 :class:`~friction_joint.output.OutputSet`: an existing DIR is refused unless
-``force``), then
+``force``; a DIR that is, contains or lies inside the manifest, the model or
+any recording it lists -- :func:`~friction_joint.output.recording_inputs` --
+always), then
 
 1. hashes every recording (:func:`content_hash`: SHA-256 over its bytes; a
    rosbag2 directory: over its files' names and bytes) and looks the result up
    in the **cache**: ``DIR/cache.json`` of the previous run into the same DIR
    (read before the directory is replaced), keyed by the recording's hash, the
    model gear file's hash and the analysis version.  A day's new logs cost only
-   their own work; a changed recording or model is recomputed;
+   their own work; a changed recording or model is recomputed.  The cache is
+   data, not trust: an unreadable ``cache.json`` (a special file, larger than
+   :data:`CACHE_LIMIT`, not JSON) and every entry that fails
+   :func:`~friction_joint.fleet.recording.result_problem` (schema, types,
+   finite numbers in bounds, the model's terms, shapes) are recomputed, with
+   one :class:`~friction_joint.exceptions.CacheWarning` line naming the rows;
 2. runs one task per remaining recording on Dask
    (:func:`~friction_joint.fleet.cluster.map_recordings`,
    :func:`~friction_joint.fleet.recording.analyse_recording`), reporting a
@@ -44,19 +51,21 @@ import hashlib
 import json
 import os
 import time
+import warnings
 
-from ..exceptions import FrictionJointError, GearConfigError, InputFileError
+from ..exceptions import (ArgumentError, CacheWarning, FrictionJointError, GearConfigError,
+                          InputFileError)
 from ..fleet.assess import assess_fleet
-from ..fleet.cluster import map_recordings
+from ..fleet.cluster import check_scheduler, check_workers, map_recordings
 from ..fleet.manifest import read_manifest
 from ..fleet.monitor import FleetRun
-from ..fleet.recording import analyse_recording, FIT_VERSION
+from ..fleet.recording import analyse_recording, FIT_VERSION, result_problem
 from ..fleet.report import fleet_files
 from ..gear import parse_gear
 from ..inputs import check_input_dir, open_input, read_input
-from ..output import json_bytes, OutputSet
+from ..output import json_bytes, OutputSet, recording_inputs
 
-__all__ = ['run_fleet', 'content_hash', 'CACHE_NAME']
+__all__ = ['run_fleet', 'content_hash', 'CACHE_NAME', 'CACHE_LIMIT']
 
 #: the per-recording cache inside DIR
 CACHE_NAME = 'cache.json'
@@ -106,18 +115,41 @@ def content_hash(path: str | os.PathLike) -> str:
     return h.hexdigest()
 
 
+#: largest cache file read (bytes); a larger one is not read, its results recomputed
+CACHE_LIMIT = 256 << 20
+
+
 def _read_cache(out):
-    """Return the old DIR's cache (key -> result), empty when there is none or it is unusable."""
+    """
+    Return the old DIR's cache (key -> entry) and a problem with it (None when sound).
+
+    No cache is an empty one; an unreadable one (a special file, too large, not
+    UTF-8 JSON, nested too deeply, not ``{"entries": {...}}``) is an empty one
+    and its problem.  The entries themselves are checked when used.
+    """
     path = os.path.join(os.fspath(out), CACHE_NAME)
-    if not os.path.isfile(path):
-        return {}
+    if not os.path.lexists(path):
+        return {}, None
     try:
-        with open_input(path, kind='table', what='a fleet cache') as fh:
-            doc = json.loads(fh.read().decode('utf-8'))
-    except (FrictionJointError, ValueError):
-        return {}
+        raw = read_input(path, kind='table', what='a fleet cache', limit=CACHE_LIMIT)
+        doc = json.loads(raw.decode('utf-8'))
+    except FrictionJointError as exc:
+        return {}, str(exc)
+    except (ValueError, RecursionError) as exc:
+        return {}, f'{path}: not a fleet cache (not JSON: {type(exc).__name__})'
     entries = doc.get('entries') if isinstance(doc, dict) else None
-    return entries if isinstance(entries, dict) else {}
+    if not isinstance(entries, dict):
+        return {}, f'{path}: not a fleet cache (no "entries" object)'
+    return entries, None
+
+
+def _cache_warning(path, refused):
+    """Warn once about refused cache entries: ``refused`` is ``[(entry, problem)]``."""
+    shown = '; '.join(f'row {e.row} ({e.recording}): {why}' for e, why in refused[:3])
+    more = f'; and {len(refused) - 3} more' if len(refused) > 3 else ''
+    warnings.warn(f'{path}: {len(refused)} cached result{"s" if len(refused) > 1 else ""} '
+                  f'refused, recomputed: {" ".join(shown.split())}{more}', CacheWarning,
+                  stacklevel=3)
 
 
 def _say(progress, msg):
@@ -156,6 +188,12 @@ def run_fleet(manifest: str | os.PathLike, model: str | os.PathLike, out: str | 
 
     """
     t_start = time.perf_counter()
+    if scheduler is not None:                    # the options first: refusals cost nothing
+        scheduler = check_scheduler(scheduler)
+        if workers is not None:
+            raise ArgumentError('--workers is for the embedded cluster: not with --scheduler')
+    if workers is not None:
+        check_workers(workers)
     entries = read_manifest(manifest)
     raw = read_input(model, kind='gear', what='a gear file', error=GearConfigError)
     try:
@@ -164,10 +202,17 @@ def run_fleet(manifest: str | os.PathLike, model: str | os.PathLike, out: str | 
         raise GearConfigError(f'{model}: not UTF-8 text') from None
     gear = parse_gear(gear_text, os.fspath(model))
     model_hash = hashlib.sha256(raw).hexdigest()
-    with OutputSet(force=force, inputs=[('--manifest', manifest), ('--model', model)]) as outputs:
+    inputs = [('--manifest', manifest), ('--model', model)]
+    for e in entries:                   # never written over, into or above: even with force
+        inputs += recording_inputs([e.path], label=f'recording of {manifest} row {e.row}')
+    with OutputSet(force=force, inputs=inputs) as outputs:
         outputs.add_directory(out, label='--out')
         outputs.check()
-        cache = _read_cache(out) if force else {}
+        cache, problem = _read_cache(out) if force else ({}, None)
+        if problem:
+            warnings.warn(f'{" ".join(problem.split())}; every recording is recomputed',
+                          CacheWarning, stacklevel=2)
+        refused = []
         t0 = time.perf_counter()
         keys, results, todo = [], [None] * len(entries), []
         for i, e in enumerate(entries):
@@ -180,10 +225,16 @@ def run_fleet(manifest: str | os.PathLike, model: str | os.PathLike, out: str | 
             key = hashlib.sha256(f'{h}:{model_hash}:{FIT_VERSION}'.encode()).hexdigest()
             keys.append(key)
             old = cache.get(key)
-            if isinstance(old, dict) and old.get('version') == FIT_VERSION:
-                results[i] = dict(old, cached=True)
-            else:
+            why = None if old is None else result_problem(old, gear)
+            if old is None or (isinstance(old, dict) and old.get('version') != FIT_VERSION):
+                todo.append(i)                  # not cached, or by another analysis version
+            elif why:
+                refused.append((e, why))
                 todo.append(i)
+            else:
+                results[i] = dict(old, path=e.path, cached=True)
+        if refused:
+            _cache_warning(os.path.join(os.fspath(out), CACHE_NAME), refused)
         t_hash = time.perf_counter() - t0
         n_cached = sum(1 for r in results if r and r.get('cached'))
         _say(progress, f'{len(entries)} recordings: {n_cached} from the cache, {len(todo)} to '
@@ -220,7 +271,7 @@ def run_fleet(manifest: str | os.PathLike, model: str | os.PathLike, out: str | 
         info = {'manifest': os.fspath(manifest), 'model': os.fspath(model),
                 'computed': len(todo), 'cached': n_cached, 'workers': nworkers,
                 'scheduler': where}
-        files = fleet_files(assessment, info, os.path.dirname(os.path.abspath(manifest)))
+        files = fleet_files(assessment, info)
         files.append((CACHE_NAME, json_bytes({'version': FIT_VERSION, 'entries': new_cache})))
         t_assess = time.perf_counter() - t0
         outputs.write_directory(out, files)

@@ -35,7 +35,7 @@ from ..gear import format_gear, parse_gear
 from ..identification import identify_recordings
 from ..identification.plateaus import stick_slip_summary
 from ..identification.report import identification_figures
-from ..output import OutputSet
+from ..output import OutputSet, recording_inputs
 from ..results import ExperimentResult, result_files
 
 __all__ = ['run_identify']
@@ -167,7 +167,7 @@ def run_identify(paths: Sequence[str | os.PathLike], model_path: str | os.PathLi
     if report_dir is None:
         stem = os.path.splitext(os.path.basename(out))[0]
         report_dir = os.path.join(os.path.dirname(os.path.abspath(out)), f'{stem}_report')
-    inputs = [('--model', model_path)] + [('recording', p) for p in paths]
+    inputs = [('--model', model_path)] + recording_inputs(paths)
     with OutputSet(force=force, inputs=inputs) as outputs:
         outputs.add_directory(report_dir, label='--report')
         outputs.add_file(out, label='--out')
