@@ -110,10 +110,12 @@ def stribeck_visible(truth, plateaus, noise):
     return excess > 3.0 * noise
 
 
-def truth_value(truth, name):
+def truth_value(truth, name, structure=None):
     f = truth.friction
     if name == 'delta_s':
         return [f.delta_s]
+    if name == 'lever_error':
+        return [truth.mgl / structure.mgl - 1.0]
     return list(getattr(f, name) or [])
 
 
@@ -162,7 +164,7 @@ def evaluate(seed, step3):
         if name in said or name == 'fs_ratio':
             continue
         se = ident.standard_errors.get(name, [])
-        tv = truth_value(case.truth, name)
+        tv = truth_value(case.truth, name, case.structure)
         for i, (v, e) in enumerate(zip(vals, se)):
             w = tv[i] if i < len(tv) else 0.0
             if e is not None and np.isfinite(e):

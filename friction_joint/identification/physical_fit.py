@@ -53,7 +53,7 @@ from .static_problem import CoefficientLayout, Problem
 from .static_structure import LOWER, UPPER
 from ..models.static import PackedStatic, PARAMETERS, StaticFriction
 
-__all__ = ['PENALTY', 'DELTA_S_BOUNDS', 'VS_BAND', 'FS_RATIO_MAX', 'PROFILE_SPAN', 'fit_physical', 'PhysicalFit', 'PhysicalLayout', 'PhysicalProblem',
+__all__ = ['PENALTY', 'DELTA_S_BOUNDS', 'VS_BAND', 'FS_RATIO_MAX', 'PROFILE_SPAN', 'lever_torque', 'fit_physical', 'PhysicalFit', 'PhysicalLayout', 'PhysicalProblem',
            'vs_band', 'grid_profile', 'profile_interval', 'parameter_values']
 
 #: weight of a physics violation (Nm) relative to a plateau residual, times sqrt(n)
@@ -96,11 +96,15 @@ class PhysicalLayout(CoefficientLayout):
         Bounds of the v_s node values.
     load_max : float
         Largest load of the data (the physics conditions hold up to it).
+    lever : bool
+        Fit ``lever_error`` e: where tau_ext came from the structure's lever model, the
+        measured friction torque is the curve plus e tau_ext (the lever's gravity m g l
+        is (1 + e) times the structure's).
 
     """
 
     def __init__(self, structure, t_range, load_ref, *, ties=None, free_delta_s=False,
-                 band=None, load_max=0.0):
+                 band=None, load_max=0.0, lever=False):
         super().__init__(structure, t_range, load_ref)
         self.ties = dict(ties or {})
         self.band = band
@@ -108,6 +112,10 @@ class PhysicalLayout(CoefficientLayout):
         if free_delta_s:
             self.blocks.append(('delta_s', 'scalar', slice(self.size, self.size + 1)))
             self.maps['delta_s'] = np.eye(1)
+            self.size += 1
+        if lever:                                     # tau_ext of the lever model x (1 + e)
+            self.blocks.append(('lever_error', 'scalar', slice(self.size, self.size + 1)))
+            self.maps['lever_error'] = np.eye(1)
             self.size += 1
         if self.ties.get('fs') == 'free':             # F_s = r F_c with r fitted
             self.blocks.append(('fs_ratio', 'scalar', slice(self.size, self.size + 1)))
@@ -126,6 +134,8 @@ class PhysicalLayout(CoefficientLayout):
                 lo[sl], hi[sl] = DELTA_S_BOUNDS
             elif name == 'fs_ratio':
                 lo[sl], hi[sl] = 1.0, FS_RATIO_MAX
+            elif name == 'lever_error':
+                lo[sl], hi[sl] = -0.5, 0.5
         return lo, hi
 
     def packed(self, thetas):
@@ -146,7 +156,7 @@ class PhysicalLayout(CoefficientLayout):
                 load[:, _IDX[name[:-5]], :coef.shape[1]] = coef
             elif name == 'delta_s':
                 ds = coef[:, 0]
-            else:
+            elif name == 'fs_ratio':
                 ratio = coef[:, 0]
         if ratio is not None:
             temp[:, _IDX['fs']] = ratio[:, None] * temp[:, _IDX['fc']]
@@ -158,6 +168,14 @@ class PhysicalLayout(CoefficientLayout):
         ones = np.ones(b)
         return PackedStatic(temp, load, ds, self.s.velocity_scale * ones, -1e9 * ones,
                             1e9 * ones)
+
+    def torque(self, thetas, qd, xi, load, tau_ext=None):
+        """(B, N) friction torque as measured: the curve, plus e tau_ext (lever model)."""
+        out = super().torque(thetas, qd, xi, load)
+        sl = [s_ for n_, _, s_ in self.blocks if n_ == 'lever_error']
+        if sl and tau_ext is not None:
+            out = out + np.atleast_2d(thetas)[:, sl[0]] * np.asarray(tau_ext)[None, :]
+        return out
 
     def physics(self, thetas, xi, load):
         """
@@ -188,13 +206,14 @@ class PhysicalProblem(Problem):
 
     def __init__(self, layout, plateaus, *, penalty=PENALTY):
         super().__init__(layout, plateaus)
+        self.lever = lever_torque(plateaus)
         self.weight = penalty * math.sqrt(max(len(self.y), 1))
         self.cx, self.cl = layout.corners()
         self.stribeck = layout.s.stribeck and 'fs' not in layout.ties
 
     def data_residuals(self, thetas):
         """(B, n) model minus measured friction torque."""
-        return self.layout.torque(thetas, self.qd, self.xi, self.load) - self.y
+        return self.layout.torque(thetas, self.qd, self.xi, self.load, self.lever) - self.y
 
     def penalties(self, thetas):
         v = self.layout.physics(np.atleast_2d(thetas), self.cx, self.cl)
@@ -222,12 +241,19 @@ class PhysicalProblem(Problem):
         return ((r[:k] - r[k:]) / (2.0 * h[:, None])).T
 
 
+def lever_torque(plateaus):
+    """Per plateau: its mean tau_ext where it came from the lever model, else 0."""
+    model = np.array([src == 'lever_model' for src in plateaus.torque_source] or [False])
+    src = np.clip(plateaus.source, 0, len(model) - 1)
+    return np.where(model[src], plateaus.tau_ext, 0.0)
+
+
 def _linear_mask(layout):
     """Entries of theta the curve is linear in: F_c, F_s, F_v nodes and their load terms."""
     m = np.zeros(layout.size, dtype=bool)
     for name, kind, sl in layout.blocks:
         base = name[:-5] if kind == 'load' else name
-        if base in ('fc', 'fs', 'fv'):
+        if base in ('fc', 'fs', 'fv', 'lever_error'):
             m[sl] = True
     return m
 
@@ -275,7 +301,7 @@ def grid_profile(layout, plateaus, *, vs_grid, dv_grid, ds_grid):
     batch = np.repeat(base, n_lin + 1, axis=0)
     for j, i in enumerate(idx):
         batch[j + 1::n_lin + 1, i] += 1.0
-    tq = layout.torque(batch, plateaus.qd, plateaus.xi, plateaus.load)
+    tq = layout.torque(batch, plateaus.qd, plateaus.xi, plateaus.load, lever_torque(plateaus))
     tq = tq.reshape(len(base), n_lin + 1, -1)
     for k, (a, b, c) in enumerate(np.ndindex(*shape)):
         r0 = tq[k, 0]
@@ -468,8 +494,9 @@ def fit_physical(structure, plateaus, t_range, load_ref, *, prior, progress=None
     xm = 0.5 * (t_range[0] + t_range[1])
     load_max = float(np.max(plateaus.load)) if n else 0.0
     stribeck = structure.stribeck and 'vs' in structure.orders and 'fs' in structure.orders
+    lever = bool(np.ptp(lever_torque(plateaus)) > 0) if n else False
     layout = PhysicalLayout(structure, t_range, load_ref, free_delta_s=stribeck, band=band,
-                            load_max=load_max)
+                            load_max=load_max, lever=lever)
     vs_grid = np.geomspace(band[0], band[1], 16) if stribeck else np.array([1.0])
     dv_grid = (np.linspace(0.3, 1.5, 7) if 'delta_v' in structure.orders
                else np.array([1.0]))
@@ -529,7 +556,7 @@ def fit_physical(structure, plateaus, t_range, load_ref, *, prior, progress=None
             for v_try, tie in tries:
                 s3 = dataclasses.replace(s2, fixed=dict(structure.fixed, vs=[v_try]))
                 lay2 = PhysicalLayout(s3, t_range, load_ref, ties={'fs': tie}, band=band,
-                                      load_max=load_max)
+                                      load_max=load_max, lever=lever)
                 th2 = _project(layout, lay2, start)
                 if tie == 'free':
                     th2[[s_ for n_, _, s_ in lay2.blocks if n_ == 'fs_ratio'][0]] = ratio
@@ -576,7 +603,8 @@ def fit_physical(structure, plateaus, t_range, load_ref, *, prior, progress=None
         elif d_lo and d_hi:
             ds_keep = float(np.clip(prior.delta_s, dlo, dhi))
             structure = dataclasses.replace(structure, delta_s=ds_keep)
-            lay2 = PhysicalLayout(structure, t_range, load_ref, band=band, load_max=load_max)
+            lay2 = PhysicalLayout(structure, t_range, load_ref, band=band, load_max=load_max,
+                                  lever=lever)
             prob2 = PhysicalProblem(lay2, plateaus)
             results = [_solve(prob2, _project(layout, lay2, th))[:2][::-1] for _, th in results]
             kept['delta_s'] = {'value': ds_keep, 'source': 'structure file',
@@ -684,7 +712,8 @@ def _try_ratio(e, theta, layout, problem, structure, plateaus, t_range, load_ref
     s_t = dataclasses.replace(structure, orders=orders, load_orders=lo_ord)
     free_ds = any(name == 'delta_s' for name, _, _ in layout.blocks)
     lay_t = PhysicalLayout(s_t, t_range, load_ref, ties={'fs': 'free'}, free_delta_s=free_ds,
-                           band=band, load_max=load_max)
+                           band=band, load_max=load_max,
+                           lever=any(n_ == 'lever_error' for n_, _, _ in layout.blocks))
     th0 = _project(layout, lay_t, theta)
     par = layout.physics(theta[None, :], np.array([xm]), np.array([float(np.mean(plateaus.load))]))
     fc, fs = float(par[0, _IDX['fc'], 0]), float(par[0, _IDX['fs'], 0])
@@ -728,7 +757,7 @@ def _held_out(layout, plateaus, theta, folds):
         sub = PhysicalProblem(layout, plateaus.select(train))
         tt, _, _ = _solve(sub, theta, tol=1e-8, max_nfev=100)
         held = plateaus.select(test)
-        return layout.torque(tt, held.qd, held.xi, held.load)[0] - held.tau_r
+        return layout.torque(tt, held.qd, held.xi, held.load, lever_torque(held))[0] - held.tau_r
 
     sse, count = held_out_sse(random_folds(n, folds, seed=0), n, fit_predict)
     return float(np.sum(sse)) / max(int(count.sum()), 1)
