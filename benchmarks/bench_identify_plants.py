@@ -169,6 +169,8 @@ def evaluate(seed, step3):
             w = tv[i] if i < len(tv) else 0.0
             if e is not None and np.isfinite(e):
                 covered.append(bool(abs(v - w) <= 2.0 * e))
+                out.setdefault('coverage_by_name', []).append([f'{name}[{i}]', covered[-1],
+                                                               (v - w) / e if e else None])
     for name in ('fc', 'fs', 'fv', 'vs', 'delta_v', 'delta_s'):
         if name not in said and 'curve' not in said and \
                 _rel_err(run.gear, case.truth, name) > 1.0:

@@ -577,8 +577,17 @@ def fit_physical(structure, plateaus, t_range, load_ref, *, prior, progress=None
                 why = (f'the data fit as well with v_s anywhere in {vlo / kappa:.3g}..'
                        f'{vhi / kappa:.3g} rad/s (the slowest plateau is {vmin:.3g} rad/s): the '
                        "dip's width trades against its depth F_s - F_c and its shape delta_s")
-            advice = (f'record plateaus down to {vlo / kappa:.2g} rad/s or slower, several '
-                      'around the dip, to identify it')
+            if at_lo:
+                advice = (f'record plateaus down to {vlo / kappa:.2g} rad/s or slower, several '
+                          'around the dip, to identify it')
+            else:
+                advice = (f'record more plateaus within {vlo / kappa:.2g}..{vhi / kappa:.2g} '
+                          'rad/s, where the dip lies, to identify it')
+            r_now = ratio if tie != 'free' else float(
+                th2[[s_ for n_, _, s_ in lay2.blocks if n_ == 'fs_ratio'][0]][0])
+            if r_now < 1.02:
+                why += (f'; the dip is shallow (F_s = {r_now:.3g} F_c), so v_s hardly changes '
+                        'the curve')
             if v_prior and abs(v_try - v_prior) <= 1e-9 * v_try:
                 source = 'structure file'
             elif vlo <= v_try <= vhi:
