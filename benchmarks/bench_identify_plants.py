@@ -59,8 +59,6 @@ import warnings
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 sys.path.insert(0, ROOT)
 
-import numpy as np  # noqa: E402
-
 from friction_joint.bag import write_recording  # noqa: E402
 from friction_joint.exceptions import FrictionJointError  # noqa: E402
 from friction_joint.experiments.identification_draws import (  # noqa: E402
@@ -68,12 +66,13 @@ from friction_joint.experiments.identification_draws import (  # noqa: E402
 from friction_joint.gear import save_gear  # noqa: E402
 from friction_joint.identification.pipeline import identify_recordings  # noqa: E402
 from friction_joint.models.static import StaticFriction  # noqa: E402
+import numpy as np  # noqa: E402
 
 CACHE = os.path.join(tempfile.gettempdir(), 'friction_joint_bench_identify_plants')
 
 
 def recording(seed):
-    """The case and the path of its recording and structure file (simulated once)."""
+    """Return the case and the paths of its recording and structure file (simulated once)."""
     case = draw_identification_case(seed)
     d = os.path.join(CACHE, f'case{seed}')
     bag, structure = os.path.join(d, 'recording'), os.path.join(d, 'structure.yaml')
@@ -101,9 +100,10 @@ def curve_error(gear, truth, plateaus):
 
 
 def stribeck_visible(truth, plateaus, noise):
-    """True where the truth's Stribeck excess at the slowest plateau is above the noise."""
+    """Say whether the truth's Stribeck excess at the slowest plateau is above the noise."""
     f = truth.friction
-    p = StaticFriction(f).parameters(np.array([np.mean(plateaus.xi)]), float(np.mean(plateaus.load)))
+    p = StaticFriction(f).parameters(np.array([np.mean(plateaus.xi)]),
+                                     float(np.mean(plateaus.load)))
     fc, fs, vs = float(p['fc'][0]), float(p['fs'][0]), float(p['vs'][0])
     vmin = float(np.min(np.abs(plateaus.qd)))
     excess = (fs - fc) * math.exp(-(vmin / vs) ** f.delta_s)
@@ -242,8 +242,9 @@ def main():
                   f'{" (curve not identified)" if not r["curve_identified"] else ""}, '
                   f'coverage {sum(r["covered"])}/{len(r["covered"])}'
                   + (f', ABSURD {",".join(r["absurd"])}' if r['absurd'] else '')
-                  + (', step 3 ' + ', '.join(f'{k} {v if isinstance(v, str) else f"{100 * v:+.0f} %"}'
-                                             for k, v in r['step3'].items())
+                  + (', step 3 ' + ', '.join(
+                      f'{k} {v if isinstance(v, str) else f"{100 * v:+.0f} %"}'
+                      for k, v in r['step3'].items())
                      if r.get('step3') else '')
                   + f' ({r["time_s"]:.1f} s)', flush=True)
     total = time.perf_counter() - start

@@ -17,7 +17,7 @@ Plants and plateau excitations drawn at random, for checking the identification.
 
 One truth file is not evidence: :func:`draw_identification_case` draws a joint
 (static curve, temperature and load dependency, inertia, lever, LuGre or GMS
-pre-sliding, sensors) from continuous ranges (:data:`PLANT_RANGES`) and a
+pre-sliding, sensors) from continuous ranges (:data:`JOINT_RANGES`) and a
 plateau excitation (speed set, plateau length and order, recording rate,
 encoder, noise, temperature ramp, load range, with or without a load sensor:
 :data:`EXCITATION_RANGES`); :func:`simulate_case` runs it on the simulated test
@@ -41,11 +41,11 @@ import numpy as np
 
 from ..gear import gear_from_dict, GearParams
 
-__all__ = ['PLANT_RANGES', 'EXCITATION_RANGES', 'IdentificationCase', 'draw_identification_case',
+__all__ = ['JOINT_RANGES', 'EXCITATION_RANGES', 'IdentificationCase', 'draw_identification_case',
            'simulate_case', 'plan_case', 'draw_plateaus']
 
 #: the joints drawn (uniform unless marked log-uniform)
-PLANT_RANGES = {
+JOINT_RANGES = {
     'fc': (0.3, 6.0),              # Nm at the mid temperature, log-uniform
     'fs_ratio': (1.0, 1.8),        # F_s / F_c
     'vs': (0.005, 0.3),            # rad/s (output side), log-uniform
@@ -173,14 +173,14 @@ def draw_identification_case(seed: int, *, plant_ranges: dict | None = None,
     seed : int
         Seed of the draw.
     plant_ranges, excitation_ranges : dict, optional
-        Overrides of :data:`PLANT_RANGES` and :data:`EXCITATION_RANGES` entries.
+        Overrides of :data:`JOINT_RANGES` and :data:`EXCITATION_RANGES` entries.
 
     Returns
     -------
     IdentificationCase
 
     """
-    pr = dict(PLANT_RANGES, **(plant_ranges or {}))
+    pr = dict(JOINT_RANGES, **(plant_ranges or {}))
     er = dict(EXCITATION_RANGES, **(excitation_ranges or {}))
     rng = np.random.default_rng([7919, int(seed)])
     xi0 = _u(rng, er['xi_start'])
@@ -371,6 +371,7 @@ def draw_plateaus(case: IdentificationCase, *, noise: float = 0.002, seed: int =
     Parameters
     ----------
     case : IdentificationCase
+        The drawn joint and excitation.
     noise : float
         Noise standard deviation relative to F_c at the mid temperature.
     seed : int

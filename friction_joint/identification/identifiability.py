@@ -34,7 +34,7 @@ import math
 
 import numpy as np
 
-from .physical_fit import _solve, lever_torque, PhysicalProblem
+from .physical_problem import lever_torque, PhysicalProblem, solve_bounded
 from ..models.static import PARAMETERS
 
 __all__ = ['WEAK', 'SPEED_BANDS', 'HELD_OUT_TOLERANCE', 'identifiability', 'held_out_validation']
@@ -164,7 +164,7 @@ def identifiability(ident, fit, notes, *, validation=None):
         se = float(math.sqrt(max(fit.cov[sl, sl][0, 0], 0.0)))
         params['lever_error'] = {'value': e, 'se': se, 'resolved': bool(abs(e) > 2.0 * se)}
         if abs(e) > 2.0 * se:
-            lines.append(f'lever gravity: tau_ext came from the structure file\'s lever (no '
+            lines.append(f"lever gravity: tau_ext came from the structure file's lever (no "
                          f'/link_torque); the friction torque says its m g l is {100 * e:+.2g} % '
                          f'(+- {100 * se:.2g} %) off, fitted along (the friction curve is '
                          'corrected for it; the lever section is written as given)')
@@ -222,8 +222,11 @@ def held_out_validation(fit, plateaus, t_range, load_ref, *, blocks=10):
     fit : PhysicalFit
         The fit on all plateaus (its layout and parameters start each refit).
     plateaus : Plateaus
+        The data.
     t_range : tuple of float
+        Recorded temperature range (degC).
     load_ref : float
+        Load scale (Nm).
     blocks : int
         Blocks of plateaus (at most one per plateau); with too few plateaus to refit
         without a block (fewer than the coefficients + 2 left) there is no check.
@@ -257,7 +260,7 @@ def held_out_validation(fit, plateaus, t_range, load_ref, *, blocks=10):
         start = fit.theta * (1.0 + 0.2 * rng.choice([-1.0, 1.0], size=len(fit.theta)))
         start = np.clip(start, np.where(np.isfinite(lo), lo, -np.inf),
                         np.where(np.isfinite(hi), hi, np.inf))
-        th, _, _ = _solve(sub, start)
+        th, _, _ = solve_bounded(sub, start)
         held = plateaus.select(part)
         err[part] = (fit.layout.torque(th, held.qd, held.xi, held.load, lever_torque(held))[0]
                      - held.tau_r)

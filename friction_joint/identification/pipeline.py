@@ -73,9 +73,10 @@ import warnings
 
 import numpy as np
 
-from .plateaus import DETECTION, find_plateaus, Plateaus, stick_slip_summary
+from .plateaus import DETECTION, find_plateaus, Plateaus
 from .report import identification_figures
 from .static_fit import StaticIdentifier
+from .stick_slip import stick_slip_summary
 from .._filters import zero_phase_derivatives
 from ..bag import read_recording, Recording
 from ..bag.stamps import BRIDGE_MARGIN, gap_summary, piece_on_grid, split_pieces

@@ -73,10 +73,10 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from .folds import held_out_sse, random_folds
-from .static_problem import (CoefficientLayout, covariance, fit_structure, load_reference,
-                             Problem, temperature_range)
 from .identifiability import held_out_validation, identifiability
 from .physical_fit import fit_physical
+from .static_problem import (CoefficientLayout, covariance, fit_structure, load_reference,
+                             Problem, temperature_range)
 from .static_structure import (carry_structure, check_excitation, distinct_levels, group_table,
                                PARAMETER_UNITS, StaticStructure)
 from ..exceptions import ExcitationError, GearConfigError

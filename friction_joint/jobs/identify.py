@@ -33,8 +33,8 @@ import numpy as np
 
 from ..gear import format_gear, parse_gear
 from ..identification import identify_recordings
-from ..identification.plateaus import stick_slip_summary
 from ..identification.report import identification_figures
+from ..identification.stick_slip import stick_slip_summary
 from ..output import OutputSet, recording_inputs
 from ..results import ExperimentResult, result_files
 
@@ -80,7 +80,8 @@ def _header(run, paths, structure_path):
     val = ident.validation
     if val.get('blocks'):
         lines.append(f'held-out check ({val["blocks"]} blocks of plateaus, each predicted by a '
-                     f'fit without it): RMS {val["rms"]:.4f} Nm (in-sample {val["rms_in_sample"]:.4f})')
+                     f'fit without it): RMS {val["rms"]:.4f} Nm (in-sample '
+                     f'{val["rms_in_sample"]:.4f})')
         lines += [f'  |qd| {b["v_low"]:.3g}..{b["v_high"]:.3g} rad/s: RMS {b["rms"]:.4f} Nm '
                   f'({100 * b["rel_rms"]:.2g} %), worst {b["worst"]:.4f} Nm '
                   f'({100 * b["worst_rel"]:.2g} %), {b["plateaus"]} plateaus'

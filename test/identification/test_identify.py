@@ -26,7 +26,6 @@ import os
 
 from friction_joint.bag import read_recording, write_recording
 from friction_joint.cli import main
-from friction_joint.exceptions import ExcitationError
 from friction_joint.experiments.excitation import simulate_identification
 from friction_joint.gear import load_gear, save_gear
 from friction_joint.identification.pipeline import identify_recordings

@@ -26,9 +26,9 @@ from friction_joint.bag import read_recording, write_recording
 from friction_joint.experiments.identification_draws import (
     draw_identification_case, draw_plateaus, simulate_case)
 from friction_joint.identification import find_plateaus, plateaus_from_arrays, StaticIdentifier
-from friction_joint.identification.physical_fit import DELTA_S_BOUNDS, FS_RATIO_MAX, vs_band
+from friction_joint.identification.physical_problem import DELTA_S_BOUNDS, FS_RATIO_MAX, vs_band
 from friction_joint.identification.pipeline import identify_recordings
-from friction_joint.identification.plateaus import stick_slip_summary
+from friction_joint.identification.stick_slip import stick_slip_summary
 from friction_joint.models.static import StaticFriction
 import numpy as np
 import pytest
@@ -61,7 +61,7 @@ def fit(case, *, seed, noise=0.002, plateaus=None):
 
 @pytest.fixture(scope='module')
 def simulated():
-    """One drawn plant's plateau excitation, simulated (relative time and its stamps)."""
+    """Simulate one drawn plant's plateau excitation (relative time and its stamps)."""
     case = draw_identification_case(SEEDS[0], excitation_ranges=SHORT)
     with warnings.catch_warnings():
         warnings.simplefilter('ignore')
@@ -202,8 +202,10 @@ def test_two_standard_errors_cover_the_truth():
 @pytest.mark.parametrize('seed', SEEDS[33:36])
 def test_held_out_validation_measures_the_noise_and_grows_where_the_model_misses(seed):
     """
-    Held-out errors per speed band: about the noise on a clean plant; larger in the band
-    where an unmodelled bump of drawn size sits (drawn band, drawn plant).
+    Held-out errors per speed band: about the noise on a clean plant.
+
+    They are larger in the band where an unmodelled bump of drawn size sits (drawn band,
+    drawn plant).
     """
     import dataclasses
     rng = np.random.default_rng(seed)
@@ -289,3 +291,32 @@ def test_a_drawn_plant_is_identified_from_its_recording(simulated, tmp_path):
     rep = run.report()
     assert rep['identifiability']['lines'] == idf['lines']
     assert rep['validation']['bands']
+
+
+# ------------------------------------------- no load sensor: the lever's own error ---
+
+@pytest.mark.parametrize('seed', SEEDS[39:40] + [int(s) for s in SEEDS[1:3]])
+def test_the_lever_models_gravity_error_is_fitted_and_said(seed):
+    """
+    Without /link_torque the lever model's m g l error is fitted along and said.
+
+    tau_ext is then the structure's lever: its m g l error (drawn, 2-8 %) is a
+    position-dependent friction error unless fitted along.
+    """
+    import dataclasses
+    rng = np.random.default_rng(seed)
+    case = draw_identification_case(seed, excitation_ranges={'mgl': (6.0, 15.0),
+                                                             'n_speeds': (9, 11),
+                                                             'repetitions': (2, 2)})
+    p = draw_plateaus(case, seed=seed, noise=0.002)
+    err = float(rng.uniform(0.02, 0.08) * rng.choice([-1.0, 1.0]))
+    tau_model = case.structure.mgl * np.sin(np.array(case.centers))
+    # measured friction = effort - tau_model: the truth plus e tau_model
+    p = dataclasses.replace(p, tau_ext=tau_model, tau_r=p.tau_r + err * tau_model,
+                            torque_source=('lever_model',))
+    _, ident = fit(case, seed=seed, plateaus=p)
+    got = ident.identifiability['parameters']['lever_error']
+    assert abs(got['value'] - err) <= 2.0 * got['se'] + 1e-3
+    assert any(line.startswith('lever gravity:') for line in ident.identifiability['lines'])
+    if ident.identifiability['curve_identified']:
+        assert curve_error(ident.gear, case.truth, p) < 0.02
