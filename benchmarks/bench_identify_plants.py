@@ -161,7 +161,7 @@ def evaluate(seed, step3):
     said = {f.split()[0] for f in flags}
     covered, absurd = [], []
     for name, vals in ident.coefficients.items():
-        if name in said or name == 'fs_ratio':
+        if name in said or name in ('fs_ratio', 'sensor_lag'):
             continue
         se = ident.standard_errors.get(name, [])
         tv = truth_value(case.truth, name, case.structure)

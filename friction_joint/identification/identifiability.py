@@ -37,7 +37,7 @@ import numpy as np
 from .physical_problem import lever_torque, PhysicalProblem, solve_bounded
 from ..models.static import PARAMETERS
 
-__all__ = ['WEAK', 'SPEED_BANDS', 'HELD_OUT_TOLERANCE', 'identifiability', 'held_out_validation']
+__all__ = ['WEAK', 'SPEED_BANDS', 'HELD_OUT_TOLERANCE', 'curve_uncertainty', 'identifiability', 'held_out_validation']
 
 #: a fitted parameter whose standard error exceeds this fraction of its value is weakly pinned
 WEAK = 0.5
@@ -75,6 +75,47 @@ def _change_se(fit, name, xa, xb, load):
     h = 1e-6 * np.maximum(np.abs(theta), 1e-3)
     g = (change(np.repeat(theta[None, :], len(theta), axis=0) + np.diag(h)) - c0) / h
     return c0, math.sqrt(max(float(g @ fit.cov @ g), 0.0))
+
+
+def curve_uncertainty(fit, plateaus, xi_lo, xi_hi, *, speeds=12):
+    """
+    Return the largest relative +-2 standard-error band of the fitted curve in the ranges.
+
+    Over the plateaus' speeds (log-spaced, both directions), the recorded temperature
+    range's ends and the load range's ends; from the covariance by the delta method.
+
+    Parameters
+    ----------
+    fit : PhysicalFit
+        The fit.
+    plateaus : Plateaus
+        The data (their speed and load ranges).
+    xi_lo, xi_hi : float
+        Recorded temperature range (degC).
+    speeds : int
+        Speeds checked.
+
+    Returns
+    -------
+    dict
+        ``worst_rel`` (2 SE / |torque|) and where: ``qd``, ``xi``, ``load``.
+
+    """
+    speed = np.abs(plateaus.qd)
+    v = np.geomspace(speed.min(), speed.max(), speeds)
+    qd, xi, load = (a.ravel() for a in np.meshgrid(
+        np.concatenate([v, -v]), [xi_lo, xi_hi],
+        [float(plateaus.load.min()), float(plateaus.load.max())], indexing='ij'))
+    theta = fit.theta
+    h = 1e-6 * np.maximum(np.abs(theta), 1e-3)
+    batch = np.vstack([theta[None, :], theta[None, :] + np.diag(h)])
+    tq = fit.layout.torque(batch, qd, xi, load)
+    g = (tq[1:] - tq[0]) / h[:, None]
+    se = np.sqrt(np.clip(np.einsum('ik,ij,jk->k', g, fit.cov, g), 0.0, None))
+    rel = 2.0 * se / np.maximum(np.abs(tq[0]), 1e-12)
+    k = int(np.argmax(rel))
+    return {'worst_rel': float(rel[k]), 'qd': float(abs(qd[k])), 'xi': float(xi[k]),
+            'load': float(load[k])}
 
 
 def identifiability(ident, fit, notes, *, validation=None):
@@ -168,8 +209,18 @@ def identifiability(ident, fit, notes, *, validation=None):
                          f'/link_torque); the friction torque says its m g l is {100 * e:+.2g} % '
                          f'(+- {100 * se:.2g} %) off, fitted along (the friction curve is '
                          'corrected for it; the lever section is written as given)')
+    if any(name == 'sensor_lag' for name, _, _ in fit.layout.blocks):
+        sl = [s_ for name, _, s_ in fit.layout.blocks if name == 'sensor_lag'][0]
+        lag = float(fit.theta[sl][0])
+        se = float(math.sqrt(max(fit.cov[sl, sl][0, 0], 0.0)))
+        params['sensor_lag'] = {'value': lag, 'se': se, 'resolved': bool(lag > 2.0 * se)}
+        if lag > 2.0 * se:
+            lines.append(f'temperature sensor lag: while the temperature changes, the friction '
+                         f'follows the housing temperature the sensor reads {lag:.3g} s (+- '
+                         f'{se:.2g} s) later; the coefficients refer to the housing temperature '
+                         'as the sensor reads it when steady')
     for name in getattr(fit, 'at_bound', []):
-        if name in ('fc', 'fv', 'fs', 'lever_error'):
+        if name in ('fc', 'fv', 'fs', 'lever_error', 'sensor_lag'):
             continue                      # F >= 0 and F_s >= F_c: physics, not a search bound
         entry = dict(params.get(name, {}), bound=True)
         weak[name] = entry
@@ -178,6 +229,23 @@ def identifiability(ident, fit, notes, *, validation=None):
                      f'{fit.layout.band[1] / kappa if fit.layout.band else 0:.3g} rad/s, from a '
                      'thirtieth of the slowest plateau to the fastest; delta_s 0.4..3; delta_v '
                      '0.05..3): the data do not pin it')
+    # the curve's own uncertainty over the recorded ranges (delta method): where +-2
+    # standard errors exceed the tolerance, the data do not pin the curve there
+    unc = curve_uncertainty(fit, p, lo_t, hi_t)
+    if unc['worst_rel'] > HELD_OUT_TOLERANCE:
+        key = f'curve at {unc["qd"]:.3g} rad/s, {unc["xi"]:.1f} degC'
+        weak[key] = dict(unc, held_out=True)
+        lines.append(f'{key} not pinned: its +-2 standard errors reach '
+                     f'{100 * unc["worst_rel"]:.2g} % of the friction torque there (tau_L '
+                     f'{unc["load"]:.2f} Nm); record plateaus near that speed and temperature')
+    iv = fit.intervals.get('vs', {})
+    kv = fit.kept.get('vs')
+    if kv and not iv.get('at_slow_end') and 'shallow' not in kv['why']:
+        key = f'curve at {np.abs(p.qd).min():.3g}..{iv["high"]:.3g} rad/s'
+        weak[key] = {'held_out': True, 'v_low': float(np.abs(p.qd).min()),
+                     'v_high': iv['high']}
+        lines.append(f'{key} not pinned: the Stribeck dip lies there but the data do not '
+                     'tell its width (v_s kept, see above)')
     for b in (validation or {}).get('bands', []):
         if b['worst_rel'] > HELD_OUT_TOLERANCE and b['worst'] > 3.0 * b.get('se', 0.0):
             key = f'curve at {b["v_low"]:.3g}..{b["v_high"]:.3g} rad/s'
@@ -262,8 +330,8 @@ def held_out_validation(fit, plateaus, t_range, load_ref, *, blocks=10):
                         np.where(np.isfinite(hi), hi, np.inf))
         th, _, _ = solve_bounded(sub, start)
         held = plateaus.select(part)
-        err[part] = (fit.layout.torque(th, held.qd, held.xi, held.load, lever_torque(held))[0]
-                     - held.tau_r)
+        err[part] = (fit.layout.torque(th, held.qd, held.xi, held.load, lever_torque(held),
+                                       held.xi_rate)[0] - held.tau_r)
     speed = np.abs(plateaus.qd)
     edges = np.geomspace(speed.min(), speed.max() * (1 + 1e-9), SPEED_BANDS + 1)
     bands = []

@@ -54,7 +54,7 @@ from .physical_problem import (DELTA_S_BOUNDS, feasible_theta, FS_RATIO_MAX, gri
 from ..models.static import PARAMETERS
 
 __all__ = ['PROFILE_SPAN', 'CONDITION_LIMIT', 'BOOTSTRAP_RESAMPLES', 'PhysicalFit',
-           'fit_physical']
+           'fit_physical', 'sensor_lag_bound']
 
 #: v_s is not pinned when its profile interval spans more than this factor
 PROFILE_SPAN = 3.0
@@ -102,6 +102,21 @@ def _prior_value(prior, name, xi):
     if coef is None or not len(coef):
         return None
     return float(np.polynomial.polynomial.polyval(xi, coef))
+
+
+def sensor_lag_bound(plateaus):
+    """
+    Return the longest temperature-sensor lag worth fitting (s), or None.
+
+    Half the time the fastest temperature change takes to cross the recorded range;
+    None when the temperature does not change at different rates (the lag is then a
+    constant offset of the temperature, inseparable from the polynomials).
+    """
+    rate = np.abs(plateaus.xi_rate)
+    span = float(np.ptp(plateaus.xi)) if len(plateaus) else 0.0
+    if not len(plateaus) or rate.max() <= 0.0 or np.ptp(plateaus.xi_rate) <= 0.0 or span <= 0:
+        return None
+    return 0.5 * span / float(rate.max())
 
 
 def _best_at(sse, thetas, index):
@@ -189,8 +204,9 @@ def fit_physical(structure, plateaus, t_range, load_ref, *, prior, progress=None
     load_max = float(np.max(plateaus.load)) if n else 0.0
     stribeck = structure.stribeck and 'vs' in structure.orders and 'fs' in structure.orders
     lever = bool(np.ptp(lever_torque(plateaus)) > 0) if n else False
+    lag_max = sensor_lag_bound(plateaus)
     layout = PhysicalLayout(structure, t_range, load_ref, free_delta_s=stribeck, band=band,
-                            load_max=load_max, lever=lever)
+                            load_max=load_max, lever=lever, lag_max=lag_max)
     vs_grid = np.geomspace(band[0], band[1], 16) if stribeck else np.array([1.0])
     dv_grid = (np.linspace(0.3, 1.5, 7) if 'delta_v' in structure.orders
                else np.array([1.0]))
@@ -250,7 +266,7 @@ def fit_physical(structure, plateaus, t_range, load_ref, *, prior, progress=None
             for v_try, tie in tries:
                 s3 = dataclasses.replace(s2, fixed=dict(structure.fixed, vs=[v_try]))
                 lay2 = PhysicalLayout(s3, t_range, load_ref, ties={'fs': tie}, band=band,
-                                      load_max=load_max, lever=lever)
+                                      load_max=load_max, lever=lever, lag_max=lag_max)
                 th2 = project_theta(layout, lay2, start)
                 if tie == 'free':
                     th2[[s_ for n_, _, s_ in lay2.blocks if n_ == 'fs_ratio'][0]] = ratio
@@ -307,7 +323,7 @@ def fit_physical(structure, plateaus, t_range, load_ref, *, prior, progress=None
             ds_keep = float(np.clip(prior.delta_s, dlo, dhi))
             structure = dataclasses.replace(structure, delta_s=ds_keep)
             lay2 = PhysicalLayout(structure, t_range, load_ref, band=band, load_max=load_max,
-                                  lever=lever)
+                                  lever=lever, lag_max=lag_max)
             prob2 = PhysicalProblem(lay2, plateaus)
             results = [solve_bounded(prob2, project_theta(layout, lay2, th))[:2][::-1]
                        for _, th in results]
@@ -395,7 +411,8 @@ def _try_ratio(e, theta, layout, problem, structure, plateaus, t_range, load_ref
     free_ds = any(name == 'delta_s' for name, _, _ in layout.blocks)
     lay_t = PhysicalLayout(s_t, t_range, load_ref, ties={'fs': 'free'}, free_delta_s=free_ds,
                            band=band, load_max=load_max,
-                           lever=any(n_ == 'lever_error' for n_, _, _ in layout.blocks))
+                           lever=any(n_ == 'lever_error' for n_, _, _ in layout.blocks),
+                           lag_max=layout.lag_max)
     th0 = project_theta(layout, lay_t, theta)
     par = layout.physics(theta[None, :], np.array([xm]), np.array([float(np.mean(plateaus.load))]))
     fc, fs = float(par[0, _IDX['fc'], 0]), float(par[0, _IDX['fs'], 0])
@@ -427,7 +444,8 @@ def _held_out(layout, plateaus, theta, folds):
         sub = PhysicalProblem(layout, plateaus.select(train))
         tt, _, _ = solve_bounded(sub, theta, tol=1e-8, max_nfev=100)
         held = plateaus.select(test)
-        return layout.torque(tt, held.qd, held.xi, held.load, lever_torque(held))[0] - held.tau_r
+        return (layout.torque(tt, held.qd, held.xi, held.load, lever_torque(held),
+                              held.xi_rate)[0] - held.tau_r)
 
     sse, count = held_out_sse(random_folds(n, folds, seed=0), n, fit_predict)
     return float(np.sum(sse)) / max(int(count.sum()), 1)

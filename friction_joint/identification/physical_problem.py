@@ -73,6 +73,9 @@ class PhysicalLayout(CoefficientLayout):
         Bounds of the v_s node values.
     load_max : float
         Largest load of the data (the physics conditions hold up to it).
+    lag_max : float, optional
+        Fit ``sensor_lag`` (0..lag_max s): the friction follows the temperature the
+        sensor will read that many seconds later (xi + lag x xi_rate).
     lever : bool
         Fit ``lever_error`` e: where tau_ext came from the structure's lever model, the
         measured friction torque is the curve plus e tau_ext (the lever's gravity m g l
@@ -81,7 +84,7 @@ class PhysicalLayout(CoefficientLayout):
     """
 
     def __init__(self, structure, t_range, load_ref, *, ties=None, free_delta_s=False,
-                 band=None, load_max=0.0, lever=False):
+                 band=None, load_max=0.0, lever=False, lag_max=None):
         super().__init__(structure, t_range, load_ref)
         self.ties = dict(ties or {})
         self.band = band
@@ -89,6 +92,11 @@ class PhysicalLayout(CoefficientLayout):
         if free_delta_s:
             self.blocks.append(('delta_s', 'scalar', slice(self.size, self.size + 1)))
             self.maps['delta_s'] = np.eye(1)
+            self.size += 1
+        self.lag_max = lag_max
+        if lag_max:                                   # a lagging temperature sensor
+            self.blocks.append(('sensor_lag', 'scalar', slice(self.size, self.size + 1)))
+            self.maps['sensor_lag'] = np.eye(1)
             self.size += 1
         if lever:                                     # tau_ext of the lever model x (1 + e)
             self.blocks.append(('lever_error', 'scalar', slice(self.size, self.size + 1)))
@@ -113,6 +121,8 @@ class PhysicalLayout(CoefficientLayout):
                 lo[sl], hi[sl] = 1.0, FS_RATIO_MAX
             elif name == 'lever_error':
                 lo[sl], hi[sl] = -0.5, 0.5
+            elif name == 'sensor_lag':
+                lo[sl], hi[sl] = 0.0, self.lag_max
         return lo, hi
 
     def packed(self, thetas):
@@ -146,8 +156,15 @@ class PhysicalLayout(CoefficientLayout):
         return PackedStatic(temp, load, ds, self.s.velocity_scale * ones, -1e9 * ones,
                             1e9 * ones)
 
-    def torque(self, thetas, qd, xi, load, tau_ext=None):
+    def torque(self, thetas, qd, xi, load, tau_ext=None, xi_rate=None):
         """(B, N) friction torque as measured: the curve, plus e tau_ext (lever model)."""
+        thetas = np.atleast_2d(thetas)
+        lag = [s_ for n_, _, s_ in self.blocks if n_ == 'sensor_lag']
+        if lag and xi_rate is not None:
+            xi = np.asarray(xi, dtype=float)[None, :] + thetas[:, lag[0]] * np.asarray(
+                xi_rate, dtype=float)[None, :]
+            qd = np.broadcast_to(np.asarray(qd, dtype=float), xi.shape)
+            load = np.broadcast_to(np.asarray(load, dtype=float), xi.shape)
         out = super().torque(thetas, qd, xi, load)
         sl = [s_ for n_, _, s_ in self.blocks if n_ == 'lever_error']
         if sl and tau_ext is not None:
@@ -186,13 +203,15 @@ class PhysicalProblem(Problem):
     def __init__(self, layout, plateaus, *, penalty=PENALTY):
         super().__init__(layout, plateaus)
         self.lever = lever_torque(plateaus)
+        self.rate = plateaus.xi_rate.astype(float)
         self.weight = penalty * math.sqrt(max(len(self.y), 1))
         self.cx, self.cl = layout.corners()
         self.stribeck = layout.s.stribeck and 'fs' not in layout.ties
 
     def data_residuals(self, thetas):
         """(B, n) model minus measured friction torque."""
-        return self.layout.torque(thetas, self.qd, self.xi, self.load, self.lever) - self.y
+        return self.layout.torque(thetas, self.qd, self.xi, self.load, self.lever,
+                                  self.rate) - self.y
 
     def penalties(self, thetas):
         v = self.layout.physics(np.atleast_2d(thetas), self.cx, self.cl)
@@ -280,7 +299,8 @@ def grid_profile(layout, plateaus, *, vs_grid, dv_grid, ds_grid):
     batch = np.repeat(base, n_lin + 1, axis=0)
     for j, i in enumerate(idx):
         batch[j + 1::n_lin + 1, i] += 1.0
-    tq = layout.torque(batch, plateaus.qd, plateaus.xi, plateaus.load, lever_torque(plateaus))
+    tq = layout.torque(batch, plateaus.qd, plateaus.xi, plateaus.load, lever_torque(plateaus),
+                       plateaus.xi_rate)
     tq = tq.reshape(len(base), n_lin + 1, -1)
     for k, (a, b, c) in enumerate(np.ndindex(*shape)):
         r0 = tq[k, 0]

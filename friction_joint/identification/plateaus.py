@@ -107,7 +107,7 @@ DETECTION = {
 NOISE_SIGMAS = 4.0
 
 _FIELDS = ('qd', 'qd_se', 'tau_r', 'tau_r_se', 'xi', 'xi_se', 'xi_spread', 'load', 'load_se',
-           'load2', 'load3', 'tau_ext', 'q', 't0', 't1', 'n', 'source')
+           'load2', 'load3', 'tau_ext', 'q', 't0', 't1', 'n', 'source', 'xi_rate')
 
 
 @dataclasses.dataclass(frozen=True)
@@ -137,6 +137,11 @@ class Plateaus:
         Samples used.
     source : ndarray of int
         Index into ``sources``.
+    xi_rate : ndarray
+        Rate of change of the measured temperature around the plateau (degC/s; a line
+        through the readings over the plateau and half its length, or the time of five
+        sensor steps at the recording's mean rate, either side): a lagging sensor reads
+        low by lag x rate.
     sources : tuple of str
         The recordings the plateaus come from.
     torque_source : tuple of str
@@ -168,6 +173,7 @@ class Plateaus:
     t1: np.ndarray
     n: np.ndarray
     source: np.ndarray
+    xi_rate: np.ndarray
     sources: tuple[str, ...] = ()
     torque_source: tuple[str, ...] = ()
     stick_slip: tuple[dict, ...] = ()
@@ -323,6 +329,17 @@ def _batch_se(x, batches):
     return float(np.std(means, ddof=1) / math.sqrt(k))
 
 
+def _rate(t, x, i0, i1, half):
+    """Slope of x over [i0, i1) and ``half`` samples either side (0 where x is flat)."""
+    h = max((i1 - i0) // 2, half)
+    a, b = max(0, i0 - h), min(len(t), i1 + h)
+    tt, xx = t[a:b], x[a:b]
+    if b - a < 3 or np.ptp(xx) == 0.0:
+        return 0.0
+    tc = tt - tt.mean()
+    return float(np.dot(tc, xx - xx.mean()) / np.dot(tc, tc))
+
+
 def _segments(t, qd, tau_r, opt):
     """Index ranges [i0, i1) of plateaus in one contiguous piece."""
     dt = float(np.median(np.diff(t))) if len(t) > 1 else 1.0
@@ -473,6 +490,13 @@ def plateaus_from_arrays(t: ArrayLike, q: ArrayLike, qd: ArrayLike, effort: Arra
         dt = float(np.median(np.diff(tt)))
         tl = np.abs(_moving_average(te, max(1, int(round(opt['load_smooth'] / dt)))))
         tick = position_resolution(qq)
+        # the temperature's rate around a plateau: over at least ten of the sensor's steps
+        # at the piece's mean rate (a quantised sensor's rate over a few seconds is noise)
+        steps = np.abs(np.diff(xx))
+        q_step = float(steps[steps > 0].min()) if np.any(steps > 0) else 0.0
+        mean_rate = abs(float(xx[-1] - xx[0])) / max(float(tt[-1] - tt[0]), 1e-12)
+        rate_half = (int(5.0 * q_step / mean_rate / dt) if mean_rate > 0 and q_step > 0
+                     else 0)
         segs = _segments(tt, vv, tau_r, opt)
         scan = stick_slip_scan(tt, qq, cc if has_command else None, tick, segs, opt)
         for w0, w1, slip in scan:
@@ -502,7 +526,8 @@ def plateaus_from_arrays(t: ArrayLike, q: ArrayLike, qd: ArrayLike, effort: Arra
                 float(lo.mean()), _batch_se(lo, opt['batches']),
                 float(np.mean(lo ** 2)), float(np.mean(lo ** 3)),
                 float(te[sl].mean()), float(qq[sl].mean()),
-                float(tt[i0]) + t_first, float(tt[i1 - 1]) + t_first, len(sl), 0))
+                float(tt[i0]) + t_first, float(tt[i1 - 1]) + t_first, len(sl), 0,
+                _rate(tt, xx, i0, i1, rate_half)))
     if not rows:
         return dataclasses.replace(Plateaus.empty(sources=(source,),
                                                   torque_source=(torque_source,)),

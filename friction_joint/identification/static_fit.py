@@ -398,7 +398,7 @@ class StaticIdentifier:
 
     def _gear(self, coefs, t_range, fit=None):
         fr = {p: [float(x) for x in c] for p, c in coefs.items()
-              if p not in ('delta_s', 'fs_ratio', 'lever_error')}
+              if p not in ('delta_s', 'fs_ratio', 'lever_error', 'sensor_lag')}
         for p in self.base.load_orders:              # load terms dropped by auto orders
             key = p + '_load'
             if key not in fr and self.base.load_orders.get(p, 0) > 0:

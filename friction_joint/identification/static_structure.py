@@ -48,7 +48,7 @@ __all__ = ['LOWER', 'UPPER', 'PARAMETER_UNITS', 'GROUP_WIDTH', 'MIN_GROUP', 'SPE
 LOWER = {'fc': 0.0, 'fs': 0.0, 'fv': 0.0, 'vs': 1e-6, 'delta_v': 0.05}
 UPPER = {'fc': np.inf, 'fs': np.inf, 'fv': np.inf, 'vs': np.inf, 'delta_v': 3.0}
 PARAMETER_UNITS = {'fc': 'Nm', 'fs': 'Nm', 'fv': 'Nm/(rad/s)^dv', 'vs': 'rad/s', 'delta_v': '1',
-                   'delta_s': '1', 'fs_ratio': '1', 'lever_error': '1'}
+                   'delta_s': '1', 'fs_ratio': '1', 'lever_error': '1', 'sensor_lag': 's'}
 
 #: temperature-group width (degC): plateaus within this span count as one temperature
 GROUP_WIDTH = 1.0

@@ -211,7 +211,8 @@ def test_object_api(api_runs):
     r = StaticFriction(ident.gear.friction).torque(p.qd, p.xi, p.load) - p.tau_r
     assert np.allclose(r, ident.residuals, atol=1e-9)
     # plateaus from plain arrays give the same fit
-    again = StaticIdentifier(structure).fit(Plateaus.from_arrays(p.qd, p.tau_r, p.xi, load=p.load))
+    again = StaticIdentifier(structure).fit(Plateaus.from_arrays(p.qd, p.tau_r, p.xi, load=p.load,
+                                                                 xi_rate=p.xi_rate))
     for k, c in ident.coefficients.items():
         assert np.allclose(again.coefficients[k], c, rtol=1e-6, atol=1e-9), k
     # orders given as a dict: constant delta_v

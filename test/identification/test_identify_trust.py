@@ -147,7 +147,7 @@ def test_a_stribeck_dip_below_every_plateau_is_said_and_kept(seed):
     kept = ident.identifiability['not_identified']
     assert {'vs', 'fs'} <= set(kept)
     assert f'the slowest plateau is {np.abs(p.qd).min():.3g} rad/s' in kept['vs']['why']
-    assert 'record plateaus down to' in kept['vs']['advice']
+    assert kept['vs']['advice'].startswith('record ') and 'plateaus' in kept['vs']['advice']
     assert any(line.startswith('vs not identified') for line in ident.identifiability['lines'])
     xm = np.array([0.5 * (p.xi.min() + p.xi.max())])
     prior = StaticFriction(case.structure.friction).parameters(xm)
