@@ -37,7 +37,8 @@ import numpy as np
 from .physical_problem import lever_torque, PhysicalProblem, solve_bounded
 from ..models.static import PARAMETERS
 
-__all__ = ['WEAK', 'SPEED_BANDS', 'HELD_OUT_TOLERANCE', 'curve_uncertainty', 'identifiability', 'held_out_validation']
+__all__ = ['WEAK', 'SPEED_BANDS', 'HELD_OUT_TOLERANCE', 'curve_uncertainty', 'identifiability',
+           'held_out_validation']
 
 #: a fitted parameter whose standard error exceeds this fraction of its value is weakly pinned
 WEAK = 0.5
