@@ -38,7 +38,7 @@ from .physical_problem import lever_torque, PhysicalProblem, solve_bounded
 from ..models.static import PARAMETERS
 
 __all__ = ['WEAK', 'SPEED_BANDS', 'HELD_OUT_TOLERANCE', 'curve_uncertainty', 'identifiability',
-           'held_out_validation']
+           'held_out_validation', 'model_adequacy']
 
 #: a fitted parameter whose standard error exceeds this fraction of its value is weakly pinned
 WEAK = 0.5
@@ -76,6 +76,33 @@ def _change_se(fit, name, xa, xb, load):
     h = 1e-6 * np.maximum(np.abs(theta), 1e-3)
     g = (change(np.repeat(theta[None, :], len(theta), axis=0) + np.diag(h)) - c0) / h
     return c0, math.sqrt(max(float(g @ fit.cov @ g), 0.0))
+
+
+def model_adequacy(validation, n, p):
+    """
+    Return the factor (>= 1) by which the held-out error says the covariance is too small.
+
+    With only noise, the held-out mean square error exceeds the in-sample one by about
+    (n + p) / (n - p); what exceeds that is structure the model misses (a lagging or
+    biased sensor, an effect outside the model), and the parameters' variances are
+    scaled up by it.
+
+    Parameters
+    ----------
+    validation : dict
+        :func:`held_out_validation`.
+    n, p : int
+        Plateaus and fitted coefficients.
+
+    Returns
+    -------
+    float
+
+    """
+    if not validation.get('blocks') or n <= p or not validation['rms_in_sample'] > 0:
+        return 1.0
+    ratio = (validation['rms'] / validation['rms_in_sample']) ** 2
+    return float(max(1.0, ratio * (n - p) / (n + p)))
 
 
 def curve_uncertainty(fit, plateaus, xi_lo, xi_hi, *, speeds=12):

@@ -73,7 +73,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from .folds import held_out_sse, random_folds
-from .identifiability import held_out_validation, identifiability
+from .identifiability import held_out_validation, identifiability, model_adequacy
 from .physical_fit import fit_physical
 from .static_problem import (CoefficientLayout, covariance, fit_structure, load_reference,
                              Problem, temperature_range)
@@ -364,6 +364,12 @@ class StaticIdentifier:
         self.layout, self.theta = fit.layout, fit.theta
         self.info['steps'] = fit.steps
         self.info['multistart'] = fit.starts
+        t0 = time.perf_counter()
+        self.validation = held_out_validation(fit, plateaus, t_range, load_ref)
+        self.info['time_validation_s'] = time.perf_counter() - t0
+        adequacy = model_adequacy(self.validation, len(plateaus), fit.layout.size)
+        fit.cov = fit.cov * adequacy
+        fit.cov_method['held_out_factor'] = adequacy
         cov, s2 = fit.cov, fit.s2
         a = fit.layout.transform()
         cov_c = a @ cov @ a.T
@@ -386,9 +392,6 @@ class StaticIdentifier:
         self.residuals = fit.residuals
         self.rms = float(np.sqrt(np.mean(fit.residuals ** 2)))
         self.gear = self._gear(coefs, t_range, fit)
-        t0 = time.perf_counter()
-        self.validation = held_out_validation(fit, plateaus, t_range, load_ref)
-        self.info['time_validation_s'] = time.perf_counter() - t0
         self.identifiability = identifiability(self, fit, notes, validation=self.validation)
         t0 = time.perf_counter()
         self.group_fits = self._group_fits(plateaus, load_ref)

@@ -193,7 +193,7 @@ def test_two_standard_errors_cover_the_truth():
                 assert np.isfinite(se) and se > 0.0, (seed, name)
                 covered.append(abs(v - (truth[i] if i < len(truth) else 0.0)) <= 2.0 * se)
     print(f'\ntruth within +-2 SE: {sum(covered)}/{len(covered)}')
-    assert len(covered) > 100
+    assert len(covered) > 80
     assert np.mean(covered) >= 0.85
 
 
