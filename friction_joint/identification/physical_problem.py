@@ -25,7 +25,7 @@ grid of the nonlinear parameters), :func:`solve_bounded` and the small helpers
 import math
 
 import numpy as np
-from scipy.optimize import least_squares, lsq_linear
+from scipy.optimize import lsq_linear
 
 from .static_problem import CoefficientLayout, Problem
 from .static_structure import LOWER, UPPER
@@ -228,15 +228,7 @@ class PhysicalProblem(Problem):
 
     def data_jacobian(self, theta, free):
         """Jacobian of the plateau residuals only (covariance)."""
-        idx = np.flatnonzero(free)
-        h = 1e-6 * np.maximum(np.abs(theta[idx]), 0.1)
-        th = np.repeat(theta[None, :], 2 * len(idx), axis=0)
-        for j, i in enumerate(idx):
-            th[j, i] += h[j]
-            th[len(idx) + j, i] -= h[j]
-        r = self.data_residuals(th)
-        k = len(idx)
-        return ((r[:k] - r[k:]) / (2.0 * h[:, None])).T
+        return self.jacobian(theta, free, residuals=self.data_residuals)
 
 
 def lever_torque(plateaus):
@@ -340,31 +332,7 @@ def parameter_values(gear_friction, xi, load=0.0):
 def solve_bounded(problem, theta0, free=None, *, tol=1e-10, max_nfev=200):
     """Minimise a problem over the ``free`` entries; returns (theta, plateau SSE, result)."""
     free = np.ones(problem.layout.size, dtype=bool) if free is None else free
-    theta0 = np.asarray(theta0, dtype=float).copy()
-    idx = np.flatnonzero(free)
-    lo, hi = problem.layout.bounds()
-    lo, hi = lo[idx], hi[idx]
-    with np.errstate(invalid='ignore'):
-        pad_lo = np.where(np.isfinite(lo), lo + 1e-9 * (1 + np.abs(lo)), -np.inf)
-        pad_hi = np.where(np.isfinite(hi), hi - 1e-9 * (1 + np.abs(hi)), np.inf)
-    x0 = np.clip(theta0[idx], pad_lo, pad_hi)
-
-    def full(x):
-        th = np.broadcast_to(theta0, (np.atleast_2d(x).shape[0], theta0.size)).copy()
-        th[:, idx] = np.atleast_2d(x)
-        return th
-
-    def jac(x):
-        h = 1e-6 * np.maximum(np.abs(x), 0.1)
-        r = problem.residual_batch(full(np.concatenate([x + np.diag(h), x - np.diag(h)])))
-        k = len(x)
-        return ((r[:k] - r[k:]) / (2.0 * h[:, None])).T
-
-    res = least_squares(lambda x: problem.residual_batch(full(x))[0], x0, jac=jac,
-                        bounds=(lo, hi), method='trf', x_scale='jac', max_nfev=max_nfev,
-                        ftol=tol, xtol=tol, gtol=tol)
-    theta = theta0.copy()
-    theta[idx] = res.x
+    theta, res = problem.solve(theta0, free, max_nfev=max_nfev, tol=tol)
     sse = float(np.sum(problem.data_residuals(theta)[0] ** 2))
     return theta, sse, res
 

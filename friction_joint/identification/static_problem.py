@@ -140,9 +140,9 @@ class Problem:
         self.nfev += len(np.atleast_2d(thetas))
         return self.layout.torque(thetas, self.qd, self.xi, self.load) - self.y
 
-    def solve(self, theta0, free, max_nfev=200):
+    def solve(self, theta0, free, max_nfev=200, tol=1e-12):
         """
-        Minimise over the entries of theta marked ``free``.
+        Minimise over the entries of theta marked ``free`` (ftol = xtol = gtol = ``tol``).
 
         Returns ``(theta, result of scipy.optimize.least_squares)``.
         """
@@ -171,20 +171,22 @@ class Problem:
             return ((r[:k] - r[k:]) / (2.0 * h[:, None])).T
 
         res = least_squares(fun, x0, jac=jac, bounds=(lo, hi), method='trf', x_scale='jac',
-                            max_nfev=max_nfev, ftol=1e-12, xtol=1e-12, gtol=1e-12)
+                            max_nfev=max_nfev, ftol=tol, xtol=tol, gtol=tol)
         theta = theta0.copy()
         theta[idx] = res.x
         return theta, res
 
-    def jacobian(self, theta, free=None):
+    def jacobian(self, theta, free=None, residuals=None):
+        """Central-difference Jacobian of ``residuals`` (default the residuals) at theta."""
         free = np.ones(theta.size, dtype=bool) if free is None else free
+        residuals = self.residual_batch if residuals is None else residuals
         idx = np.flatnonzero(free)
         h = 1e-6 * np.maximum(np.abs(theta[idx]), 0.1)
         th = np.repeat(theta[None, :], 2 * len(idx), axis=0)
         for j, i in enumerate(idx):
             th[j, i] += h[j]
             th[len(idx) + j, i] -= h[j]
-        r = self.residual_batch(th)
+        r = residuals(th)
         k = len(idx)
         return ((r[:k] - r[k:]) / (2.0 * h[:, None])).T
 
