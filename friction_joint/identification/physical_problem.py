@@ -28,7 +28,6 @@ import numpy as np
 from scipy.optimize import lsq_linear
 
 from .static_problem import CoefficientLayout, Problem
-from .static_structure import LOWER, UPPER
 from ..models.static import PackedStatic, PARAMETERS, StaticFriction
 
 __all__ = ['PENALTY', 'DELTA_S_BOUNDS', 'VS_BAND', 'FS_RATIO_MAX', 'vs_band', 'PhysicalLayout',
@@ -89,40 +88,27 @@ class PhysicalLayout(CoefficientLayout):
         self.ties = dict(ties or {})
         self.band = band
         self.load_max = float(load_max)
-        if free_delta_s:
-            self.blocks.append(('delta_s', 'scalar', slice(self.size, self.size + 1)))
-            self.maps['delta_s'] = np.eye(1)
-            self.size += 1
         self.lag_max = lag_max
-        if lag_max:                                   # a lagging temperature sensor
-            self.blocks.append(('sensor_lag', 'scalar', slice(self.size, self.size + 1)))
-            self.maps['sensor_lag'] = np.eye(1)
-            self.size += 1
-        if lever:                                     # tau_ext of the lever model x (1 + e)
-            self.blocks.append(('lever_error', 'scalar', slice(self.size, self.size + 1)))
-            self.maps['lever_error'] = np.eye(1)
-            self.size += 1
-        if self.ties.get('fs') == 'free':             # F_s = r F_c with r fitted
-            self.blocks.append(('fs_ratio', 'scalar', slice(self.size, self.size + 1)))
-            self.maps['fs_ratio'] = np.eye(1)
-            self.size += 1
+        # scalar blocks, in this order: name -> (bounds, present)
+        self.scalar_bounds = {
+            'delta_s': (DELTA_S_BOUNDS, free_delta_s),
+            'sensor_lag': ((0.0, lag_max), bool(lag_max)),   # a lagging temperature sensor
+            'lever_error': ((-0.5, 0.5), lever),             # lever model's m g l x (1 + e)
+            'fs_ratio': ((1.0, FS_RATIO_MAX), self.ties.get('fs') == 'free'),   # F_s = r F_c
+        }
+        for name, (_, present) in self.scalar_bounds.items():
+            if present:
+                self.blocks.append((name, 'scalar', slice(self.size, self.size + 1)))
+                self.maps[name] = np.eye(1)
+                self.size += 1
 
     def bounds(self):
-        lo = np.full(self.size, -np.inf)
-        hi = np.full(self.size, np.inf)
+        lo, hi = super().bounds()                     # node values of the temperature blocks
         for name, kind, sl in self.blocks:
-            if kind == 'temp':
-                lo[sl], hi[sl] = LOWER[name], UPPER[name]
-                if name == 'vs' and self.band is not None:
-                    lo[sl], hi[sl] = self.band
-            elif name == 'delta_s':
-                lo[sl], hi[sl] = DELTA_S_BOUNDS
-            elif name == 'fs_ratio':
-                lo[sl], hi[sl] = 1.0, FS_RATIO_MAX
-            elif name == 'lever_error':
-                lo[sl], hi[sl] = -0.5, 0.5
-            elif name == 'sensor_lag':
-                lo[sl], hi[sl] = 0.0, self.lag_max
+            if name == 'vs' and self.band is not None:
+                lo[sl], hi[sl] = self.band
+            elif kind == 'scalar':
+                lo[sl], hi[sl] = self.scalar_bounds[name][0]
         return lo, hi
 
     def packed(self, thetas):
