@@ -1,17 +1,6 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 
 """
 Wall time of ``friction_joint diagnose`` on a 90 s, 1 kHz recording, end to end.
@@ -50,7 +39,7 @@ sys.path.insert(0, ROOT)
 
 import friction_joint  # noqa: E402
 from friction_joint.experiments.hidden import (  # noqa: E402
-    apply_effect, HIDEABLE, simulate_recording)
+    apply_effect, HIDEABLE, RecordingOptions, simulate_recording)
 
 BASE = os.path.join(ROOT, 'config', 'csd25_base.yaml')
 
@@ -67,8 +56,8 @@ def main(argv=None):
     with tempfile.TemporaryDirectory(prefix='bench_diagnose.') as tmp:
         rec = os.path.join(tmp, 'rec')
         t0 = time.perf_counter()
-        _, summary = simulate_recording(truth, rec, duration=args.seconds, seed=args.seed,
-                                        base_gear=base)
+        _, summary = simulate_recording(truth, rec, options=RecordingOptions(
+            duration=args.seconds, seed=args.seed, base_gear=base))
         gen = time.perf_counter() - t0
         print(f'recording: {summary["duration_s"]:.1f} s, {summary["samples"]} samples at 1 kHz, '
               f'segments at {", ".join(f"{x:.1f}" for x in summary["temperatures"])} degC, '

@@ -1,16 +1,5 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 
 """
 Fleet monitoring: wear flagged, false alarms, onsets, against a naive monitor; throughput.
@@ -20,7 +9,7 @@ Fleet monitoring: wear flagged, false alarms, onsets, against a naive monitor; t
 
 What it does
 ------------
-1. Draws ``--fleets`` fleets (:func:`friction_joint.experiments.fleet.simulate_fleet`,
+1. Draws ``--fleets`` fleets (:func:`friction_joint.jobs.fleet_simulation.run_fleet_simulation`,
    seeds ``--seed`` + k): which joints wear, their onsets and rates, and the
    nuisances (ambient with a seasonal drift, duty, payload) are drawn per fleet.
    Every fleet is simulated on a 2-worker LocalCluster and monitored with
@@ -56,10 +45,10 @@ import time
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 sys.path.insert(0, ROOT)
 
-from friction_joint.experiments.fleet import simulate_fleet  # noqa: E402
-from friction_joint.fleet import (analyse_recording, local_cluster, map_recordings,  # noqa: E402
-                                  read_manifest)
+from friction_joint.fleet import (local_cluster, map_recordings, read_manifest,  # noqa: E402
+                                  recording_task)
 from friction_joint.jobs import run_fleet  # noqa: E402
+from friction_joint.jobs.fleet_simulation import run_fleet_simulation  # noqa: E402
 
 MODEL = os.path.join(ROOT, 'config', 'csd25.yaml')
 DAY = 86400.0
@@ -98,11 +87,11 @@ def _rates(rows, k_flag, k_err):
 
 
 def _throughput(paths, workers, gear_text):
-    with local_cluster(workers) as (address, _):
-        map_recordings(analyse_recording, paths[:2 * workers], args=(gear_text,),
+    with local_cluster(workers=workers) as (address, _):
+        map_recordings(recording_task, paths[:2 * workers], args=(gear_text,),
                        scheduler=address)                                 # warm-up
         t0 = time.perf_counter()
-        run = map_recordings(analyse_recording, paths, args=(gear_text,), scheduler=address)
+        run = map_recordings(recording_task, paths, args=(gear_text,), scheduler=address)
         dt = time.perf_counter() - t0
     task = sum(r.get('time_s', 0.0) for r in run['results']) / len(paths)
     return len(paths) / dt, task
@@ -121,12 +110,13 @@ def main(argv=None):
         gear_text = fh.read()
     rows, keep, t_sim, t_mon = [], [], 0.0, 0.0
     with tempfile.TemporaryDirectory(prefix='bench_fleet.') as tmp:
-        with local_cluster(2) as (address, executor):
+        with local_cluster(workers=2) as (address, executor):
             for k in range(args.fleets):
                 sim = os.path.join(tmp, f'fleet{k}')
                 t0 = time.perf_counter()
-                truth = simulate_fleet(sim, joints=args.joints, days=args.days,
-                                       seed=args.seed + k, executor=executor)
+                simulated = run_fleet_simulation(sim, joints=args.joints, days=args.days,
+                                                 seed=args.seed + k, executor=executor)
+                truth = dict(simulated.truth, manifest=simulated.manifest)
                 t1 = time.perf_counter()
                 out = os.path.join(tmp, f'out{k}')
                 run_fleet(truth['manifest'], MODEL, out, scheduler=address, seed=k)

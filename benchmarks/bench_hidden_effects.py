@@ -1,17 +1,6 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 
 """
 Power and honesty of ``diagnose`` on hidden-effect recordings from a varied plant.
@@ -57,6 +46,14 @@ invisible when one encoder count is longer than the truth's pre-sliding length.
 A case is a ``none``, single or pair case by its expected set (a ``gravity``
 single with link torque counts as ``none``).
 
+``--short`` draws short-stroke cases instead (:func:`draw_short_cases`): every
+segment a multi-sine sweep whose stroke is drawn in 0.2-0.8 rad about a random
+place on the lever's sine (the base's ``lever.angle_offset`` drawn), without
+``/link_torque``; half the cases hide a lever error (``gravity``: over such a
+stroke a pose-dependent load error), half nothing; the plant's other nuisances as
+above.  It prints the short-stroke named rate (``gravity`` named, and only it)
+and the false positives.
+
 The last line is always
 ``singles=<x> false_pos=<y> pairs=<z> n=<n> diag_s_per_90s=<t>``.
 """
@@ -77,12 +74,14 @@ sys.path.insert(0, ROOT)
 import friction_joint  # noqa: E402
 from friction_joint.diagnosis import diagnose, EFFECTS as DIAG_EFFECTS  # noqa: E402
 from friction_joint.experiments.hidden import (  # noqa: E402
-    apply_effects, draw_effect, EFFECT_RANGES, segment_temperatures, simulate_recording)
+    apply_effects, draw_effect, EFFECT_RANGES, RecordingOptions, segment_temperatures,
+    simulate_recording)
 from friction_joint.experiments.hidden_plant import draw_plant, relative_size  # noqa: E402
 import numpy as np  # noqa: E402
 
 BASE = os.path.join(ROOT, 'config', 'csd25_base.yaml')
-TARGETS = {'singles': 0.95, 'false_pos': 0.05, 'pairs': 0.80}
+#: issue 31's acceptance targets (pairs was 0.80 before)
+TARGETS = {'singles': 0.95, 'false_pos': 0.05, 'pairs': 0.85}
 BINS = ('below', 'weak', 'medium', 'strong')
 #: probability that a case records /link_torque
 LINK_TORQUE_ODDS = 0.5
@@ -121,6 +120,8 @@ def expected(hidden, link_torque, encoder_bits=None, sizes=None, base=None):
 def nuisances(case):
     """Return the names of the real-data nuisances a case drew."""
     p, out = case['plant'], []
+    if case.get('stroke'):
+        out.append(f'stroke {case["stroke"]:.2f} rad')
     if p.get('encoder_bits'):
         out.append(f'encoder {2 ** p["encoder_bits"]}')
     if case['cfg'].get('speed_ratio'):
@@ -167,12 +168,7 @@ def draw_cases(seed, n, durations, u_min):
         r = np.random.default_rng([seed, i])
         plant, cfg = draw_plant(r, durations)
         link = bool(r.uniform() < LINK_TORQUE_ODDS)
-        sizes, strength, rel = {}, {}, {}
-        for e in hidden:
-            u = float(r.uniform(u_min, 1.0))
-            sizes[e] = draw_effect(r, e, strength=u)
-            strength[e] = u
-            rel[e] = float(relative_size(base, e, sizes[e]))
+        sizes, strength, rel = _draw_sizes(r, hidden, u_min, base)
         cases.append({'case': i, 'hidden': list(hidden), 'link_torque': link,
                       'expected': expected(hidden, link, plant.get('encoder_bits'), sizes, base),
                       'sizes': sizes, 'strength': strength,
@@ -181,10 +177,52 @@ def draw_cases(seed, n, durations, u_min):
     return cases
 
 
+def _draw_sizes(r, hidden, u_min, base):
+    """Draw each hidden effect's strength u in [u_min, 1] and its size (same order as before)."""
+    sizes, strength, rel = {}, {}, {}
+    for e in hidden:
+        u = float(r.uniform(u_min, 1.0))
+        sizes[e] = draw_effect(r, e, strength=u)
+        strength[e] = u
+        rel[e] = float(relative_size(base, e, sizes[e]))
+    return sizes, strength, rel
+
+
+#: stroke range (rad) of the short-stroke cases of ``--short``
+SHORT_STROKE = (0.2, 0.8)
+
+
+def draw_short_cases(seed, n, durations, u_min):
+    """Short-stroke cases: half a lever error (pose-dependent load), half none (``--short``)."""
+    from friction_joint.experiments.hidden import SEGMENT
+    base = friction_joint.load_gear(BASE)
+    rng = np.random.default_rng([seed, 31])
+    kinds = [rng.uniform() < 0.5 for _ in range(n)]
+    cases = []
+    for i, has in enumerate(kinds):
+        r = np.random.default_rng([seed, 31, i])
+        plant, cfg = draw_plant(r, durations)
+        plant['kinds'] = ['sweep']
+        stroke = float(r.uniform(*SHORT_STROKE))
+        k = 0.5 * stroke / sum(a for a, _, _ in SEGMENT['sweep'])
+        cfg['sweep'] = tuple((a * k, lo, hi) for a, lo, hi in SEGMENT['sweep'])
+        cfg.pop('speed_ratio', None)                 # a sweep has no plateaus
+        hidden = ('gravity',) if has else ()
+        sizes, strength, rel = _draw_sizes(r, hidden, u_min, base)
+        cases.append({'case': i, 'hidden': list(hidden), 'link_torque': False,
+                      'expected': list(hidden), 'sizes': sizes, 'strength': strength,
+                      'relative_size': rel, 'plant': plant, 'cfg': cfg, 'stroke': stroke,
+                      'lever_offset': float(r.uniform(-np.pi, np.pi)),
+                      'seed': int(r.integers(0, 2**31 - 1))})
+    return cases
+
+
 def run_case(case):
     """Simulate one case, diagnose it, return the case with the outcome."""
     warnings.simplefilter('ignore')
     base = friction_joint.load_gear(BASE)
+    if case.get('lever_offset') is not None:         # a short stroke: where on the sine
+        base = base.replace({'lever': {'angle_offset': case['lever_offset']}})
     plant = dict(case['plant'])
     temps = segment_temperatures(base, plant['n_segments'])
     truth = apply_effects(base, case['sizes'], temperatures=temps)
@@ -193,9 +231,9 @@ def run_case(case):
     try:
         rec = os.path.join(tmp, 'rec')
         t0 = time.perf_counter()
-        _, summary = simulate_recording(truth, rec, seed=case['seed'], base_gear=base,
-                                        cfg=case['cfg'], link_torque=case['link_torque'],
-                                        **plant)
+        _, summary = simulate_recording(truth, rec, options=RecordingOptions(
+            seed=case['seed'], base_gear=base, cfg=case['cfg'], link_torque=case['link_torque'],
+            **plant))
         out['simulate_s'] = time.perf_counter() - t0
         out['motion_s'] = float(sum(s['t1'] - s['t0'] for s in summary['segments']))
         out['recording_s'] = summary['duration_s']
@@ -272,7 +310,7 @@ def summarize(results):
     by_nuisance = {}
     for label, tag in NUISANCES:
         has = [any(x.startswith(tag) for x in nuisances(r)) for r in results]
-        by_nuisance[label] = [[sum(_exact(r) for r, h in zip(results, has) if h == w),
+        by_nuisance[label] = [[sum(_exact(r) for r, h in zip(results, has, strict=True) if h == w),
                                sum(h == w for h in has)] for w in (True, False)]
     diag = sum(r['diagnose_s'] for r in results)
     motion = sum(r['motion_s'] for r in results)
@@ -380,6 +418,8 @@ def main(argv=None):
                     help='total motion time range, s (default 30 300; quick 30 40)')
     ap.add_argument('--u-min', type=float, default=0.0,
                     help='weakest strength drawn (< 0: below the realistic range)')
+    ap.add_argument('--short', action='store_true',
+                    help='short strokes (0.2-0.8 rad): half with a lever error, half none')
     ap.add_argument('--jobs', type=int, default=1, help='worker processes')
     ap.add_argument('--budget', type=float, default=None,
                     help='wall seconds after which no new case is started')
@@ -389,7 +429,8 @@ def main(argv=None):
     if args.durations is None:
         args.durations = (30.0, 40.0) if args.quick else (30.0, 300.0)
     effects, not_drawn = drawable()
-    cases = draw_cases(args.seed, n, tuple(args.durations), args.u_min)
+    draw = draw_short_cases if args.short else draw_cases
+    cases = draw(args.seed, n, tuple(args.durations), args.u_min)
     wall = time.perf_counter()
     results = []
     with ProcessPoolExecutor(max_workers=max(1, args.jobs)) as pool:
@@ -413,6 +454,12 @@ def main(argv=None):
     wall = time.perf_counter() - wall
     s = summarize(results)
     print_report(s, results, args, not_drawn, wall)
+    if args.short:
+        grav = [r for r in results if r['expected']]
+        named = sum(_exact(r) for r in grav)
+        print(f'\nshort strokes ({SHORT_STROKE[0]:g}-{SHORT_STROKE[1]:g} rad): pose load '
+              f'error named (gravity, and only it) {_pct(_rate(named, len(grav)))} '
+              f'{named}/{len(grav)}; false positives {s["false_pos_k"]}/{s["n_none"]}')
     if len(results) < n:
         print(f'\nNOTE: budget reached: {len(results)} of {n} recordings run')
     if args.out:

@@ -1,17 +1,6 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 
 """
 Identification over plants drawn at random: accuracy, honesty of the flags, coverage.
@@ -19,6 +8,7 @@ Identification over plants drawn at random: accuracy, honesty of the flags, cove
     .venv/bin/python benchmarks/bench_identify_plants.py                # 100 plants
     .venv/bin/python benchmarks/bench_identify_plants.py --plants 20    # fewer
     .venv/bin/python benchmarks/bench_identify_plants.py --step3-every 5
+    .venv/bin/python benchmarks/bench_identify_plants.py --one-direction --link-sensor
 
 What it does
 ------------
@@ -39,6 +29,11 @@ What it does
    whether the truth lies within +-2 standard errors of every coefficient that was
    not flagged; parameters that are silently absurd (not flagged, off by more than
    a factor of two or outside physics); the step-3 pre-sliding errors; wall time.
+   With ``--one-direction`` every plateau runs in one drawn direction (the same plants
+   otherwise): a plant with a load sensor is identified in that direction, the error is
+   taken there only, and the flag that the other direction is assumed symmetric counts
+   as right; one without a load sensor is refused.  ``--link-sensor`` gives every plant
+   the load sensor.
 3. Prints the shares against the targets of the identification
    (>= 95 % of the identified plants within 2 %, 0 silently absurd, >= 90 %
    coverage).  The last line is always
@@ -71,10 +66,12 @@ import numpy as np  # noqa: E402
 CACHE = os.path.join(tempfile.gettempdir(), 'friction_joint_bench_identify_plants')
 
 
-def recording(seed):
+def recording(seed, one_direction=False, link_sensor=False):
     """Return the case and the paths of its recording and structure file (simulated once)."""
-    case = draw_identification_case(seed)
-    d = os.path.join(CACHE, f'case{seed}')
+    case = draw_identification_case(seed, one_direction=one_direction, excitation_ranges={
+        'link_sensor': 1.0} if link_sensor else None)
+    d = os.path.join(CACHE, f'case{seed}' + ('_one' if one_direction else '')
+                     + ('_sensor' if link_sensor else ''))
     bag, structure = os.path.join(d, 'recording'), os.path.join(d, 'structure.yaml')
     if not os.path.exists(os.path.join(d, 'done')):
         shutil.rmtree(d, ignore_errors=True)
@@ -88,7 +85,7 @@ def recording(seed):
     return case, bag, structure
 
 
-def curve_error(gear, truth, plateaus):
+def curve_error(gear, truth, plateaus, directions=(1.0, -1.0)):
     """Max relative static-curve error over the identified speed, temperature, load ranges."""
     speed = np.abs(plateaus.qd)
     v = np.geomspace(speed.min(), speed.max(), 200)
@@ -96,7 +93,7 @@ def curve_error(gear, truth, plateaus):
     loads = (float(plateaus.load.min()), float(plateaus.load.max()))
     got, want = StaticFriction(gear.friction), StaticFriction(truth.friction)
     return max(float(np.max(np.abs(got.torque(s * v, x, lo) / want.torque(s * v, x, lo) - 1.0)))
-               for x in temps for s in (1.0, -1.0) for lo in loads)
+               for x in temps for s in directions for lo in loads)
 
 
 def stribeck_visible(truth, plateaus, noise):
@@ -119,8 +116,8 @@ def truth_value(truth, name, structure=None):
     return list(getattr(f, name) or [])
 
 
-def evaluate(seed, step3):
-    case, bag, structure = recording(seed)
+def evaluate(seed, step3, one_direction=False, link_sensor=False):
+    case, bag, structure = recording(seed, one_direction, link_sensor)
     t0 = time.perf_counter()
     out = {'seed': seed, 'case': case.describe()}
     try:
@@ -136,7 +133,8 @@ def evaluate(seed, step3):
     p = run.plateaus
     out['plateaus'] = len(p)
     out['speed_range'] = [float(np.abs(p.qd).min()), float(np.abs(p.qd).max())]
-    out['error'] = curve_error(run.gear, case.truth, p)
+    out['error'] = curve_error(run.gear, case.truth, p,
+                               (float(case.direction),) if case.direction else (1.0, -1.0))
     rep = ident.report()
     idf = rep.get('identifiability', {})
     flags = dict(idf.get('not_identified', {}), **idf.get('weak', {}))
@@ -149,7 +147,9 @@ def evaluate(seed, step3):
         name = flag.split()[0]
         if name == 'fs_ratio':
             name = 'fs'
-        if name == 'curve':                  # a speed band the held-out check says is loose
+        if name in ('positive', 'negative'):  # the other direction, assumed symmetric
+            right.append(int(np.sum(np.sign(p.qd) == (1.0 if name == 'positive' else -1.0))) < 2)
+        elif name == 'curve':                # a speed band the held-out check says is loose
             right.append(out['error'] > 0.02)
         elif name in ('vs', 'fs', 'delta_s'):
             right.append(not visible or _rel_err(run.gear, case.truth, name) > 0.2)
@@ -165,7 +165,7 @@ def evaluate(seed, step3):
             continue
         se = ident.standard_errors.get(name, [])
         tv = truth_value(case.truth, name, case.structure)
-        for i, (v, e) in enumerate(zip(vals, se)):
+        for i, (v, e) in enumerate(zip(vals, se, strict=True)):
             w = tv[i] if i < len(tv) else 0.0
             if e is not None and np.isfinite(e):
                 covered.append(bool(abs(v - w) <= 2.0 * e))
@@ -224,6 +224,9 @@ def main():
     ap.add_argument('--first-seed', type=int, default=1)
     ap.add_argument('--step3-every', type=int, default=10,
                     help='run step 3 (pre-sliding) on every k-th plant (0: never)')
+    ap.add_argument('--one-direction', action='store_true',
+                    help='every plateau in one drawn direction (the plants otherwise the same)')
+    ap.add_argument('--link-sensor', action='store_true', help='every plant has /link_torque')
     ap.add_argument('--json', help='write the per-plant results here')
     args = ap.parse_args()
     start = time.perf_counter()
@@ -231,7 +234,7 @@ def main():
     for i in range(args.plants):
         seed = args.first_seed + i
         step3 = args.step3_every > 0 and i % args.step3_every == 0
-        r = evaluate(seed, step3)
+        r = evaluate(seed, step3, args.one_direction, args.link_sensor)
         rows.append(r)
         if 'refused' in r:
             print(f'plant {seed:4d}: refused: {r["refused"][:150]}', flush=True)

@@ -1,17 +1,6 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 
 """
 Peak memory and wall time of ``friction_joint import`` on a large CSV log.
@@ -66,7 +55,7 @@ def write_csv(path, size_mb):
     q = np.sin(2 * np.pi * k / 2000.0)
     tau = 2.0 * np.sign(np.cos(2 * np.pi * k / 2000.0)) + 0.01 * rng.standard_normal(period)
     tails = [f',{a:.8f},{b:.8f},{25 + 0.001 * (i % 1000):.4f}\n'
-             for i, (a, b) in enumerate(zip(q, tau))]
+             for i, (a, b) in enumerate(zip(q, tau, strict=True))]
     with open(path, 'w') as fh:
         fh.write('Time [s],Position [rad],Torque [Nm],Temperature [degC]\n')
         for a in range(0, n, _CHUNK):

@@ -1,17 +1,6 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 
 """
 Speed and accuracy of the LuGre joint integrator against scipy's Radau.
@@ -132,7 +121,7 @@ class Excitation:
         env = env * np.where(t < self.T_START,
                              0.5 - 0.5 * np.cos(np.pi * np.clip(t, 0.0, None) / self.T_START), 1.0)
         acc = np.zeros_like(t)
-        for w, a, p in zip(self._w, self._a, self._p):
+        for w, a, p in zip(self._w, self._a, self._p, strict=True):
             acc += a * np.sin(w * t + p)
         return env * acc
 
@@ -148,7 +137,7 @@ class Excitation:
         if t < self.T_START:
             env *= 0.5 - 0.5 * math.cos(math.pi * max(t, 0.0) / self.T_START)
         acc = 0.0
-        for w, a, p in zip(self._w, self._a, self._p):
+        for w, a, p in zip(self._w, self._a, self._p, strict=True):
             acc += a * math.sin(w * t + p)
         return env * acc
 
@@ -202,7 +191,7 @@ class ContinuousModel:
         r = getattr(f, 'position_ripple', None)
         self.ripple = () if r is None else tuple(
             (a, (n + 1) * r.cycles_per_rev, p)
-            for n, (a, p) in enumerate(zip(r.amplitude, r.phase)))
+            for n, (a, p) in enumerate(zip(r.amplitude, r.phase, strict=True)))
         self.jac_floor = float(jac_floor)
 
     def params(self, xi, tl):
@@ -266,7 +255,7 @@ class ContinuousModel:
 
     def tau_r_at(self, t, y):
         """Friction torque (incl. ripple) along a state history y (3, n)."""
-        return np.array([self.torques(tk, *yk)[1] for tk, yk in zip(t, y.T)])
+        return np.array([self.torques(tk, *yk)[1] for tk, yk in zip(t, y.T, strict=True)])
 
 
 def radau(model, horizon, rtol, atol_scale, y0, use_jac=True, max_step=np.inf):

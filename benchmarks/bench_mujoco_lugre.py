@@ -1,17 +1,6 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 
 """
 Our LuGre joint integrator against MuJoCo's dcmotor LuGre friction, both against Radau.
@@ -192,7 +181,7 @@ class LuGreODE:
 def sample_fractions(hold, dts):
     """Return the common denominator L and numerators j (1..L) of all step ends in a hold."""
     ms = [int(round(hold / dt)) for dt in dts]
-    for m, dt in zip(ms, dts):
+    for m, dt in zip(ms, dts, strict=True):
         if abs(m * dt - hold) > 1e-12 * hold:
             raise ValueError(f'dt={dt} does not divide the hold interval {hold}')
     lcm = math.lcm(*ms)
@@ -535,7 +524,8 @@ def timing(*, horizon, horizon_batch, batch, repeat):
     for integ in METHODS[1:]:
         model = mujoco_model(p, dt=dt, integrator=integ)
         ctrl = u - te
-        res[integ] = 1e9 * best_of(lambda: rollout(model, ctrl), repeat) / n
+        res[integ] = 1e9 * best_of(lambda model=model, ctrl=ctrl: rollout(model, ctrl),
+                                   repeat) / n
         st, _ = rollout(model, ctrl)
         res[f'{integ}_finite'] = bool(np.all(np.isfinite(st)))
     # Python loop over mj_step (informative)

@@ -1,16 +1,5 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 
 """
 Benchmark of the ROS 2 side: rates, latency, lockstep speed, recorder throughput.
@@ -98,7 +87,7 @@ def node(name, gear, **params):
     return argv
 
 
-def realtime(seconds, e):
+def realtime(seconds, e, max_lead=None):
     """
     Sim + controller in real time, measured from a zero-loss recording.
 
@@ -116,7 +105,8 @@ def realtime(seconds, e):
         rec = start([PY, '-m', 'friction_joint', 'record', out, '--topics', '/joint_states',
                      '/joint_command', '/joint_temperature'], e)
         time.sleep(2.0)
-        sim = start(node('joint_sim', TRUTH, mode='realtime'), e)
+        pacing = {} if max_lead is None else {'max_lead': max_lead}
+        sim = start(node('joint_sim', TRUTH, mode='realtime', **pacing), e)
         ctrl = start(node('controller', MODEL, rate=1000.0, sync='false'), e)
         time.sleep(seconds + 5.0)
         stop(ctrl)
@@ -132,7 +122,9 @@ def realtime(seconds, e):
     i = np.clip(np.searchsorted(js.t, cmd.t[csel]), 0, len(js.t) - 1)
     same = np.abs(js.t[i] - cmd.t[csel]) < 1e-6         # the state each command answers
     lat = (cmd.t_recv[csel][same] - js.t_recv[i[same]]) * 1e3
-    return {'rate_hz': len(tr) / seconds, 'gap_p99_ms': float(np.percentile(gaps, 99)),
+    answered = np.isin(np.round(js.t[sel] * 1e6), np.round(cmd.t * 1e6))
+    return {'answered': float(answered.mean()), 'q_max': float(np.max(np.abs(js.q[sel]))),
+            'rate_hz': len(tr) / seconds, 'gap_p99_ms': float(np.percentile(gaps, 99)),
             'gap_max_ms': float(np.max(gaps)), 'latency_p50_ms': float(np.percentile(lat, 50)),
             'latency_p99_ms': float(np.percentile(lat, 99)), 'commands': int(csel.sum())}
 
@@ -289,7 +281,11 @@ def recorder(rate, seconds, e):
         wall = time.monotonic() - t0
         time.sleep(1.0)
         log = stop(rec, timeout=60)
-        published = int(re.search(r'published (\d+)', pub.stdout).group(1))
+        said = re.search(r'published (\d+)', pub.stdout)
+        if said is None:                    # the publisher failed: say why, measure nothing
+            raise RuntimeError(f'the flood publisher ended with {pub.returncode}: '
+                               f'{pub.stderr.strip()[-500:]}')
+        published = int(said.group(1))
         m = re.search(r'recorded \d+ messages \(/joint_states: (\d+)', log)
         written = int(m.group(1)) if m else -1
     return {'published': published, 'written': written, 'lost': published - written,
@@ -337,19 +333,25 @@ def main():
           f'state->command latency p50 {rt["latency_p50_ms"]:.3f} ms, '
           f'p99 {rt["latency_p99_ms"]:.3f} ms',
           flush=True)
+    print(f'  states answered by a command {100 * rt["answered"]:.1f} %, lever max |q| '
+          f'{rt["q_max"]:.3f} rad (reference amplitude 0.4)', flush=True)
     loaded = None
     if a.load > 0:
         busy = [subprocess.Popen([PY, '-c', 'while True: pass']) for _ in range(a.load)]
         try:
+            # pacing off (hardware's behaviour, the simulator before pacing), then the default
+            unpaced = realtime(secs, e, max_lead=0.0)
             loaded = realtime(secs, e)
         finally:
             for p in busy:
                 p.kill()
                 p.wait()
-        print(f'realtime {secs:g} s with {a.load} busy processes: /joint_states '
-              f'{loaded["rate_hz"]:.1f} Hz, gap p99 {loaded["gap_p99_ms"]:.2f} ms, max '
-              f'{loaded["gap_max_ms"]:.2f} ms; latency p50 {loaded["latency_p50_ms"]:.3f} ms',
-              flush=True)
+        for what, res in (('pacing off', unpaced), ('pacing on (default)', loaded)):
+            print(f'realtime {secs:g} s with {a.load} busy processes, {what}: /joint_states '
+                  f'{res["rate_hz"]:.1f} Hz, gap p99 {res["gap_p99_ms"]:.2f} ms, max '
+                  f'{res["gap_max_ms"]:.2f} ms; latency p50 {res["latency_p50_ms"]:.3f} ms; '
+                  f'answered {100 * res["answered"]:.1f} %, lever max |q| {res["q_max"]:.3f} rad',
+                  flush=True)
     ls = lockstep(1.0 if a.quick else 3.0, e)
     print(f'lockstep: {ls["steps"]} steps in {ls["wall_s"]:.2f} s = '
           f'{ls["steps_per_s"]:.0f} steps/s ({ls["steps_per_s"] / 3000:.3f} x real time)',

@@ -1,16 +1,5 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 
 """
 friction_joint: a simulated Harmonic Drive joint with thermal- and load-dependent friction.
@@ -42,17 +31,19 @@ one self-contained HTML file).
 """
 import importlib
 
+# first: importing _entry guards Ctrl-C while the package loads in a program of its own
+from ._entry import GUARDED as _GUARDED  # noqa: F401
 from ._version import __version__
 from .exceptions import (ArgumentError, ExcitationError, ExperimentError, FrictionJointError,
                          GearConfigError, GearConfigWarning, InputFileError, InputRejected,
-                         NodeError, OutputError, PreslidingDataError, RecordingError,
-                         SimulationError)
+                         MissingTopicError, NodeError, OutputError, PreslidingDataError,
+                         RecordingError, SimulationError)
 
 __all__ = ['__version__', 'FrictionJointError', 'ArgumentError', 'InputFileError',
            'OutputError', 'GearConfigError', 'GearConfigWarning', 'RecordingError',
-           'ExcitationError', 'PreslidingDataError', 'ExperimentError', 'SimulationError',
-           'InputRejected', 'NodeError', 'FrictionParams', 'GearParams', 'gear_from_dict',
-           'load_gear', 'save_gear', 'StaticFriction', 'LuGre', 'GMS', 'Joint']
+           'MissingTopicError', 'ExcitationError', 'PreslidingDataError', 'ExperimentError',
+           'SimulationError', 'InputRejected', 'NodeError', 'FrictionParams', 'GearParams',
+           'gear_from_dict', 'load_gear', 'save_gear', 'StaticFriction', 'LuGre', 'GMS', 'Joint']
 
 # the gear and model names load on first use (PEP 562): ``import friction_joint.cli`` stays
 # light, so the command line handles Ctrl-C from its first instants (numpy and numba load

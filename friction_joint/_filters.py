@@ -1,19 +1,9 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 
 """Shared signal processing: zero-phase filtered derivatives of sampled positions."""
 import numpy as np
+from numpy.typing import ArrayLike, NDArray
 from scipy import signal
 
 from .exceptions import PreslidingDataError
@@ -21,7 +11,8 @@ from .exceptions import PreslidingDataError
 __all__ = ['zero_phase_derivatives']
 
 
-def zero_phase_derivatives(q, dt, cutoff=100.0, order=2):
+def zero_phase_derivatives(q: ArrayLike, dt: float, cutoff: float = 100.0, order: int = 2
+                           ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """
     Velocity and acceleration from a sampled position without phase lag.
 

@@ -1,16 +1,5 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 
 """
 The package version, read from ``package.xml`` (the one place it is written).
@@ -18,7 +7,6 @@ The package version, read from ``package.xml`` (the one place it is written).
 An installed package reports its distribution metadata (which ``setup.py``
 took from ``package.xml``); a source tree reads ``package.xml`` directly.
 """
-import importlib.metadata
 import os
 import re
 
@@ -35,6 +23,7 @@ def _version():
             return match.group(1)
     except OSError:
         pass
+    import importlib.metadata           # here: it costs a program's start-up 20 ms and more
     try:
         return importlib.metadata.version('friction_joint')
     except importlib.metadata.PackageNotFoundError:

@@ -1,23 +1,13 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 
 """Exceptions raised by friction_joint, named for the problem they report."""
 
 __all__ = ['FrictionJointError', 'ArgumentError', 'InputFileError', 'OutputError',
-           'GearConfigError', 'GearConfigWarning', 'RecordingError', 'ExcitationError',
+           'GearConfigError', 'GearConfigWarning', 'RecordingError', 'MissingTopicError',
+           'ExcitationError',
            'PreslidingDataError', 'ExperimentError', 'SimulationError', 'InputRejected',
-           'NodeError', 'CacheWarning']
+           'NodeError', 'CacheWarning', 'StallWarning', 'UnitsWarning']
 
 
 class FrictionJointError(Exception):
@@ -55,8 +45,45 @@ class CacheWarning(UserWarning):
     """A cached result is unusable (unreadable, malformed, out of bounds) and is recomputed."""
 
 
+class StallWarning(UserWarning):
+    """No task of a cluster finished for the stall guard's time: the pending ones failed."""
+
+
+class UnitsWarning(UserWarning):
+    """A result's scale suggests a column of the log was imported in other units."""
+
+
 class RecordingError(FrictionJointError):
     """A recording is missing, truncated, corrupt or lacks a required topic."""
+
+
+class MissingTopicError(RecordingError):
+    """
+    A recording lacks a topic, or has no message on it.
+
+    Parameters
+    ----------
+    message : str
+        The one-line error (names the file and the topic).
+    topic : str
+        The topic missing, e.g. ``/joint_temperature`` (a default, for unpickling only:
+        the attributes come back with the state).
+    path : str
+        The recording.
+
+    Attributes
+    ----------
+    topic : str
+        The topic missing.
+    path : str
+        The recording.
+
+    """
+
+    def __init__(self, message: str, *, topic: str = '', path: str = '') -> None:
+        super().__init__(message)
+        self.topic = topic
+        self.path = path
 
 
 class ExcitationError(FrictionJointError):

@@ -1,16 +1,5 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 
 """
 Writing results: rendered in memory, staged next to their destination, swapped in whole.
@@ -53,7 +42,7 @@ import re
 import stat
 import tempfile
 
-from ._staging import owner_record, remove_path, signals_held, stale_stage
+from ._output_staging import owner_record, remove_path, signals_held, stale_stage
 from .exceptions import OutputError
 from .results import ExperimentResult, json_bytes, json_clean, render_png, result_files
 
@@ -72,9 +61,9 @@ class _Target:
     abspath: str
     kind: str
     label: str
-    stage: str = None
-    written: list = None
-    old: str = None
+    stage: str | None = None
+    written: list[str] | None = None
+    old: str | None = None
     swapped: bool = False
     keep: bool = False
 
@@ -221,8 +210,8 @@ class OutputSet:
             label, path = item if isinstance(item, tuple) else ('input', item)
             if path is not None:
                 self.inputs.append((label, os.fspath(path)))
-        self._targets = []
-        self._made = []
+        self._targets: list[_Target] = []
+        self._made: list[str] = []
         self._published = False
 
     def __enter__(self):
@@ -283,6 +272,10 @@ class OutputSet:
                               or os.path.basename(path) in ('.', '..')):
             raise self.error(f'{label} {path} ends with a directory separator; give the name '
                              'of the file to write')
+        if kind == _DIRECTORY and path.rstrip(os.sep + (os.altsep or '')).endswith('.mcap') \
+                and not path.endswith('.mcap'):         # x.mcap/: never a rosbag2 directory
+            raise self.error(f'{label} {path} ends with a directory separator; a .mcap '
+                             'recording is a file: give it without the separator')
         self._sweep(target)
         self._targets.append(target)
         return target.abspath

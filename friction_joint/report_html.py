@@ -1,16 +1,5 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 
 """
 Markdown reports as self-contained HTML: one file that opens in a browser, figures inside.
@@ -63,7 +52,10 @@ user's text for Markdown, so that it shows as written.
 This module imports Python-Markdown; :mod:`friction_joint` does not import
 it, so ``import friction_joint`` does not load it.
 """
+from __future__ import annotations
+
 import base64
+from collections.abc import Mapping
 import html
 import os
 import re
@@ -341,7 +333,9 @@ def _render(text, base_dir, title, where, images=None):
     return _PAGE.format(title=shown, css=CSS.strip(), body=body)
 
 
-def markdown_to_html(text, *, base_dir=None, title=DEFAULT_TITLE, images=None):
+def markdown_to_html(text: str, *, base_dir: str | os.PathLike[str] | None = None,
+                     title: str = DEFAULT_TITLE,
+                     images: Mapping[str, bytes] | None = None) -> str:
     """
     Render Markdown as a complete, self-contained, inert HTML5 document.
 
@@ -412,7 +406,8 @@ def _write_atomic(path, data):
         raise
 
 
-def write_html_report(md_path, html_path=None):
+def write_html_report(md_path: str | os.PathLike[str], *,
+                      html_path: str | os.PathLike[str] | None = None) -> str:
     """
     Convert a Markdown report into a self-contained HTML file beside it.
 

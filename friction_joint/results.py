@@ -1,16 +1,5 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 """
 Results as files: experiment results, plain JSON and figures rendered in memory.
 
@@ -26,7 +15,7 @@ import dataclasses
 import io
 import json
 import math
-from typing import TYPE_CHECKING
+from typing import Any, cast, TYPE_CHECKING
 
 import numpy as np
 
@@ -40,25 +29,56 @@ __all__ = ['json_clean', 'json_bytes', 'render_png', 'draw_figures', 'Experiment
 @dataclasses.dataclass
 class ExperimentResult:
     """
-    Numbers and figures of one experiment run.
+    Numbers, signals and figures of one experiment run.
+
+    Every experiment returns one: the test-bed experiments
+    (:mod:`friction_joint.experiments`), the classic LuGre experiments
+    (:mod:`friction_joint.experiments.classic`); the identification's report
+    is written as one (:mod:`friction_joint.jobs.identify`).
 
     Attributes
     ----------
+    name : str
+        The experiment (e.g. ``chirp``, ``compensation``, ``presliding``,
+        ``stick-slip``).
     summary : dict
-        Plain numbers (written as JSON).
+        Plain numbers, as documented by the experiment function (written as JSON).
+    series : dict
+        The signals the figures are drawn from (numpy arrays), per experiment.
+    truth_model : str
+        Friction model of the simulated hardware (``lugre``, ``gms``; empty when
+        not simulated on the test bed).
     figures : dict
         File name -> ``(draw(fig), (width, height))``: the figures drawn from
         the run, rendered by :func:`result_files` (or :func:`render_png`).
 
     """
 
+    name: str
     summary: dict
+    series: dict = dataclasses.field(default_factory=dict)
+    truth_model: str = ''
     figures: dict[str, tuple[Callable[[Figure], None], tuple[float, float]]] = \
         dataclasses.field(default_factory=dict)
 
-    def to_dict(self) -> dict:
-        """Return the summary as plain JSON types."""
-        return json_clean(self.summary)
+    def to_dict(self) -> dict[str, Any]:
+        """Return the summary as plain JSON types (what the run's JSON file holds)."""
+        return cast('dict[str, Any]', json_clean(self.summary))
+
+    def plot(self, fig: Figure, *, name: str | None = None) -> None:
+        """
+        Draw one figure of the run on the matplotlib Figure ``fig``.
+
+        Parameters
+        ----------
+        fig : matplotlib.figure.Figure
+            The (empty) figure to draw on.
+        name : str, optional
+            File name of the figure (a key of :attr:`figures`); default the first.
+
+        """
+        draw, _ = self.figures[name if name is not None else next(iter(self.figures))]
+        draw(fig)
 
 
 def json_clean(obj: object) -> object:
@@ -174,7 +194,7 @@ def result_files(result: ExperimentResult, *,
     Parameters
     ----------
     result : ExperimentResult
-        Or anything with ``summary`` and ``figures``.
+        The run.
     json_name : str
         Name of the JSON file, which comes last.
 

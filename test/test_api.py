@@ -1,16 +1,5 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 """
 The public names: every module declares ``__all__`` and every name in it exists.
 
@@ -85,6 +74,13 @@ def test_the_top_level_docstring_maps_every_subpackage():
     assert not missing, f'friction_joint docstring does not mention {missing}'
 
 
+def _is_overload(node):
+    """Return whether ``node`` is a function decorated ``@overload`` / ``@typing.overload``."""
+    return isinstance(node, ast.FunctionDef) and any(
+        (isinstance(d, ast.Name) and d.id == 'overload')
+        or (isinstance(d, ast.Attribute) and d.attr == 'overload') for d in node.decorator_list)
+
+
 def test_one_public_class_per_name():
     """No two modules define a public class or function of the same name."""
     seen, dup = {}, []
@@ -92,6 +88,8 @@ def test_one_public_class_per_name():
         with open(path, encoding='utf-8') as fh:
             tree = ast.parse(fh.read(), filename=path)
         for node in tree.body:
+            if _is_overload(node):
+                continue                      # a typing.overload signature, not a definition
             if isinstance(node, (ast.ClassDef, ast.FunctionDef)) and \
                     not node.name.startswith('_') and node.name not in ('main', 'run',
                                                                         'add_arguments'):
@@ -115,5 +113,28 @@ def test_result_objects_give_plain_json():
     doc = json.loads(json.dumps(res.to_dict(), allow_nan=False))
     assert doc['x'] == [pytest.approx(0.25, abs=1e-3)] and doc['success'] is True
     summary = {'rmse': np.float64(0.5), 'bad': float('nan'), 'n': np.int64(3)}
-    assert json.dumps(ExperimentResult(summary).to_dict(), allow_nan=False) == \
+    assert json.dumps(ExperimentResult('x', summary).to_dict(), allow_nan=False) == \
         '{"rmse": 0.5, "bad": null, "n": 3}'
+
+
+def test_every_job_returns_a_run_with_what_it_wrote():
+    """Every ``jobs.run_*`` is annotated to return a ``...Run`` that has ``written``."""
+    import dataclasses
+    import typing
+
+    import friction_joint.jobs as jobs
+
+    runs = [name for name in jobs.__all__ if name.startswith('run_')]
+    assert {'run_diagnose', 'run_identify', 'run_experiment', 'run_classic', 'run_fleet',
+            'run_fleet_simulation', 'run_demo'} <= set(runs)
+    bad = []
+    for name in runs:
+        returned = typing.get_type_hints(getattr(jobs, name)).get('return')
+        fields = {f.name for f in dataclasses.fields(returned)} \
+            if dataclasses.is_dataclass(returned) else set()
+        if not (isinstance(returned, type) and returned.__name__.endswith('Run')
+                and 'written' in fields):
+            bad.append(f'{name} -> {returned!r}')
+        elif returned.__module__.split('.')[:2] != ['friction_joint', 'jobs']:
+            bad.append(f'{name} -> {returned.__module__}.{returned.__name__}: not in jobs/')
+    assert not bad, 'jobs that do not return a ...Run with written:\n' + '\n'.join(bad)

@@ -1,16 +1,5 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 
 """
 Outputs of the commands: never overwritten without --force, replaced as a whole with it.
@@ -39,7 +28,7 @@ from friction_joint.bag import read_recording, write_recording
 from friction_joint.cli import main
 from friction_joint.exceptions import FrictionJointError
 from friction_joint.experiments import classic, runner
-from friction_joint.experiments.hidden import simulate_recording
+from friction_joint.experiments.hidden import RecordingOptions, simulate_recording
 from friction_joint.gear import load_gear, save_gear
 from friction_joint.jobs import demo
 from friction_joint.models.static import StaticFriction
@@ -248,7 +237,7 @@ def diag_recording(tmp_path_factory):
     """Return a short valid recording of the base (20 s, two temperature segments)."""
     base = load_gear(BASE)
     path = tmp_path_factory.mktemp('diag') / 'rec'
-    simulate_recording(base, path, duration=20.0, seed=7, n_segments=2)
+    simulate_recording(base, path, options=RecordingOptions(duration=20.0, seed=7, n_segments=2))
     return path
 
 

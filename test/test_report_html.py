@@ -1,16 +1,5 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 
 """
 The self-contained HTML report: figures embedded as data URIs, links kept, written atomically.
@@ -145,11 +134,11 @@ def test_report_html_replaces_an_existing_page_atomically(report, tmp_path, monk
 
     monkeypatch.setattr(os, 'replace', failing_replace)
     with pytest.raises(FrictionJointError, match='out.html'):
-        write_html_report(report, target)
+        write_html_report(report, html_path=target)
     assert target.read_text(encoding='utf-8') == 'old page'
     assert _hidden_entries(tmp_path) == []
     monkeypatch.setattr(os, 'replace', real_replace)
-    assert write_html_report(str(report), str(target)) == str(target)
+    assert write_html_report(str(report), html_path=str(target)) == str(target)
     assert '<table' in target.read_text(encoding='utf-8')
     assert _hidden_entries(tmp_path) == []
     assert not report.with_suffix('.html').exists()
@@ -159,7 +148,7 @@ def test_missing_image_is_an_error_that_writes_nothing(report, tmp_path):
     (tmp_path / 'figs' / 'sine.png').unlink()
     target = tmp_path / 'page.html'
     with pytest.raises(FrictionJointError) as err:
-        write_html_report(report, target)
+        write_html_report(report, html_path=target)
     msg = str(err.value)
     assert 'figs/sine.png' in msg and str(report) in msg and '\n' not in msg
     assert not target.exists()

@@ -1,16 +1,5 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 
 """
 Checks across the topics and signals of a recording: one clock, one motion, physics.
@@ -67,20 +56,29 @@ short recording) the pair is not judged.
 Physical ranges (:func:`check_ranges`)
 --------------------------------------
 A temperature below absolute zero (-273.15 °C) or above :data:`MAX_TEMPERATURE`
-(no gear, lubricant or sensor survives it) is an error.
+(500 °C: no gear, lubricant or seal survives it) is an error.
+
+The same checks, with :mod:`~friction_joint.bag.plausible`'s, are the one check of the
+reader and of ``import`` (:func:`check_contents`, :func:`check_signals`): a log that
+``import`` writes is one every reader accepts.  Each refusal says what to change.
 """
 import math
 
 import numpy as np
 
+from .blockwise import BLOCK, gradient
+from .plausible import check_values
 from .stamps import GAP
+from .topics import JointStates, LinkTorque, Recording, Temperature
 from ..exceptions import RecordingError
 from ..gear.schema import ABSOLUTE_ZERO
 
 __all__ = ['CLOCK_TOLERANCE', 'CLOCK_COVER', 'CLOCK_OUTSIDE', 'MISMATCH', 'MIN_WINDOWS',
            'COHERENT', 'NOISE',
            'MAX_TEMPERATURE', 'check_clocks', 'check_negative_stamps',
-           'velocity_mismatch', 'check_position_velocity', 'check_ranges', 'check_recording']
+           'VELOCITY_HINT', 'velocity_mismatch', 'ratio_reading', 'check_position_velocity',
+           'check_ranges', 'check_recording', 'check_contents', 'check_signals',
+           'position_derivative']
 
 #: fraction of the joint states' span a topic may lie beside it (with 2 sample times)
 CLOCK_TOLERANCE = 0.05
@@ -92,9 +90,10 @@ CLOCK_OUTSIDE = 10.0
 MISMATCH = 0.25
 #: judged windows needed before the position/velocity mismatch is judged
 MIN_WINDOWS = 10
-#: lowest temperature (°C)
-#: highest plausible housing temperature (°C): above the decomposition of any lubricant
-MAX_TEMPERATURE = 1000.0
+#: highest plausible housing temperature (°C): above it every gear lubricant has decomposed
+#: (greases and oils below about 300 °C), seals have melted and gear steel loses its temper;
+#: 900 °C is a wrong unit or a corrupt value, not a gear
+MAX_TEMPERATURE = 500.0
 #: noise floors are this many spreads of the noise
 NOISE = 5.0
 #: a velocity is a motion over a window when its mean is this many times its spread there
@@ -104,9 +103,11 @@ _MIN_WINDOW = 10
 
 
 def _median_step(t):
+    """Return the median of the positive steps of ``t`` (one scratch copy of its steps)."""
     d = np.diff(t)
-    d = d[d > 0]
-    return float(np.median(d)) if len(d) else 0.0
+    if not (d > 0).all():
+        d = d[d > 0]
+    return float(np.median(d, overwrite_input=True)) if len(d) else 0.0
 
 
 def check_negative_stamps(label, t, index=None):
@@ -122,7 +123,8 @@ def check_negative_stamps(label, t, index=None):
         k = int(index[i]) if index is not None else i
         raise RecordingError(
             f'{label}: {len(neg)} negative header stamps, the first at message {k} '
-            f'(t = {t[i]:.9f} s): ROS time starts at 0; an unset or shifted clock')
+            f'(t = {t[i]:.9f} s): ROS time starts at 0; an unset or shifted clock: stamp '
+            'the messages with the time they were measured')
 
 
 def check_clocks(recording):
@@ -153,32 +155,50 @@ def check_clocks(recording):
         if overlap < -tol:
             raise RecordingError(
                 f'{where}: {-overlap:.6g} s apart, no overlap: not on the clock of '
-                '/joint_states (an epoch clock against a simulation clock, shifted stamps?)')
+                '/joint_states (an epoch clock against a simulation clock, shifted stamps?): '
+                'stamp every topic on one clock (use_sim_time alike for the nodes and the '
+                'recorder)')
         inside = max(overlap, 0.0)
         outside = (d - c) - inside
         if inside < CLOCK_COVER * span and outside > CLOCK_OUTSIDE * max(inside, tol):
             raise RecordingError(
                 f'{where}: covers {100 * inside / span:.2g} % of /joint_states and lies '
                 f'{outside:.6g} s outside it: not on the clock of /joint_states (shifted '
-                'stamps?)')
+                'stamps?): stamp every topic on one clock')
 
 
-def _moving_spread(x, w):
-    """Root mean square of ``x`` about its moving average over ``w`` samples."""
-    if len(x) <= w:
-        return float(np.std(x))
-    c = np.concatenate(([0.0], np.cumsum(x - x[0])))
-    avg = (c[w:] - c[:-w]) / w
-    centre = x[w // 2:w // 2 + len(avg)] - x[0]
-    return float(np.sqrt(np.mean((centre - avg) ** 2)))
+class _Spread:
+    """
+    Root mean square of a signal about its moving average over ``w`` samples, fed in blocks.
+
+    The deviation of each sample ``w // 2`` into a window of ``w`` from the window's mean, over
+    every complete window; the standard deviation of a signal of at most ``w`` samples.
+    """
+
+    def __init__(self, w):
+        self.w, self.tail, self.sum2, self.count, self.short = w, np.zeros(0), 0.0, 0, []
+
+    def add(self, x):
+        x = np.concatenate((self.tail, x))
+        w = self.w
+        if len(x) < w:
+            self.tail = x
+            return
+        c = np.concatenate(([0.0], np.cumsum(x - x[0])))
+        dev = (x[w // 2:w // 2 + len(c) - w] - x[0]) - (c[w:] - c[:-w]) / w
+        self.sum2 += float(np.dot(dev, dev))
+        self.count += len(dev)
+        self.tail = x[len(x) - (w - 1):]
+
+    def value(self):
+        return math.sqrt(self.sum2 / self.count) if self.count else float(np.std(self.tail))
 
 
-def _quantum(dq):
-    """Return the position's smallest step (its resolution, 0 if it never moves)."""
-    steps = np.abs(dq[dq != 0])
+def _quantum(steps):
+    """Return the position's smallest step, the 1st percentile of its |steps| (0: none)."""
     if not len(steps):
         return 0.0
-    return float(np.percentile(steps, 1))
+    return float(np.percentile(steps, 1, overwrite_input=True))
 
 
 def velocity_mismatch(t, q, qd):
@@ -200,49 +220,134 @@ def velocity_mismatch(t, q, qd):
         Index of the first sample of the window of largest ``|Δq - I|`` (-1 if none).
 
     """
+    return _judge(t, q, qd)[:3]
+
+
+def _judge(t, q, qd):
+    """:func:`velocity_mismatch` and the ratio of the velocity to the position's derivative."""
     with np.errstate(all='ignore'):               # overflowing values: not judged (NaN)
         return _mismatch(*(np.asarray(x, dtype=float) for x in (t, q, qd)))
+
+
+def _windows(t, q, qd, w, m, step):
+    """
+    Per window of ``w`` samples: Δq, I, the velocity's spread, the time judged; the noise.
+
+    One pass over blocks of whole windows (memory: the position's steps, for its quantum,
+    and block-sized temporaries); returns the window arrays (``m`` each), the quantum and
+    the moving spreads of the unwrapped position and of the velocity.
+    """
+    n = len(t)
+    circle = np.ptp(q) <= 2 * np.pi * (1 + 1e-9)              # an angle within one turn
+    sums = np.zeros((4, m))
+    steps, k = np.empty(n - 1), 0
+    sq, sv = _Spread(_MIN_WINDOW), _Spread(_MIN_WINDOW)
+    qc = q[0]
+    block = max(1, BLOCK // w) * w
+    for a in range(0, n - 1, block):
+        b = min(n - 1, a + block)                           # steps a..b-1
+        dt = np.diff(t[a:b + 1])
+        dq = np.diff(q[a:b + 1])
+        integral = 0.5 * (qd[a + 1:b + 1] + qd[a:b]) * dt
+        turns = np.round(dq / (2 * np.pi))
+        wrapped = ((np.abs(dq) > np.pi) & (np.abs(dq - 2 * np.pi * turns - integral)
+                                           < np.abs(dq - integral)) & circle)
+        dq = np.where(wrapped, dq - 2 * np.pi * turns, dq)
+        ok = (dt > 0) & (dt <= GAP * step)
+        dq, integral, okdt = np.where(ok, dq, 0.0), np.where(ok, integral, 0.0), \
+            np.where(ok, dt, 0.0)
+        nz = np.abs(dq[dq != 0])
+        steps[k:k + len(nz)] = nz
+        k += len(nz)
+        cum = qc + np.cumsum(dq)                            # unwrapped, gaps removed
+        sq.add(np.concatenate(([qc], cum)) if a == 0 else cum)     # samples a+1..b (0..b)
+        qc = float(cum[-1])
+        sv.add(qd[a:b] if b < n - 1 else qd[a:])
+        j0, j1 = a // w, min(m, b // w)                     # whole windows in this block
+        if j1 > j0:
+            lo, hi = j0 * w - a, j1 * w - a
+            for row, x in enumerate((dq, integral, okdt)):
+                sums[row, j0:j1] = x[lo:hi].reshape(-1, w).sum(axis=1)
+            sums[3, j0:j1] = qd[j0 * w:j1 * w].reshape(-1, w).std(axis=1)
+    return sums, _quantum(steps[:k]), sq.value(), sv.value()
 
 
 def _mismatch(t, q, qd):
     n = len(t)
     w = max(_MIN_WINDOW, n // _WINDOWS)
     if n < 2 * w:
-        return math.nan, 0, -1
-    dt = np.diff(t)
-    step = _median_step(t)
-    dq = np.diff(q)
-    integral = 0.5 * (qd[1:] + qd[:-1]) * dt
-    turns = np.round(dq / (2 * np.pi))
-    wrapped = ((np.abs(dq) > np.pi) & (np.abs(dq - 2 * np.pi * turns - integral)
-                                       < np.abs(dq - integral))
-               & (np.ptp(q) <= 2 * np.pi * (1 + 1e-9)))         # an angle within one turn
-    dq = np.where(wrapped, dq - 2 * np.pi * turns, dq)
-    ok = (dt > 0) & (dt <= GAP * step)
-    dq, integral = np.where(ok, dq, 0.0), np.where(ok, integral, 0.0)
-    m = len(dq) // w
+        return math.nan, 0, -1, math.nan
+    m = (n - 1) // w
     if m < MIN_WINDOWS:
-        return math.nan, 0, -1
-    dq_w = dq[:m * w].reshape(m, w).sum(axis=1)
-    int_w = integral[:m * w].reshape(m, w).sum(axis=1)
-    qc = np.concatenate(([q[0]], q[0] + np.cumsum(dq)))      # unwrapped, gaps removed
-    slack = _quantum(dq) + NOISE * math.sqrt(2) * _moving_spread(qc, _MIN_WINDOW)
-    floor = slack + _quantum(dq) + NOISE * _moving_spread(qd, _MIN_WINDOW) * step * w
+        return math.nan, 0, -1, math.nan
+    step = _median_step(t)
+    (dq_w, int_w, okdt_w, spread), quantum, s_q, s_v = _windows(t, q, qd, w, m, step)
+    slack = quantum + NOISE * math.sqrt(2) * s_q
+    floor = slack + quantum + NOISE * s_v * step * w
     size = np.maximum(np.abs(dq_w), np.abs(int_w))
     # a window whose position stands still is judged on its velocity only where that keeps
     # its sign and level (a motion, not noise about zero)
-    spread = qd[:m * w].reshape(m, w).std(axis=1)
-    steady = np.abs(int_w) > COHERENT * spread * np.where(ok, dt, 0)[:m * w].reshape(
-        m, w).sum(axis=1)
+    steady = np.abs(int_w) > COHERENT * spread * okdt_w
     judged = (np.abs(dq_w) > floor) | ((np.abs(int_w) > floor) & steady)
     if np.count_nonzero(judged) < MIN_WINDOWS:
-        return math.nan, int(np.count_nonzero(judged)), -1
+        return math.nan, int(np.count_nonzero(judged)), -1, math.nan
     err = np.maximum(np.abs(dq_w - int_w) - slack, 0.0)
     mismatch = float(err[judged].sum() / size[judged].sum())
     if not math.isfinite(mismatch):
-        return math.nan, 0, -1
+        return math.nan, 0, -1, math.nan
     worst = int(np.flatnonzero(judged)[np.argmax(err[judged])]) * w
-    return mismatch, int(np.count_nonzero(judged)), worst
+    dq_j, int_j = dq_w[judged], int_w[judged]
+    pos, vel = float(np.dot(dq_j, dq_j)), float(np.dot(int_j, int_j))
+    ratio = (math.inf if pos <= 1e-12 * vel else
+             float(np.dot(int_j, dq_j)) / pos)
+    return mismatch, int(np.count_nonzero(judged)), worst, ratio
+
+
+#: velocity/derivative ratios that a unit explains: ratio -> what it reads as
+_UNIT_RATIOS = ((180 / math.pi, 'a velocity in deg/s against a position in rad'),
+                (math.pi / 180, 'a position in deg against a velocity in rad/s'),
+                (30 / math.pi, 'a velocity in rpm against a position in rad'),
+                (1 / (2 * math.pi), 'a velocity in rev/s against a position in rad'),
+                (1000.0, 'a time in ms read as s, or a velocity in milli-units'),
+                (0.001, 'a time in s read as ms, or a position in milli-units'),
+                (60.0, 'a time in min read as s, or a velocity per minute'))
+
+
+def ratio_reading(ratio: float) -> str:
+    """
+    Return what a ratio of a velocity to its position's derivative most likely means.
+
+    Parameters
+    ----------
+    ratio : float
+        The fitted ratio (inf: the position stands still while the velocity moves).
+
+    Returns
+    -------
+    str
+
+    """
+    if not math.isfinite(ratio):
+        return 'the position stands still while the velocity moves (a frozen position)'
+    if abs(ratio) < 0.05:
+        return 'the velocity stays near 0 while the position moves (a frozen velocity)'
+    if ratio < 0:
+        return ('the opposite sign (a velocity or position sign-flipped)'
+                + ('' if abs(ratio + 1) < 0.1 else f', {-ratio:.3g} times the size'))
+    for k, what in _UNIT_RATIOS:
+        if abs(ratio / k - 1) < 0.05:
+            return what
+    if abs(ratio - 1) < 0.1:
+        return 'close to 1, yet off in places (a delayed or filtered velocity?)'
+    return (f'stamps {ratio:.3g} times too far apart, or a velocity in other units'
+            if ratio > 1 else f'stamps {1 / ratio:.3g} times too close together, or a '
+            'velocity in other units')
+
+
+#: how to go on past a velocity that disagrees with its position
+VELOCITY_HINT = ('fix the unit of the velocity or of the time (import: --velocity COL:UNIT, '
+                 "--time COL:UNIT), or use the position's derivative instead of the logged "
+                 'velocity: --velocity-from-position (import, diagnose, identify)')
 
 
 def check_position_velocity(label, t, q, qd):
@@ -252,16 +357,20 @@ def check_position_velocity(label, t, q, qd):
     Raises
     ------
     RecordingError
-        Naming ``label`` (the recording and topic), ``M`` and where the worst window is.
+        Naming ``label`` (the recording and topic), ``M``, the ratio of the velocity to the
+        position's derivative and its likely reading, where the worst window is, and how
+        to go on (:data:`VELOCITY_HINT`).
 
     """
-    mismatch, judged, worst = velocity_mismatch(t, q, qd)
+    mismatch, judged, worst, ratio = _judge(t, q, qd)
     if mismatch > MISMATCH:
         raise RecordingError(
-            f'{label}: the velocity disagrees with the position: over {judged} windows the '
-            f'position changes by other amounts than the integral of the velocity (mismatch '
-            f'{mismatch:.3g}, at most {MISMATCH:g}; 1 = a frozen position or a velocity in '
-            f'other units, 2 = the opposite sign), worst from t = {t[worst]:.6f} s')
+            f'{label}: the velocity disagrees with the position (mismatch {mismatch:.3g} over '
+            f'{judged} windows, at most {MISMATCH:g}; worst from t = {t[worst]:.6f} s): it is '
+            f"{ratio:.4g} times the position's derivative (1 = consistent, 2 = stamps twice "
+            'too far apart or a velocity in other units, -1 = the opposite sign, 0 = a '
+            f'frozen velocity, inf = a frozen position): {ratio_reading(ratio)}; '
+            f'{VELOCITY_HINT}')
 
 
 def check_ranges(recording):
@@ -287,7 +396,7 @@ def check_ranges(recording):
             raise RecordingError(
                 f'{recording.path}: /joint_temperature: temperature {xi[i]:.6g} °C at '
                 f't = {temp.t[i]:.6f} s ({len(idx)} such samples) is {what}: a wrong unit '
-                'or a corrupt value')
+                '(import: --temperature COL:K or COL:degF) or a corrupt value')
 
 
 def check_recording(recording):
@@ -296,3 +405,68 @@ def check_recording(recording):
     check_clocks(recording)
     js = recording.joint_states
     check_position_velocity(f'{recording.path}: /joint_states', js.t, js.q, js.qd)
+
+
+def check_contents(recording):
+    """
+    Run the reader's checks of a recording's values: absurd samples, then this module's.
+
+    The one check of :func:`~friction_joint.bag.read_recording` and ``import``
+    (:func:`~friction_joint.bag.plausible.check_values`, :func:`check_recording`).
+
+    Raises
+    ------
+    RecordingError
+        Naming the file, the topic and the problem.
+
+    """
+    check_values(recording)
+    check_recording(recording)
+
+
+def check_signals(path, joint_name, t, joint_states, *, xi=None, tau=None):
+    """
+    Run :func:`check_contents` on signals sampled at ``t`` (a log being imported).
+
+    Parameters
+    ----------
+    path : str
+        What the errors name (the log file).
+    joint_name : str
+        The joint.
+    t : array_like
+        Stamps (s).
+    joint_states : tuple of array_like
+        Position, velocity and drive torque at ``t`` (``/joint_states``).
+    xi, tau : array_like, optional
+        Temperature (degC, ``/joint_temperature``) and external torque (``/link_torque``),
+        at ``t``.
+
+    """
+    rec = Recording(path=path, joint_name=joint_name,
+                    joint_states=JointStates(t, t, *joint_states),
+                    temperature=None if xi is None else Temperature(t, t, xi, xi),
+                    link_torque=None if tau is None else LinkTorque(t, t, tau))
+    with np.errstate(all='ignore'):                 # huge values: judged, not warned about
+        check_contents(rec)
+
+
+def position_derivative(t, q):
+    """
+    Return the centred difference of the position, piece by piece (split at gaps).
+
+    A step longer than :data:`~friction_joint.bag.stamps.GAP` median sample times ends
+    a piece; each piece is differentiated on its own (one-sided at its ends), so no
+    derivative bridges a gap; a piece of one sample has velocity 0.
+    """
+    t, q = np.asarray(t, dtype=float), np.asarray(q, dtype=float)
+    out = np.zeros(len(t))
+    if len(t) < 2:
+        return out
+    cuts = np.flatnonzero(np.diff(t) > GAP * _median_step(t)) + 1
+    bounds = np.concatenate(([0], cuts, [len(t)]))
+    with np.errstate(all='ignore'):
+        for a, b in zip(bounds[:-1], bounds[1:], strict=True):
+            if b - a >= 2:
+                gradient(q[a:b], t[a:b], out[a:b])
+    return out

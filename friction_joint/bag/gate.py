@@ -1,16 +1,5 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 
 """
 The input gate of a recording: every file of it checked before anything opens one.
@@ -32,6 +21,7 @@ Symlinks are followed: what they point to counts.
 """
 import os
 
+from .staging import missing_recording_error
 from ..exceptions import RecordingError
 from ..inputs import check_input, check_input_dir, read_input
 
@@ -131,7 +121,7 @@ def check_recording_files(path):
     """
     path = os.fspath(path)
     if not os.path.lexists(path):
-        raise RecordingError(f'recording {path} does not exist')
+        raise missing_recording_error(path)         # a killed recorder's: how to recover
     if not os.path.isdir(path):
         check_input(path, kind='recording', what='a recording', error=RecordingError)
         return None

@@ -1,16 +1,5 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 
 """
 Foreign logs (CSV/TSV/NPZ) -> the topics of a recording (``friction_joint import``).
@@ -23,7 +12,7 @@ index) and converted to SI and the joint convention of docs/interfaces.md
 * **Units** (:data:`UNITS`, :mod:`~friction_joint.bag.units`): time
   s/ms/us/ns/min/h; position rad/deg/rev or, for a linear device,
   m/cm/mm/um; velocity rad/s, deg/s, rev/s, rpm, m/s, mm/s, um/s; torques
-  Nm/Nmm/mNm/kNm or forces N/kN/mN/uN; temperature degC/K/degF.  Without a
+  Nm/Nmm/mNm/kNm or forces N/kN/mN/uN; current A/mA; temperature degC/K/degF.  Without a
   unit the one in brackets of the header name (``Position [mm]``) is taken
   (brackets holding anything else are an error), else SI.  A value that is
   not finite once converted is an error naming the column and row.
@@ -53,6 +42,9 @@ index) and converted to SI and the joint convention of docs/interfaces.md
   option (never flipped silently).  In friction mode inertia is negligible (the
   base gear file should have a tiny inertia, e.g. 1e-9 kg m², as gear files need
   one > 0) and ``/link_torque`` carries the logged load, or 0 when there is none.
+* **Motor current** (``current``, with ``torque_constant`` K and ``gear_ratio`` N,
+  :mod:`~friction_joint.bag.mapping`): the drive torque τ := I K N, recorded as
+  ``torque_from_current``.
 * ``temperature`` becomes ``/joint_temperature`` (optional, at least
   −273.15 °C), ``load`` the measured τ_ext on ``/link_torque``.
 * **Memory**: the files are read in chunks (:mod:`~friction_joint.bag.tables`),
@@ -66,18 +58,18 @@ from __future__ import annotations
 
 import json
 import os
+from typing import Any
 
 import numpy as np
 
 from .blockwise import (first_where, gradient, grid, increasing_ns, interp, off_grid,
                         opposed_fraction, spans, unwrap)
-from .plausible import check_samples
+from .consistency import check_signals
+from .mapping import check_columns, current_torque, load_mapping
 from .tables import read_table
 from .topics import NS
-from .units import (check_radius, convert, header_unit, mapping_text, parse_column, QUANTITIES,
-                    SI, UNITS)
+from .units import convert, header_unit, mapping_text, parse_column, QUANTITIES, SI, UNITS
 from ..exceptions import RecordingError
-from ..inputs import read_input
 
 __all__ = ['QUANTITIES', 'UNITS', 'FILE_GAP', 'SPLIT', 'IMPORT_BUDGET', 'ROW_BYTES', 'WRITE_BYTES',
            'ImportedLog',
@@ -107,67 +99,10 @@ _ON_GRID = 1e-3
 #: a friction column opposing the velocity on more than this fraction of the sliding
 #: samples gets the --flip-friction warning
 _OPPOSED = 0.6
-_OPTIONS = ('radius', 'unwrap', 'flip_friction', 'skip_rows')
 #: largest |time| (s) the recording's int64 nanosecond stamps hold, and its longest span
 _TIME_LIMIT = (2**63 - 1) / NS
 _SPAN_LIMIT = 2.0**31
 _ZERO_C = -273.15
-
-
-def load_mapping(path: str | os.PathLike) -> tuple[dict[str, tuple[int | str, str | None]],
-                                                   dict[str, object]]:
-    """
-    Read a mapping file: YAML with the keys of :data:`QUANTITIES` (``COL[:unit]``).
-
-    Optional keys: ``radius`` (m), ``unwrap``, ``flip_friction`` (bools),
-    ``skip_rows`` (int).
-
-    Parameters
-    ----------
-    path : str or os.PathLike
-        The mapping file.
-
-    Returns
-    -------
-    tuple
-        ``(columns, options)``: quantity -> ``(column, unit)``, and the options given.
-
-    Raises
-    ------
-    RecordingError
-        Not a readable regular file, not a mapping, an unknown key or a bad value
-        (naming the file).
-
-    """
-    import yaml
-    path = os.fspath(path)
-    data = read_input(path, kind='mapping', what='a mapping', error=RecordingError)
-    try:
-        doc = yaml.safe_load(data.decode('utf-8'))
-    except (UnicodeDecodeError, yaml.YAMLError) as exc:
-        why = str(exc).splitlines()[0]
-        raise RecordingError(f'{path}: not a YAML mapping file ({why})') from None
-    except RecursionError:
-        raise RecordingError(f'{path}: not a mapping file: nested too deeply') from None
-    if not isinstance(doc, dict):
-        raise RecordingError(f'{path}: a mapping file is a YAML mapping of '
-                             f'{", ".join(QUANTITIES)} to COL[:unit]')
-    unknown = [str(k) for k in doc if k not in QUANTITIES + _OPTIONS]
-    if unknown:
-        raise RecordingError(f'{path}: unknown key(s) {", ".join(unknown)} (keys: '
-                             f'{", ".join(QUANTITIES + _OPTIONS)})')
-    columns = {k: parse_column(k, v, path) for k, v in doc.items() if k in QUANTITIES}
-    options = {k: doc[k] for k in _OPTIONS if k in doc}
-    for key in ('unwrap', 'flip_friction'):
-        if key in options and not isinstance(options[key], bool):
-            raise RecordingError(f'{path}: {key} must be true or false')
-    if 'skip_rows' in options and (isinstance(options['skip_rows'], bool)
-                                   or not isinstance(options['skip_rows'], int)
-                                   or options['skip_rows'] < 0):
-        raise RecordingError(f'{path}: skip_rows must be a whole number >= 0')
-    if 'radius' in options:
-        options['radius'] = check_radius(options['radius'], f'{path}: radius')
-    return columns, options
 
 
 def _resolve(path, header, width, quantity, spec):
@@ -181,7 +116,12 @@ def _resolve(path, header, width, quantity, spec):
     if not header or col not in header:
         have = ', '.join(repr(h) for h in header) if header else 'no header line'
         raise RecordingError(f'{path}: no column {col!r} for {quantity} (columns: {have})')
-    return header.index(col), col, unit
+    where = [i for i, h in enumerate(header) if h == col]
+    if len(where) > 1:
+        raise RecordingError(f'{path}: the header names {len(where)} columns {col!r} (0-based '
+                             f'columns {", ".join(map(str, where))}) for {quantity}; give the '
+                             'column by its index or rename it')
+    return where[0], col, unit
 
 
 # ------------------------------------------------------------------------- conversion ---
@@ -217,7 +157,7 @@ def _pieces(t):
     cuts = [np.flatnonzero(np.diff(t[a:b + 1]) > SPLIT * dt) + (a + 1)
             for a, b in spans(len(t), 1)]
     bounds = np.concatenate([[0]] + cuts + [[len(t)]])
-    return [(int(a), int(b)) for a, b in zip(bounds[:-1], bounds[1:])], dt
+    return [(int(a), int(b)) for a, b in zip(bounds[:-1], bounds[1:], strict=True)], dt
 
 
 def _grid_size(t, dt):
@@ -240,15 +180,15 @@ def _resample(path, rows, t, picked, ranges, dt):
     moved = [m is not None for m in sizes]
     if not any(moved):
         return t, ranges, 0
-    sizes = [b - a if m is None else m for (a, b), m in zip(ranges, sizes)]
+    sizes = [b - a if m is None else m for (a, b), m in zip(ranges, sizes, strict=True)]
     if min(sizes) < 2:
         a, b = ranges[sizes.index(min(sizes))]
         raise RecordingError(f'{path}: rows {rows[a]}-{rows[b - 1]}: a piece shorter than the '
                              f'median interval {dt:.6g} s; at least 2 intervals are needed')
     offsets = np.cumsum([0] + sizes)
-    out = [(int(o), int(o) + m) for o, m in zip(offsets[:-1], sizes)]
+    out = [(int(o), int(o) + m) for o, m in zip(offsets[:-1], sizes, strict=True)]
     new_t = np.empty(int(offsets[-1]))
-    for (a, b), (c, d), m in zip(ranges, out, moved):
+    for (a, b), (c, d), m in zip(ranges, out, moved, strict=True):
         if m:
             for u, w in spans(d - c):
                 new_t[c + u:c + w] = grid(u, w, dt, t[a])
@@ -256,7 +196,7 @@ def _resample(path, rows, t, picked, ranges, dt):
             new_t[c:d] = t[a:b]
     for k in list(picked):
         col = np.empty(len(new_t))
-        for (a, b), (c, d), m in zip(ranges, out, moved):
+        for (a, b), (c, d), m in zip(ranges, out, moved, strict=True):
             if m:
                 interp(col[c:d], new_t[c:d], t[a:b], picked[k][a:b])
             else:
@@ -300,23 +240,6 @@ class ImportedLog:
         return {'friction_joint.import': json.dumps(self.mapping, sort_keys=True)}
 
 
-def _check_columns(columns, radius, joint_name):
-    for need in ('time', 'position'):
-        if need not in columns:
-            raise RecordingError(f'no {need} column given (--{need} COL[:unit])')
-    if 'torque' not in columns and 'friction' not in columns:
-        raise RecordingError('give the drive torque (--torque COL[:unit]) or the friction '
-                             '(--friction COL[:unit])')
-    if 'torque' in columns and 'friction' in columns:
-        raise RecordingError('give either --torque (drive torque) or --friction (friction '
-                             'logged directly), not both')
-    check_radius(radius)
-    if (not isinstance(joint_name, str) or not joint_name.strip()
-            or joint_name != joint_name.strip() or not joint_name.isprintable()):
-        raise RecordingError(f'--joint: a joint name must be a non-empty printable name '
-                             f'without surrounding spaces, got {joint_name!r}')
-
-
 def _row_bytes(columns):
     """Return the memory (bytes) an import of ``columns`` needs per row (the estimate)."""
     topics = 1 + ('friction' in columns or 'load' in columns) + ('temperature' in columns)
@@ -338,7 +261,7 @@ def _read(path, columns, options, budget):
     row_bytes = _row_bytes(columns)
     header, cols, rows = read_table(path, options['skip_rows'], pick=pick, row_bytes=row_bytes,
                                     budget=budget)
-    by_index = dict(zip(sorted({idx for idx, _, _ in found.values()}), cols))
+    by_index = dict(zip(sorted({idx for idx, _, _ in found.values()}), cols, strict=True))
     times = getattr(header, 'times', {})
     picked, used = {}, set()
     for q, (idx, name, unit) in found.items():
@@ -371,6 +294,11 @@ def _one_file(path, columns, options):
             picked[q] = convert(q, x, unit, radius, path=path, name=name, rows=rows)
             mapping[q] = {'column': name, 'unit': unit,
                           'conversion': mapping_text(q, name, unit, radius)}
+    if 'current' in picked:                         # tau := I K N (docs: bag.mapping)
+        mapping['current'] = current_torque(picked['current'], mapping['current']['column'],
+                                            mapping['current']['unit'], *options['motor'],
+                                            path=path, rows=rows)
+        picked['torque'] = picked.pop('current')
     if len(picked['time']) < 3:
         raise RecordingError(f'{path}: {len(picked["time"])} rows, at least 3 are needed')
     if 'temperature' in picked:
@@ -437,18 +365,18 @@ def _concat(parts):
     return parts[0] if len(parts) == 1 else np.concatenate(parts)
 
 
-def _file_checks(path, t, cols, flip_friction, frac):
-    """Per file: what a reader would refuse (absurd samples); the friction sign warning."""
+def _file_checks(path, t, cols, flip_friction, frac, joint_name):
+    """Per file: what a reader would refuse; the friction sign warning."""
     fields = {k: cols[f] for k, f in (('q', 'position'), ('qd', 'velocity'),
                                       ('effort', 'effort'), ('xi', 'temperature'),
                                       ('tau', 'load')) if f in cols}
     for k, x in fields.items():                     # a derivative or sum that overflowed
-        i = first_where(len(x), lambda a, b: ~np.isfinite(x[a:b]))
+        i = first_where(len(x), lambda a, b, x=x: ~np.isfinite(x[a:b]))
         if i is not None:
             raise RecordingError(f'{path}: the {k} at t = {t[i] - t[0]:.9g} s of the file is not '
                                  'finite (an overflow of the values logged)')
-    with np.errstate(all='ignore'):                 # huge values: judged, not warned about
-        check_samples(path, t, fields, position=('q', 'qd'), origin=float(t[0]))
+    check_signals(path, joint_name, t, (fields['q'], fields['qd'], fields['effort']),
+                  xi=fields.get('xi'), tau=fields.get('tau'))
     if frac is None or frac <= _OPPOSED:
         return None
     flag = 'without' if flip_friction else 'with'
@@ -461,7 +389,9 @@ def _file_checks(path, t, cols, flip_friction, frac):
 def import_logs(paths: list[str | os.PathLike],
                 columns: dict[str, tuple[int | str, str | None]], *, radius: float = 1.0,
                 unwrap: bool = False, flip_friction: bool = False, skip_rows: int = 0,
-                joint_name: str = 'joint') -> ImportedLog:
+                joint_name: str = 'joint', velocity_from_position: bool = False,
+                torque_constant: float | None = None, gear_ratio: float | None = None
+                ) -> ImportedLog:
     """
     Convert logs (one run per file) into the topics of one recording.
 
@@ -471,7 +401,8 @@ def import_logs(paths: list[str | os.PathLike],
         CSV/TSV/whitespace-delimited text files or ``.npz`` files, one run each.
     columns : dict
         Quantity (:data:`QUANTITIES`) -> ``(column, unit)`` from :func:`parse_column`;
-        ``time``, ``position`` and one of ``torque`` / ``friction`` are required.
+        ``time``, ``position`` and one of ``torque`` / ``friction`` / ``current`` are
+        required.
     radius : float
         Radius (m) mapping a linear device to the joint (q = x / r, τ = F r).
     unwrap : bool
@@ -482,6 +413,14 @@ def import_logs(paths: list[str | os.PathLike],
         Lines skipped at the top of each text file before its header.
     joint_name : str
         Joint name written into the JointState messages (non-empty).
+    velocity_from_position : bool
+        Write the centred difference of the position as the velocity, also when a
+        ``velocity`` column is mapped (which is then not read): for a velocity that
+        disagrees with its position (other units, another sign).
+    torque_constant : float, optional
+        K (N m/A, motor side) of a ``current`` column: τ = I K N (needed with one).
+    gear_ratio : float, optional
+        N of a ``current`` column (default 1): the torque at the joint.
 
     Returns
     -------
@@ -493,26 +432,37 @@ def import_logs(paths: list[str | os.PathLike],
         One line naming the problem and the file (and row): unreadable file, unknown
         column or unit, a value that is not a number or not finite once converted,
         time stamps that do not increase by at least 1 ns, a piece too short, a log
-        too large for the memory budget, an inconsistent mapping.
+        too large for the memory budget, an inconsistent mapping, and whatever a reader
+        of the recording would refuse (:func:`~friction_joint.bag.consistency.check_contents`:
+        absurd samples, a velocity that is not the position's derivative, a temperature
+        outside physical bounds), per file and for the files joined.
 
     """
-    _check_columns(columns, radius, joint_name)
+    check_columns(columns, radius=radius, joint_name=joint_name,
+                  torque_constant=torque_constant, gear_ratio=gear_ratio)
+    ignored = columns.get('velocity') if velocity_from_position else None
+    if ignored is not None:
+        columns = {k: v for k, v in columns.items() if k != 'velocity'}
     if not paths:
         raise RecordingError('no input files given')
     options = {'radius': float(radius), 'unwrap': bool(unwrap), 'skip_rows': int(skip_rows),
-               'used': 0}
+               'used': 0, 'motor': (torque_constant, 1.0 if gear_ratio is None else gear_ratio)}
     friction_mode = 'friction' in columns
-    out = {k: [] for k in ('t', 'q', 'qd', 'effort', 'tau', 'xi')}
-    files, notes, warnings, mapping = [], [], [], {}
-    start, dts, end = 0.0, [], None
-    for path in map(os.fspath, paths):
+    out: dict[str, list[np.ndarray]] = {k: [] for k in ('t', 'q', 'qd', 'effort', 'tau', 'xi')}
+    files: list[dict[str, Any]] = []
+    notes: list[str] = []
+    warnings: list[str] = []
+    mapping: dict[str, Any] = {}
+    dts: list[float] = []
+    start, end = 0.0, None
+    for path in (os.fspath(p) for p in paths):
         t, cols, ranges, dt, mapping, resampled = _one_file(path, columns, options)
         if files:
             start = end + file_gap(dts + [dt])
         offset = start - t[0]
         dts.append(dt)
         cols['effort'], frac = _effort(cols, flip_friction, friction_mode)
-        warning = _file_checks(path, t, cols, flip_friction, frac)
+        warning = _file_checks(path, t, cols, flip_friction, frac, joint_name)
         if warning:
             warnings.append(warning)
         spans_ = [[float(t[a] + offset), float(t[b - 1] + offset)] for a, b in ranges]
@@ -541,17 +491,29 @@ def import_logs(paths: list[str | os.PathLike],
         topics['/link_torque'] = {'t': cat['t'], 'tau': cat['tau']}
     if 'temperature' in columns:
         topics['/joint_temperature'] = {'t': cat['t'], 'xi': cat['xi']}
+    if len(files) > 1:                              # the files joined, as a reader sees them
+        check_signals(' + '.join(f['path'] for f in files), joint_name, cat['t'],
+                      (cat['q'], cat['qd'], cat['effort']), xi=cat.get('xi'), tau=cat.get('tau'))
     linear = any(UNITS[q][m['unit']][1] for q, m in mapping.items())
     info = {'columns': mapping, 'radius_m': options['radius'] if linear else None,
             'unwrap': options['unwrap'], 'files': files, 'gap_s': file_gap(dts),
             'mode': 'friction' if friction_mode else 'drive_torque',
-            'velocity': 'logged' if 'velocity' in columns else 'centred difference per piece'}
+            'velocity': 'logged' if 'velocity' in columns else 'centred difference per piece',
+            'velocity_from_position': bool(velocity_from_position)}
+    if 'current' in mapping:
+        info['torque_from_current'] = mapping['current']
+    if ignored is not None:
+        info['velocity'] += (f' (--velocity-from-position: the velocity column '
+                             f'{ignored[0]!r} not used)')
     for q, m in mapping.items():
         notes.append(f'{q}: {m["conversion"]}')
     if linear:
         notes.append(f'linear device: q [rad] := x [m] / {options["radius"]:g} m, '
                      f'tau [Nm] := F [N] * {options["radius"]:g} m (--radius)')
-    if 'velocity' not in columns:
+    if ignored is not None:
+        notes.append(f'velocity: --velocity-from-position: the column {ignored[0]!r} is not '
+                     'used; centred difference of the position within each piece')
+    elif 'velocity' not in columns:
         notes.append('velocity: not logged, centred difference of the position within each '
                      'piece (no piece bridged)')
     if friction_mode:

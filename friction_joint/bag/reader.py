@@ -1,16 +1,5 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 
 """
 Reading recordings (rosbag2 directory or single ``.mcap`` file) into numpy arrays.
@@ -40,16 +29,16 @@ import numpy as np
 
 from ._cdr import f64_columns, layout_groups, stamps_ns, walk_joint_state
 from .checksums import mcap_files, verify_checksums
-from .consistency import check_negative_stamps, check_recording as check_consistency
-from .gate import check_recording_files
-from .plausible import check_values
+from .consistency import check_contents, check_negative_stamps, position_derivative
+from .gate import check_recording_files, read_metadata
 from .staging import partial_recording_error
 from .stamps import stamp_order
 from .topics import (CONTRACT_TYPES, ExternalTorque, JointCommand, JointStates, LinkTorque, NS,
                      Recording, REQUIRED_TOPICS, Temperature)
-from ..exceptions import RecordingError
+from ..exceptions import MissingTopicError, RecordingError
+from ..inputs import open_input
 
-__all__ = ['read_recording', 'recording_topics', 'iter_messages']
+__all__ = ['recording_custom_data', 'read_recording', 'recording_topics', 'iter_messages']
 
 
 def _decode_joint_state(raws, topic, joint, required):
@@ -208,8 +197,9 @@ def _read_raw(path, wanted):
                                      f'expected {expected}')
         for topic in REQUIRED_TOPICS:
             if topic not in topics:
-                raise RecordingError(f'{path}: no {topic} topic (topics: '
-                                     f'{", ".join(sorted(topics)) or "none"})')
+                raise MissingTopicError(f'{path}: no {topic} topic (topics: '
+                                        f'{", ".join(sorted(topics)) or "none"})',
+                                        topic=topic, path=os.fspath(path))
         conns = [c for c in reader.connections if c.topic in wanted]
         data = {t: ([], []) for t in wanted if t in topics}
         try:
@@ -221,7 +211,7 @@ def _read_raw(path, wanted):
             raise
         except Exception as exc:
             raise _corrupt(path, exc) from None
-        for topic, (raws, recv) in data.items():
+        for topic, (raws, _recv) in data.items():
             topics[topic] = (topics[topic][0], len(raws))
         return topics, {k: (v[0], np.asarray(v[1], dtype=np.int64)) for k, v in data.items()}
     finally:
@@ -304,8 +294,52 @@ def iter_messages(path: str | os.PathLike, *, topics: Iterable[str] | None = Non
         _close(reader)
 
 
+def recording_custom_data(path: str | os.PathLike) -> dict[str, str]:
+    """
+    Return the custom data of a recording's rosbag2 metadata (e.g. how a log was imported).
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        A rosbag2 directory (its ``metadata.yaml``) or a single ``.mcap`` file (its
+        ``rosbag2`` metadata record).
+
+    Returns
+    -------
+    dict
+        ``custom_data`` (key -> str); empty when there is none or it cannot be read
+        (reading the recording itself reports a broken file).
+
+    """
+    path = os.fspath(path)
+    meta = os.path.join(path, 'metadata.yaml')
+    try:                                            # through the input gate: no FIFO, no device
+        if os.path.isdir(path):
+            doc = read_metadata(meta) if os.path.isfile(meta) else None
+        else:
+            doc = _mcap_rosbag2_metadata(path)
+        custom = doc.get('custom_data') if isinstance(doc, dict) else None
+    except Exception:                               # any unreadable file: no custom data
+        return {}
+    return {str(k): str(v) for k, v in custom.items()} if isinstance(custom, dict) else {}
+
+
+def _mcap_rosbag2_metadata(path):
+    """Return rosbag2's metadata kept in a single ``.mcap`` file's metadata record (or None)."""
+    import yaml
+    from mcap.reader import make_reader
+    with open_input(path, kind='recording', error=RecordingError) as fh:
+        for record in make_reader(fh).iter_metadata():
+            if record.name == 'rosbag2':
+                doc = yaml.safe_load(record.metadata.get('serialized_metadata', ''))
+                if isinstance(doc, dict):
+                    return doc.get('rosbag2_bagfile_information', doc)
+                return None
+    return None
+
+
 def read_recording(path: str | os.PathLike, *, joint_name: str | None = None,
-                   check: bool = True) -> Recording:
+                   check: bool = True, velocity_from_position: bool = False) -> Recording:
     """
     Read a recording into arrays.
 
@@ -322,6 +356,10 @@ def read_recording(path: str | os.PathLike, *, joint_name: str | None = None,
         values for absurd samples (:mod:`~friction_joint.bag.plausible`) and the topics
         against each other (:mod:`~friction_joint.bag.consistency`).  ``False``
         reads a broken recording for inspection: messages are only sorted by stamp.
+    velocity_from_position : bool
+        Replace the recorded velocity of ``/joint_states`` by the centred difference of
+        its position (:func:`~friction_joint.bag.consistency.position_derivative`), e.g.
+        for a velocity in other units than the position (``--velocity-from-position``).
 
     Returns
     -------
@@ -352,7 +390,7 @@ def read_recording(path: str | os.PathLike, *, joint_name: str | None = None,
     topics, data = _read_raw(path, wanted)
     for topic in REQUIRED_TOPICS:
         if not data[topic][0]:
-            raise RecordingError(f'{path}: {topic} has no messages')
+            raise MissingTopicError(f'{path}: {topic} has no messages', topic=topic, path=path)
 
     js_raws, js_recv = data['/joint_states']
     if joint_name is None:
@@ -398,7 +436,8 @@ def read_recording(path: str | os.PathLike, *, joint_name: str | None = None,
         raise RecordingError(f'{path}: no /joint_states message names joint {joint_name!r}; '
                              f'the recording has joint(s) {have} (pass one as the joint name, '
                              '--joint on the command line)')
-    joint_states = JointStates(t, t_recv, c['q'], c['qd'], c['effort'], skipped)
+    qd = position_derivative(t, c['q']) if velocity_from_position else c['qd']
+    joint_states = JointStates(t, t_recv, c['q'], qd, c['effort'], skipped)
 
     def fixed_topic(topic, picks):
         raws, recv = data[topic]
@@ -429,6 +468,5 @@ def read_recording(path: str | os.PathLike, *, joint_name: str | None = None,
                     joint_command=joint_command, external_torque=external_torque,
                     topics=topics, unordered=unordered, duplicates=duplicates)
     if check:
-        check_values(rec)
-        check_consistency(rec)
+        check_contents(rec)
     return rec

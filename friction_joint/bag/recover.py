@@ -1,16 +1,5 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 
 """
 Recovering a recording cut short (a recorder killed with SIGKILL, a full disk).
@@ -20,25 +9,30 @@ truncated MCAP file (no summary, no footer; see
 :mod:`~friction_joint.bag.staging` for where a killed recorder leaves it)
 record by record up to where it ends, also into a chunk cut in the middle if it
 is uncompressed, and writes the messages into a new, sealed recording
-(``metadata.yaml`` + ``.mcap``).
+(``metadata.yaml`` + ``.mcap``).  A chunk that cannot be read is skipped
+with a warning (its messages lost, the rest kept), and none is ever
+decompressed into more than the size it declares.
 """
 from __future__ import annotations
 
 import dataclasses
+import errno
 import glob
 import json
 import mmap
 import os
 import shutil
 import struct
+import warnings
 import zlib
 
 from .checksums import seal_rosbag2
-from .staging import read_marker, staging_directory, staging_state
+from .staging import (missing_recording_error, read_marker, recovery_command, staging_directory,
+                      staging_state)
 from ..exceptions import RecordingError
-from ..inputs import check_input
+from ..inputs import check_input, MEMORY_BUDGET
 
-__all__ = ['recover_recording', 'RecoveredRecording']
+__all__ = ['recover_recording', 'RecoveredRecording', 'salvage_recording']
 
 _MAGIC = b'\x89MCAP0\r\n'
 _OP_FOOTER, _OP_SCHEMA, _OP_CHANNEL, _OP_MESSAGE, _OP_CHUNK = 2, 3, 4, 5, 6
@@ -61,6 +55,7 @@ class _Scan:
     complete: bool = False       # reached the data end / footer
     reason: str = ''
     orphans: int = 0             # messages on channels never defined
+    bad: list = dataclasses.field(default_factory=list)     # chunks skipped, and why
 
 
 def _string(buf, pos):
@@ -104,9 +99,11 @@ def _inner(buf, pos, end, scan, emit, top):
                 else:
                     scan.orphans += 1
             elif op == _OP_CHUNK and top:
-                why = _chunk(buf, body, nxt, scan, emit)
-                if why:
-                    return pos, why
+                data = _chunk(buf, body, nxt, scan)
+                if data is not None:
+                    _, why = _inner(memoryview(data), 0, len(data), scan, emit, False)
+                    if why:                  # its messages before the break are kept
+                        scan.bad.append(f'the chunk at byte {pos}: {why}')
             elif op in (_OP_DATA_END, _OP_FOOTER) and top:
                 scan.complete = True
                 return nxt, ''
@@ -118,31 +115,77 @@ def _inner(buf, pos, end, scan, emit, top):
     return pos, ''
 
 
-def _decompress(compression, data):
-    if compression == '':
-        return data
+def _codec(compression):
+    """Return ``(make a streaming decompressor, its errors)`` of an MCAP chunk compression."""
     if compression == 'zstd':
         try:
             from compression import zstd
         except ImportError:
             from backports import zstd
-        return zstd.decompress(data)
+        return zstd.ZstdDecompressor, (zstd.ZstdError, EOFError, ValueError)
     if compression == 'lz4':
         import lz4.frame
-        return lz4.frame.decompress(data)
-    raise ValueError(f'unknown chunk compression {compression!r}')
+        return lz4.frame.LZ4FrameDecompressor, (RuntimeError, EOFError, ValueError)
+    raise _BadChunk(f'unknown compression {compression!r}')
 
 
-def _chunk(buf, body, end, scan, emit):
-    """Read one whole chunk; return an error text if it is broken."""
+class _BadChunk(Exception):
+    """A chunk that cannot be read (its reason); the records after it still can."""
+
+
+def _decompress(compression, data, size):
+    """
+    Return the records of a chunk: ``data`` decompressed, never more than ``size`` + 1 bytes.
+
+    Frames are decompressed one after the other with streaming decompressors asked for
+    at most one byte more than the chunk declares, so a chunk declaring 1 KiB that
+    inflates to gigabytes costs 1 KiB; a declared size beyond the memory budget is
+    refused before decompressing.  Raises :class:`_BadChunk` naming the reason.
+    """
+    if compression == '':
+        return bytes(data)
+    make, errors = _codec(compression)
+    if size > MEMORY_BUDGET:
+        raise _BadChunk(f'declares {size} bytes uncompressed, beyond the memory budget '
+                        f'({MEMORY_BUDGET >> 20} MiB)')
+    parts, n, rest = [], 0, data
+    try:
+        while True:
+            d = make()
+            parts.append(d.decompress(rest, max_length=size - n + 1))
+            n += len(parts[-1])
+            if n > size:
+                raise _BadChunk(f'its {compression} data inflate beyond the {size} bytes it '
+                                'declares')
+            if not d.eof:
+                raise _BadChunk(f'its {compression} data end early')
+            rest = d.unused_data
+            if not rest:
+                return b''.join(parts)
+    except errors as exc:
+        raise _BadChunk(f'not {compression} data ({exc})') from None
+
+
+def _chunk(buf, body, end, scan):
+    """
+    Return the records of one whole chunk, or None if it is unreadable (noted in ``scan``).
+
+    An unreadable chunk (not decompressible, inflating beyond its declared size, failing
+    its CRC) loses its own messages only: its record's length says where the next begins.
+    """
+    where = f'the chunk at byte {body - _REC.size}'
     _, _, size, crc = _CHUNK_HEAD.unpack_from(buf, body)
     compression, p = _string(buf, body + _CHUNK_HEAD.size)
     n, = _U64.unpack_from(buf, p)
-    data = _decompress(compression, bytes(buf[p + 8:min(p + 8 + n, end)]))
+    try:
+        data = _decompress(compression, buf[p + 8:min(p + 8 + n, end)], size)
+    except _BadChunk as exc:
+        scan.bad.append(f'{where}: {exc}')
+        return None
     if len(data) != size or (crc and zlib.crc32(data) != crc):
-        return f'a chunk at byte {body - _REC.size} fails its checksum'
-    _, why = _inner(memoryview(data), 0, len(data), scan, emit, False)
-    return why and f'a chunk at byte {body - _REC.size}: {why}'
+        scan.bad.append(f'{where} fails its checksum')
+        return None
+    return data
 
 
 def _partial_chunk(buf, body, end, scan, emit):
@@ -201,6 +244,9 @@ class RecoveredRecording:
         The staging directory removed after recovering it.
     staging : str or None
         The staging directory read and kept (``keep``; perhaps renamed).
+    unreadable : list of str
+        The chunks skipped (where, and why: not decompressible, inflating beyond
+        their declared size, failing their CRC); their messages are lost.
 
     """
 
@@ -213,6 +259,7 @@ class RecoveredRecording:
     lost_bytes: int
     removed: str | None = None
     staging: str | None = None
+    unreadable: list[str] = dataclasses.field(default_factory=list)
 
 
 def _source_file(path):
@@ -282,6 +329,14 @@ class _Sink:
         self.last = log_time if self.last is None else max(self.last, log_time)
 
 
+def _unreadable(bad):
+    """Return one line about the chunks skipped: how many, the first (and where)."""
+    more = f' and {len(bad) - 1} more' if len(bad) > 1 else ''
+    several = len(bad) > 1
+    return (f'{len(bad)} chunk{"s" if several else ""} unreadable, '
+            f'{"their" if several else "its"} messages lost ({bad[0]}{more})')
+
+
 def _write_bag(src, bagdir, label, qos):
     """Scan ``src`` into a new rosbag2 directory ``bagdir``; return (scan, sink)."""
     from rosbags.rosbag2 import StoragePlugin, Writer
@@ -294,12 +349,14 @@ def _write_bag(src, bagdir, label, qos):
         for cid in sorted(scan.channels):           # topics without a message too
             sink.connection(cid)
         if not any(sink.counts.values()):
-            raise RecordingError(f'{label}: no complete message in {src} ('
-                                 f'{scan.reason or "no messages"}); nothing to recover')
+            why = '; '.join(([_unreadable(scan.bad)] if scan.bad else []) +
+                            ([scan.reason] if scan.reason else [])) or 'no messages'
+            raise RecordingError(f'{label}: no complete message in {src} ({why}); nothing '
+                                 'to recover')
         writer.set_custom_data('friction_joint.recovered', json.dumps(
             {'source': os.path.abspath(src), 'source_bytes': scan.size,
              'bytes_read': scan.end, 'complete': scan.complete, 'stopped': scan.reason,
-             'messages': sink.counts}, sort_keys=True))
+             'unreadable_chunks': scan.bad, 'messages': sink.counts}, sort_keys=True))
     except BaseException:
         writer.abort()
         raise
@@ -356,18 +413,23 @@ def recover_recording(path: str | os.PathLike, out: str | os.PathLike, *, force:
     -----
     Every record is read in file order until the file ends or a record is broken;
     the messages of complete chunks (with CRC, checked), and the complete messages
-    of an uncompressed chunk cut short, are kept.  The result is sealed as
+    of an uncompressed chunk cut short, are kept.  A whole chunk that cannot be
+    read (garbage where zstd or lz4 data should be, data inflating beyond the
+    size the chunk declares, a failed CRC) is skipped with a warning naming it:
+    only its messages are lost.  A chunk is never decompressed into more than
+    the size it declares (streaming decompression with a bound; a declared size
+    beyond :data:`~friction_joint.inputs.MEMORY_BUDGET` is refused).  The result is sealed as
     :func:`~friction_joint.bag.checksums.seal_rosbag2` seals a recording (log-time
     order, zstd chunks with CRCs), with the offered QoS from the staging marker
     when there is one, and ``custom_data`` ``friction_joint.recovered`` (source,
-    bytes read, counts).
+    bytes read, counts, unreadable chunks).
 
     """
     from ..output import OutputSet, recording_inputs
 
     path, out = os.fspath(path), os.fspath(out)
     if not os.path.lexists(path):
-        raise RecordingError(f'{path} does not exist')
+        raise missing_recording_error(path)      # OUT of a killed recorder: its staging dir
     staging = staging_directory(path)
     if staging and staging_state(staging) == 'running':
         raise RecordingError(f'{path}: its recorder is still running (pid '
@@ -395,8 +457,70 @@ def recover_recording(path: str | os.PathLike, out: str | os.PathLike, *, force:
     if staging and os.path.abspath(path) == staging and not keep:
         shutil.rmtree(staging, ignore_errors=True)
         removed = staging
+    if found.bad:
+        warnings.warn(f'{path}: {_unreadable(found.bad)}', RuntimeWarning, stacklevel=2)
     ns = 1e-9
     return RecoveredRecording(out=out, source=src, counts=dict(sink.counts),
                               span=(sink.first * ns, sink.last * ns), complete=found.complete,
                               reason=found.reason, lost_bytes=found.size - found.end,
-                              removed=removed, staging=None if removed else staging)
+                              removed=removed, staging=None if removed else staging,
+                              unreadable=list(found.bad))
+
+
+#: free space needed to seal a stopped recording where it is: the copy and its sealed rewrite
+_SALVAGE_ROOM = 2.5
+
+
+def salvage_recording(staging: str | os.PathLike, out: str | os.PathLike,
+                      exc: OSError) -> str:
+    """
+    Seal what a recorder stopped by a write error wrote, if it fits; return the message.
+
+    The recorder stops at the first failed write (a full disk, a quota, a read-only
+    remount).  Its staging directory then holds an MCAP file cut short: everything up
+    to the last flush, and whatever of the chunk being written reached the disk.  If
+    the file system has room for the recording twice over, it is recovered into
+    ``out`` at once (:func:`recover_recording`, sealed) and the staging directory
+    removed; otherwise (or if that fails) it is left for ``friction_joint recover``.
+
+    Parameters
+    ----------
+    staging : str or os.PathLike
+        The recorder's staging directory.
+    out : str or os.PathLike
+        Where the recording was to go.
+    exc : OSError
+        The write error that stopped the recorder.
+
+    Returns
+    -------
+    str
+        One line: the error, and where the messages are (``out``, or the staging
+        directory with the command that recovers it).
+
+    """
+    staging, out = os.fspath(staging), os.fspath(out)
+    what = exc.strerror or str(exc)
+    if exc.filename:
+        what += f' ({os.fsdecode(exc.filename)})'
+    text = f'cannot write {out}: {what}; stopped'
+    try:
+        size = sum(os.path.getsize(f) for f in glob.glob(os.path.join(
+            glob.escape(staging), '*', '*.mcap')))
+        vfs = os.statvfs(staging)
+        room = vfs.f_bavail * vfs.f_frsize > _SALVAGE_ROOM * size + (1 << 20)
+    except OSError:
+        room = False
+    if room:
+        try:
+            with warnings.catch_warnings():
+                warnings.simplefilter('ignore')
+                res = recover_recording(staging, out)
+            n = sum(res.counts.values())
+            return (f'{text}; the {n} messages written before it are in {out} (sealed; '
+                    'what arrived after the last flush did not fit)')
+        except (OSError, RecordingError):
+            pass
+    then = 'make room, then ' if exc.errno in (errno.ENOSPC, errno.EDQUOT) else ''
+    return (f'{text}; what was recorded is kept in {staging}: {then}recover it with: '
+            f'{recovery_command(staging)}')

@@ -1,16 +1,5 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 
 """
 A recorder's staging directory: marked, locked, flushed; found again when the recorder was killed.
@@ -31,7 +20,10 @@ footer) holding everything but the last second or so.
 * :func:`partial_recording_error` is the reader's one-line error for a
   truncated file or a staging directory, naming the recovery command;
 * :func:`killed_recordings` lists the staging directories that earlier,
-  killed recordings to ``OUT`` left behind (``record`` names them).
+  killed recordings to ``OUT`` left behind (``record`` names them);
+* :func:`missing_recording_error` is every reader's one-line error for a
+  recording that does not exist: when a recorder's staging directory for it
+  is there, it says so and names the ``recover`` command with its arguments.
 """
 from __future__ import annotations
 
@@ -45,8 +37,8 @@ from ..exceptions import RecordingError
 from ..inputs import check_input, read_input
 
 __all__ = ['RecorderStaging', 'flush_chunks', 'killed_recordings', 'partial_recording_error',
-           'recovery_command', 'staging_directory', 'staging_state', 'read_marker', 'MARKER',
-           'FLUSH_PERIOD', 'STAGING_TAG']
+           'missing_recording_error', 'recovery_command', 'staging_directory', 'staging_state',
+           'read_marker', 'MARKER', 'FLUSH_PERIOD', 'STAGING_TAG']
 
 #: file that marks a recorder's staging directory (JSON)
 MARKER = 'recorder.json'
@@ -220,6 +212,21 @@ def recovery_command(path, *, avoid=None):
     return f'friction_joint recover {src} {_suggest_out(staging, src, avoid)}'
 
 
+def _stagings(out):
+    """Return ``[(directory, state)]``: the staging directories of ``out``, oldest first."""
+    parent = os.path.dirname(os.path.abspath(out))
+    base = os.path.basename(os.path.normpath(out))
+    found = []
+    for d in glob.glob(os.path.join(glob.escape(parent), f'.{glob.escape(base)}.*.tmp')):
+        state = staging_state(d)
+        if state:
+            try:
+                found.append((os.path.getmtime(d), d, state))
+            except OSError:
+                continue
+    return [(d, state) for _, d, state in sorted(found)]
+
+
 def killed_recordings(out):
     """
     Staging directories that earlier recordings to ``out`` left behind.
@@ -232,14 +239,55 @@ def killed_recordings(out):
         that recorder still runs).  Directories of running recorders are left out.
 
     """
-    parent = os.path.dirname(os.path.abspath(out))
-    base = os.path.basename(os.path.normpath(out))
-    found = []
-    for d in sorted(glob.glob(os.path.join(glob.escape(parent), f'.{glob.escape(base)}.*.tmp'))):
-        state = staging_state(d)
-        if state in ('killed', 'unknown'):
-            found.append((d, state))
-    return found
+    return sorted((d, state) for d, state in _stagings(out) if state in ('killed', 'unknown'))
+
+
+def missing_recording_error(path: str | os.PathLike) -> RecordingError:
+    """
+    Return the readers' error for a recording ``path`` that does not exist.
+
+    A recorder writes ``OUT`` into a hidden staging directory beside it and renames it
+    at the end, so a recorder killed (or still running) leaves ``OUT`` missing and
+    its messages in ``.OUT.rec-XXXXXXXX.tmp``: then the one-line message says so and
+    names the command that recovers them (``friction_joint recover STAGING OUT``, the
+    newest such directory, the others counted); a running recorder is named by its
+    pid.  ``path`` may also be the ``.mcap`` file inside a missing ``OUT``.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The recording asked for (a rosbag2 directory or a ``.mcap`` file).
+
+    Returns
+    -------
+    RecordingError
+        The error to raise.
+
+    """
+    path = os.fspath(path)
+    targets = [path]
+    parent = os.path.dirname(os.path.normpath(path))
+    if path.endswith('.mcap') and parent and not os.path.lexists(parent):
+        targets.append(parent)                   # OUT/OUT.mcap of a recording never renamed
+    for out in targets:
+        found = _stagings(out)
+        if not found:
+            continue
+        running = [d for d, state in found if state == 'running']
+        if running:
+            pid = (read_marker(running[-1]) or {}).get('pid', '?')
+            return RecordingError(f'recording {path} does not exist yet: a recorder (pid {pid}) '
+                                  f'is still writing it in {os.path.relpath(running[-1])}; '
+                                  'stop it (Ctrl-C) to finish it')
+        staging, state = found[-1]
+        older = (f' ({len(found) - 1} older staging director'
+                 f'{"y" if len(found) == 2 else "ies"} of it beside)' if len(found) > 1 else '')
+        how = 'was killed' if state == 'killed' else 'was killed (or still runs)'
+        return RecordingError(f'recording {path} does not exist: its recorder {how} before it '
+                              f'finished, leaving what it had written in '
+                              f'{os.path.relpath(staging)}{older}; recover it with: '
+                              f'{recovery_command(staging)}')
+    return RecordingError(f'recording {path} does not exist')
 
 
 def _truncated_mcap(path):

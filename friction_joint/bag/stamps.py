@@ -1,16 +1,5 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 
 """
 Header stamps of one topic, in bag order: what is accepted and what is an error.
@@ -57,9 +46,12 @@ their fits) when it is short by both of these scale-free rules:
 Longer gaps split the data into pieces; no derivative, plateau or fit
 crosses them.
 """
+from collections.abc import Iterable, Sequence
 import dataclasses
+from typing import Any
 
 import numpy as np
+from numpy.typing import ArrayLike, NDArray
 
 from .topics import NS
 from ..exceptions import RecordingError
@@ -271,7 +263,7 @@ def motion_time_scale(t, qd):
     return vel / acc
 
 
-def split_pieces(t, qd, *, gap=GAP):
+def split_pieces(t: ArrayLike, qd: ArrayLike, *, gap: float = GAP) -> Pieces:
     """
     Cut a series at its long gaps, bridging the short ones (module docstring).
 
@@ -298,21 +290,34 @@ def split_pieces(t, qd, *, gap=GAP):
     dt = float(np.median(pos)) if len(pos) else 0.0
     scale = motion_time_scale(t, qd)
     limit = min(BRIDGE_SAMPLES * dt, BRIDGE_FRACTION * scale)
-    gap = d > gap * dt
-    short = gap & (d <= limit)
-    cuts = np.flatnonzero((gap & ~short) | (d <= 0)) + 1
+    long = d > gap * dt
+    short = long & (d <= limit)
+    cuts = np.flatnonzero((long & ~short) | (d <= 0)) + 1
     bounds = np.concatenate(([0], cuts, [len(t)]))
     bridged = np.flatnonzero(short)
-    return Pieces(tuple((int(a), int(b)) for a, b in zip(bounds[:-1], bounds[1:])),
-                  bridged, d[bridged], int(np.count_nonzero(gap & ~short)), dt, scale, limit)
+    return Pieces(tuple((int(a), int(b)) for a, b in zip(bounds[:-1], bounds[1:], strict=True)),
+                  bridged, d[bridged], int(np.count_nonzero(long & ~short)), dt, scale, limit)
 
 
-def uniform_grid(t):
+def uniform_grid(t: ArrayLike) -> tuple[float, NDArray[np.float64] | None]:
     """
     Return a piece's sample time and its uniform grid (None when the stamps are regular).
 
     The sample time is the median step; the stamps are regular when there is one per
     grid point within :data:`REGULAR` of a sample time.
+
+    Parameters
+    ----------
+    t : array_like
+        The piece's stamps (s), increasing.
+
+    Returns
+    -------
+    dt : float
+        The sample time (s).
+    grid : ndarray or None
+        The uniform grid, or None when the stamps are regular.
+
     """
     t = np.asarray(t, dtype=float)
     dt = float(np.median(np.diff(t)))
@@ -325,12 +330,14 @@ def uniform_grid(t):
         # dozens of samples on a long regular recording
         mean = span / (len(t) - 1)
         if np.max(np.abs((t - t[0]) - np.arange(len(t)) * mean)) <= REGULAR * mean:
-            return mean, None
+            return float(mean), None
     m = int(np.floor(span / dt + 1e-6)) + 1
     return dt, t[0] + np.arange(m) * dt
 
 
-def piece_on_grid(t, arrays, steps, margin=0.0):
+def piece_on_grid(t: NDArray[np.float64], arrays: Sequence[NDArray[np.float64]], steps: ArrayLike,
+                  margin: float = 0.0
+                  ) -> tuple[NDArray[np.float64], list[NDArray[np.float64]], NDArray[np.bool_]]:
     """
     One piece on its uniform grid, with the samples in and next to bridged gaps marked.
 
@@ -369,7 +376,7 @@ def piece_on_grid(t, arrays, steps, margin=0.0):
     return grid, [np.interp(grid, t, x) for x in arrays], ok
 
 
-def gap_summary(pieces):
+def gap_summary(pieces: Iterable[Pieces]) -> dict[str, Any]:
     """
     Gaps of one or more series (:class:`Pieces`) for a report, plain JSON types.
 

@@ -1,16 +1,5 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 
 """
 Reading logs as tables: delimited text (tab, semicolon, comma, whitespace) or ``.npz``.
@@ -243,7 +232,7 @@ class _Text:
         m = len(block)
         if self.n + m > self.capacity:
             raise RecordingError(f'{self.path}: grew while being read')
-        for out, c in zip(self.cols, self.usecols):
+        for out, c in zip(self.cols, self.usecols, strict=True):
             out[self.n:self.n + m] = block[:, c]
         self.n += m
 

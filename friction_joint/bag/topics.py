@@ -1,16 +1,5 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 
 """
 The topics of a recording and the numpy arrays they are read into.
@@ -58,7 +47,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ..exceptions import RecordingError
+from ..exceptions import MissingTopicError, RecordingError
 
 __all__ = ['CONTRACT_TYPES', 'REQUIRED_TOPICS', 'NS', 'JointStates', 'Temperature', 'LinkTorque',
            'JointCommand', 'ExternalTorque', 'Recording', 'zero_order_hold']
@@ -317,13 +306,15 @@ class Recording:
 
         Raises
         ------
-        RecordingError
-            The recording has no ``/joint_temperature`` messages (``temperature`` is None).
+        MissingTopicError
+            The recording has no ``/joint_temperature`` messages (``temperature`` is None);
+            its ``topic`` is ``/joint_temperature``.
 
         """
         if self.temperature is None or len(self.temperature) == 0:
-            raise RecordingError(f'{self.path}: no /joint_temperature topic: the recording has '
-                                 'no gear housing temperature')
+            raise MissingTopicError(f'{self.path}: no /joint_temperature topic: the recording '
+                                    'has no gear housing temperature', topic='/joint_temperature',
+                                    path=str(self.path))
         t = self.joint_states.t if t is None else t
         return zero_order_hold(self.temperature.t, self.temperature.xi, t)
 
@@ -340,8 +331,9 @@ class Recording:
         topics = {}
         for topic, data in self.series().items():
             entry = _span_stats(data.t)
-            if getattr(data, 'skipped', 0):
-                entry['skipped'] = int(data.skipped)
+            skipped = getattr(data, 'skipped', 0)
+            if skipped:
+                entry['skipped'] = int(skipped)
             if self.unordered.get(topic):
                 entry['unordered'] = int(self.unordered[topic])
             if self.duplicates.get(topic):

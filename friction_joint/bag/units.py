@@ -1,16 +1,5 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 
 """
 Units of imported log columns (``friction_joint import``): names, conversion to SI, checks.
@@ -34,7 +23,8 @@ __all__ = ['QUANTITIES', 'UNITS', 'SI', 'RADIUS_RANGE', 'parse_column', 'header_
            'check_radius', 'convert', 'mapping_text']
 
 #: the mapping keys, in the order they are reported
-QUANTITIES = ('time', 'position', 'velocity', 'torque', 'friction', 'load', 'temperature')
+QUANTITIES = ('time', 'position', 'velocity', 'torque', 'current', 'friction', 'load',
+              'temperature')
 
 _TORQUE = {'Nm': (1.0, False), 'Nmm': (1e-3, False), 'mNm': (1e-3, False),
            'kNm': (1e3, False), 'N': (1.0, True), 'kN': (1e3, True), 'mN': (1e-3, True),
@@ -51,18 +41,19 @@ UNITS = {
                  'rev/s': (2.0 * math.pi, False), 'rpm': (2.0 * math.pi / 60.0, False),
                  'm/s': (1.0, True), 'mm/s': (1e-3, True), 'um/s': (1e-6, True)},
     'torque': _TORQUE, 'friction': _TORQUE, 'load': _TORQUE,
+    'current': {'A': (1.0, False), 'mA': (1e-3, False)},
     'temperature': {'degC': (1.0, False), 'K': (1.0, False), 'degF': (5.0 / 9.0, False)},
 }
 #: the SI unit of each quantity (a column without a unit and header brackets)
 SI = {'time': 's', 'position': 'rad', 'velocity': 'rad/s', 'torque': 'Nm', 'friction': 'Nm',
-      'load': 'Nm', 'temperature': 'degC'}
+      'load': 'Nm', 'temperature': 'degC', 'current': 'A'}
 #: radius (m) of a linear device: a normal float within this range
 RADIUS_RANGE = (1e-9, 1e9)
 _ALIASES = {'N m': 'Nm', 'N*m': 'Nm', 'N.m': 'Nm', 'N·m': 'Nm', 'N mm': 'Nmm', 'kN m': 'kNm',
             'kN*m': 'kNm', 'kN.m': 'kNm', 'mN m': 'mNm', '°': 'deg', 'degree': 'deg',
             'degrees': 'deg', '°/s': 'deg/s', 'deg/sec': 'deg/s', 'rad/sec': 'rad/s',
             'rev/min': 'rpm', '°C': 'degC', 'C': 'degC', '°F': 'degF', 'sec': 's',
-            'msec': 'ms'}
+            'msec': 'ms', 'amp': 'A', 'amps': 'A'}
 _BRACKETS = re.compile(r'[\[(]([^\[\]()]*)[\])]\s*$')
 
 
@@ -219,7 +210,7 @@ def mapping_text(quantity, name, unit, radius):
     factor, linear = UNITS[quantity][unit]
     target = {'time': 't [s]', 'position': 'q [rad]', 'velocity': 'qd [rad/s]',
               'torque': 'tau [Nm]', 'friction': 'tau_r [Nm]', 'load': 'tau_ext [Nm]',
-              'temperature': 'xi [degC]'}[quantity]
+              'temperature': 'xi [degC]', 'current': 'I [A]'}[quantity]
     src = f'{name!r} [{unit}]'
     if quantity == 'temperature':
         return f'{target} := ' + {'K': f'{src} - 273.15', 'degF': f'({src} - 32) * 5 / 9'}.get(

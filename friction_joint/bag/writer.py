@@ -1,16 +1,5 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 
 """
 Writing recordings from numpy arrays (tests, offline simulator runs, experiments).
@@ -299,7 +288,7 @@ def _bagfile_information(typestore, topics, name, custom_data):
                                     'offered_qos_profiles': [],
                                     'type_description_hash': typestore.hash_rihs01(tp.msgtype)},
                  'message_count': int(c)}
-                for tp, c in zip(topics, counts)],
+                for tp, c in zip(topics, counts, strict=True)],
             'compression_format': '',
             'compression_mode': '',
             'files': [{'path': name, 'starting_time': {'nanoseconds_since_epoch': first},

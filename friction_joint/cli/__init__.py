@@ -1,16 +1,5 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 
 """
 The command line: ``friction_joint COMMAND`` and the ``record``/``replay`` console scripts.
@@ -32,7 +21,8 @@ comes while the outputs are being swapped takes effect once the swap is
 complete (:class:`~friction_joint.output.OutputSet`).  The exit status is
 128 + the signal number, as a shell reports a process killed by it: 130 for
 SIGINT, 143 for SIGTERM, 129 for SIGHUP.  ``record`` and ``replay`` install
-their own handlers for the time they run.
+their own handlers for the time they run.  Before :func:`main` runs, while the
+package itself loads, Ctrl-C is one line and 130 as well (:mod:`friction_joint._entry`).
 """
 import importlib
 import signal
@@ -40,7 +30,8 @@ import sys
 import threading
 import warnings
 
-from ._console import check_numbers, exit_now, finished, interrupts_between_imports
+from ._console import (check_numbers, exit_now, finished, interrupts_between_imports,
+                       os_error_line, quiet_cache_warnings)
 from ._parser import Parser
 from ..exceptions import FrictionJointError
 
@@ -51,7 +42,7 @@ SUBCOMMANDS = ('classic', 'experiment', 'identify', 'demo', 'record', 'replay', 
                'diagnose', 'import_', 'recover', 'fleet')
 
 
-def build_parser():
+def build_parser() -> Parser:
     """Return the ``friction_joint`` argument parser with every subcommand."""
     parser = Parser(
         prog='friction_joint',
@@ -86,8 +77,22 @@ def _stop_on_signals():
             if signal.getsignal(s) == signal.SIG_DFL}
 
 
-def main(argv=None):
-    """Entry point of ``friction_joint``; returns the exit status (128 + N after signal N)."""
+def main(argv: list[str] | None = None) -> int:
+    """
+    Run the ``friction_joint`` command line (the console script's entry point).
+
+    Parameters
+    ----------
+    argv : list of str, optional
+        The arguments after the program name; default ``sys.argv[1:]`` (the process's
+        own command line, with its warnings printed as one line each).
+
+    Returns
+    -------
+    int
+        The exit status: 0, 2 for bad input, 128 + N after signal N.
+
+    """
     replaced = _stop_on_signals()
     prog = ['friction_joint']
     shown = warnings.showwarning
@@ -113,13 +118,13 @@ def _main(argv, prog):
         args = build_parser().parse_args(argv)
         prog[0] = f'friction_joint {args.command}'
         check_numbers(args)
+        quiet_cache_warnings()
         return int(args.func(args) or 0)
     except FrictionJointError as exc:
         print(f'{prog[0]}: error: {exc}', file=sys.stderr)
         return 2
     except OSError as exc:                   # a full disk, a read-only target found late, ...
-        where = f'{exc.filename}: ' if exc.filename else ''
-        print(f'{prog[0]}: error: {where}{exc.strerror or exc}', file=sys.stderr)
+        print(f'{prog[0]}: error: {os_error_line(exc)}', file=sys.stderr)
         return 2
     except KeyboardInterrupt as exc:
         signum = getattr(exc, 'signum', signal.SIGINT)

@@ -1,32 +1,77 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 
 """Body of the ``record`` / ``replay`` console scripts (``ros2 run friction_joint PROG``)."""
+from __future__ import annotations
+
+import argparse
+from collections.abc import Callable, Iterator
 import contextlib
+import logging
 import math
 import os
 import signal
 import sys
+from types import ModuleType
+from typing import NoReturn
 
 from ._parser import Parser
 from ..exceptions import ArgumentError, FrictionJointError, RecordingError
 
 __all__ = ['finished', 'interrupts_between_imports', 'console_main', 'progress_printer',
-           'check_numbers', 'exit_now']
+           'check_numbers', 'exit_now', 'os_error_line', 'quiet_cache_warnings']
+
+#: what libraries log when their own on-disk cache cannot be written (a full disk, a
+#: read-only home): the cache is theirs and optional; the command's outputs say the rest
+_CACHE_NOISE = {'matplotlib': ('created a temporary cache directory', 'mkdir -p failed for path',
+                               'is not a writable directory'),
+                'matplotlib.font_manager': ('Could not save font_manager cache',)}
 
 
-def progress_printer(quiet=False):
+def _cache_noise(texts):
+    """Return a logging filter dropping the records that hold one of ``texts``."""
+    def keep(record):
+        try:
+            message = record.getMessage()
+        except Exception:                   # a malformed record: leave it to logging
+            return True
+        return not any(t in message for t in texts)
+    keep.cache_noise = True
+    return keep
+
+
+def quiet_cache_warnings() -> None:
+    """
+    Silence the warnings of libraries that could not write their own caches.
+
+    A full disk makes matplotlib print ``Could not save font_manager cache`` before the
+    command's own one-line error about the output it could not write; a cache is an
+    optimisation of the library, not the command's output.  Idempotent.
+    """
+    for name, texts in _CACHE_NOISE.items():
+        logger = logging.getLogger(name)
+        if not any(getattr(f, 'cache_noise', False) for f in logger.filters):
+            logger.addFilter(_cache_noise(texts))
+
+
+def os_error_line(exc: OSError) -> str:
+    """
+    Return the one-line message of an ``OSError`` no layer below turned into a message.
+
+    ``FILE: reason`` (``FILE -> FILE2: reason`` for a rename), the reason alone when the
+    error names no file: a full disk (ENOSPC), a quota (EDQUOT), a read-only file system
+    (EROFS), a permission (EACCES) found late.
+    """
+    where = ''
+    if exc.filename is not None:
+        where = os.fsdecode(exc.filename)
+        if exc.filename2 is not None:
+            where += f' -> {os.fsdecode(exc.filename2)}'
+        where += ': '
+    return f'{where}{exc.strerror or exc}'
+
+
+def progress_printer(quiet: bool = False) -> Callable[[str], None] | None:
     """Return a ``progress(message)`` callable printing to stderr, or None when ``quiet``."""
     if quiet:
         return None
@@ -36,7 +81,7 @@ def progress_printer(quiet=False):
     return progress
 
 
-def console_main(module, argv=None):
+def console_main(module: ModuleType, argv: list[str] | None = None) -> int:
     """
     Run the subcommand ``module`` as a console script taking ROS arguments.
 
@@ -70,7 +115,7 @@ def _importing(frame):
 
 
 @contextlib.contextmanager
-def interrupts_between_imports():
+def interrupts_between_imports() -> Iterator[None]:
     """
     Raise Ctrl-C's ``KeyboardInterrupt`` only where no module is being imported.
 
@@ -102,7 +147,7 @@ def interrupts_between_imports():
             signal.signal(s, handler)
 
 
-def finished():
+def finished() -> None:
     """
     Ignore Ctrl-C from now on: the command has ended and the interpreter shuts down.
 
@@ -116,7 +161,8 @@ def _console_main(module, argv=None):
     """Run :func:`console_main` (its body: the handlers stay in place around it)."""
     entry = argv is None                     # the process's entry point (a console script)
     try:                                     # Ctrl-C while rclpy imports: one line, 130
-        from ..ros._rclpy import ExternalShutdownException, remove_ros_args
+        from ..ros._rclpy import ExternalShutdownException
+        from ..ros.startup import remove_ros_args
         argv = list(sys.argv if argv is None else argv)
         parser = Parser(prog=module.NAME, description=module.DESCRIPTION)
         module.add_arguments(parser)
@@ -130,9 +176,13 @@ def _console_main(module, argv=None):
         print(f'{module.NAME}: error: {exc}', file=sys.stderr)
         return 2
     try:
+        quiet_cache_warnings()
         return module.run(args)
     except RecordingError as exc:
         print(f'{module.NAME}: error: {exc}', file=sys.stderr)
+        return 2
+    except OSError as exc:                   # a full disk, a read-only target found late, ...
+        print(f'{module.NAME}: error: {os_error_line(exc)}', file=sys.stderr)
         return 2
     except KeyboardInterrupt:
         print(f'{module.NAME}: interrupted', file=sys.stderr)
@@ -141,7 +191,7 @@ def _console_main(module, argv=None):
         return 130
 
 
-def exit_now(status):
+def exit_now(status: int) -> NoReturn:
     """
     End the process with ``status`` at once, after flushing stdout and stderr.
 
@@ -156,7 +206,7 @@ def exit_now(status):
     os._exit(status)
 
 
-def check_numbers(args):
+def check_numbers(args: argparse.Namespace) -> None:
     """
     Check that every number option of ``args`` is finite (argparse's ``float`` takes nan, inf).
 

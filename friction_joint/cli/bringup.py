@@ -1,38 +1,34 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 
 """
 ``friction_joint bringup``: simulator, controller, estimator (and recorder) as processes.
 
 See :func:`friction_joint.ros.bringup.bringup`.
 """
+import argparse
+
 __all__ = ['NAME', 'HELP', 'DESCRIPTION', 'add_arguments', 'run']
 
 NAME = 'bringup'
 HELP = 'start sim, controller, estimator (and recorder) as processes'
 DESCRIPTION = ('Start joint_sim on the truth gear, controller and estimator on the model gear '
-               '(and a recorder) as separate processes, wait, stop them cleanly and print the '
-               'recording path.')
+               '(and a recorder) as separate processes, wait, stop them cleanly and print a '
+               "closing summary: each node's achieved rate and answered states, its warnings, "
+               'the recording path and its message count per topic.')
 
 
-def add_arguments(parser):
+def add_arguments(parser: argparse.ArgumentParser) -> argparse.ArgumentParser:
     """Add the ``bringup`` arguments to ``parser``."""
     parser.add_argument('--model', required=True, help='gear file of controller and estimator')
     parser.add_argument('--truth', required=True, help='gear file of the simulated joint')
     parser.add_argument('--duration', type=float, required=True, help='seconds to run')
     parser.add_argument('--record', help='record the contract topics into this new bag directory')
-    parser.add_argument('--mode', default='lockstep', choices=('lockstep', 'realtime'))
+    parser.add_argument('--mode', default='lockstep', choices=('lockstep', 'realtime'),
+                        help='lockstep (default: the simulator waits for every command; '
+                             'deterministic, slower than real time) or realtime (1 kHz on the '
+                             'wall clock; on a busy machine the simulator waits for the '
+                             "controller, see docs/ros.md 'Realtime pacing')")
     parser.add_argument('--friction', default='lugre', choices=('none', 'static', 'lugre', 'gms'))
     parser.add_argument('--amplitude', type=float, default=0.4, help='reference amplitude, rad')
     parser.add_argument('--omega', type=float, default=1.5, help='reference frequency, rad/s')
@@ -44,7 +40,7 @@ def add_arguments(parser):
     return parser
 
 
-def run(args):
+def run(args: argparse.Namespace) -> int:
     """Bring the nodes up for ``--duration`` and stop them."""
     from ..ros.bringup import bringup
     bringup(args.model, args.truth, args.duration, record=args.record, mode=args.mode,

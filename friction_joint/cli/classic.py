@@ -1,25 +1,15 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 
 """
 ``friction_joint classic EXPERIMENT --out DIR``: the classic LuGre experiments.
 
 See :mod:`friction_joint.experiments.classic`.
 """
+import argparse
 import os
 
-from ..experiments.classic import CLASSIC_EXPERIMENTS
+from ..experiments.catalogue import CLASSIC_HELP
 
 __all__ = ['NAME', 'HELP', 'DESCRIPTION', 'add_arguments', 'run']
 
@@ -30,12 +20,10 @@ DESCRIPTION = ('Run one of the four classic LuGre experiments of Canudas de Wit,
                'write DIR/EXPERIMENT.png (figure) and DIR/EXPERIMENT.json (key numbers).')
 
 
-def add_arguments(parser):
+def add_arguments(parser: argparse.ArgumentParser) -> argparse.ArgumentParser:
     """Add the ``classic`` arguments to ``parser``."""
-    parser.add_argument('experiment', choices=tuple(CLASSIC_EXPERIMENTS),
-                        help='presliding: force below F_s; lag: frictional lag loops; '
-                             'breakaway: break-away force vs force rate; stick-slip: '
-                             'spring-pulled mass')
+    parser.add_argument('experiment', choices=tuple(CLASSIC_HELP),
+                        help='; '.join(f'{k}: {v}' for k, v in CLASSIC_HELP.items()))
     parser.add_argument('--out', required=True, metavar='DIR',
                         help='output directory (created if missing; it may hold other files, '
                              'but an existing EXPERIMENT.png or EXPERIMENT.json is an error '
@@ -45,9 +33,9 @@ def add_arguments(parser):
     return parser
 
 
-def run(args):
+def run(args: argparse.Namespace) -> int:
     """Run the experiment and write its figure and numbers."""
     from ..jobs.classic import run_classic
-    paths = run_classic(args.experiment, args.out, force=args.force)
-    print('wrote ' + ', '.join(os.path.normpath(p) for p in paths))
+    run = run_classic(args.experiment, args.out, force=args.force)
+    print('wrote ' + ', '.join(os.path.normpath(p) for p in run.written))
     return 0

@@ -1,18 +1,8 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 
 """``friction_joint demo --out DIR``: the main job (see :mod:`friction_joint.jobs.demo`)."""
+import argparse
 import os
 
 from ._console import progress_printer
@@ -32,7 +22,7 @@ WRITTEN = (('report.html', 'the report with its figures embedded (open it in a b
            ('logs', "the node processes' logs"))
 
 
-def add_arguments(parser):
+def add_arguments(parser: argparse.ArgumentParser) -> argparse.ArgumentParser:
     """Add the ``demo`` arguments to ``parser``."""
     parser.add_argument('--out', required=True, metavar='DIR',
                         help='output directory (an existing non-empty one is an error without '
@@ -48,12 +38,13 @@ def add_arguments(parser):
     return parser
 
 
-def run(args):
+def run(args: argparse.Namespace) -> int:
     """Run the demo; prints the report's path and the other things written."""
     from ..jobs.demo import run_demo
-    path = run_demo(args.out, model=args.model, truth=args.truth,
-                    duration_scale=args.duration_scale, force=args.force,
-                    progress=progress_printer(args.quiet))
+    run = run_demo(args.out, model=args.model, truth=args.truth,
+                   duration_scale=args.duration_scale, force=args.force,
+                   progress=progress_printer(args.quiet))
+    path = run.report
     print(f'report: {os.path.normpath(path)}')
     out = os.path.dirname(os.path.normpath(path))
     for name, what in WRITTEN:

@@ -1,18 +1,9 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 
 """
+``friction_joint diagnose``: what a model gets wrong on recordings, and the extension to fix it.
+
 ``friction_joint diagnose RECORDING ... --model BASE.yaml --out DIR``.
 
 Outputs: docs/interfaces.md, ``diagnose`` outputs.
@@ -26,10 +17,11 @@ place); an existing non-empty DIR is an error unless ``--force``, which
 replaces it as a whole; on an error nothing is written and the command exits
 with status 2.
 """
+import argparse
 import os
 
 from ._console import progress_printer
-from ..diagnosis import EFFECTS
+from ..effects import EFFECTS
 from ..exceptions import ArgumentError
 
 __all__ = ['NAME', 'HELP', 'DESCRIPTION', 'add_arguments', 'run', 'parse_effects']
@@ -42,7 +34,7 @@ DESCRIPTION = ("Fit BASE.yaml's structure to recordings, test every candidate ef
                'DIR/report.html (the report as one page, open it in a browser).')
 
 
-def add_arguments(parser):
+def add_arguments(parser: argparse.ArgumentParser) -> argparse.ArgumentParser:
     """Add the ``diagnose`` arguments to ``parser``."""
     parser.add_argument('recordings', nargs='+', metavar='RECORDING',
                         help='rosbag2 directories or .mcap files')
@@ -54,6 +46,10 @@ def add_arguments(parser):
                         help='candidate effects to test (default: all)')
     parser.add_argument('--joint', default=None, metavar='NAME',
                         help="joint to read (default: the gear's joint_name)")
+    parser.add_argument('--velocity-from-position', action='store_true',
+                        help="use the position's centred difference instead of the recorded "
+                             'velocity (one that disagrees with the position: other units, the '
+                             'opposite sign); recorded in the report')
     parser.add_argument('--force', action='store_true',
                         help='replace an existing DIR as a whole (no file of an earlier run '
                              'remains)')
@@ -61,7 +57,7 @@ def add_arguments(parser):
     return parser
 
 
-def parse_effects(text):
+def parse_effects(text: str | None) -> tuple[str, ...]:
     """``--effects`` text -> tuple of effect names (default: all)."""
     if text is None:
         return EFFECTS
@@ -73,12 +69,18 @@ def parse_effects(text):
     return effs
 
 
-def run(args):
+def run(args: argparse.Namespace) -> int:
     """Diagnose and write the result directory; prints the named causes."""
-    from ..jobs.diagnose import run_diagnose
+    from ..jobs.diagnose import current_sources, run_diagnose
+    for src in current_sources(args.recordings):     # recorded by import (--current)
+        print(f'torque: {src["recording"]}: {src["text"]}')
+    if args.velocity_from_position:
+        print("velocity: the position's centred difference replaces the recorded velocity "
+              '(--velocity-from-position)')
     run_ = run_diagnose(args.recordings, args.model, args.out,
                         effects=parse_effects(args.effects), joint_name=args.joint,
-                        progress=progress_printer(args.quiet), force=args.force)
+                        progress=progress_printer(args.quiet), force=args.force,
+                        velocity_from_position=args.velocity_from_position)
     named = run_.named_causes
     out = os.path.normpath(args.out)                 # DIR/ or DIR// named as DIR
     files = ('report.json', 'extended.yaml', 'report.md', 'report.html')

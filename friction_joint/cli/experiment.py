@@ -1,26 +1,16 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 
 """
 ``friction_joint experiment NAME``: the paper's experiments on the simulated test bed.
 
 See :mod:`friction_joint.experiments`.
 """
+import argparse
 import os
 
 from ._console import progress_printer
-from ..experiments.runner import EXPERIMENTS
+from ..experiments.catalogue import EXPERIMENT_HELP
 
 __all__ = ['NAME', 'HELP', 'DESCRIPTION', 'add_arguments', 'run']
 
@@ -31,10 +21,10 @@ DESCRIPTION = ("Run one of the seed paper's evaluation experiments (Section V B-
                'write its PNG figures and DIR/summary.json.')
 
 
-def add_arguments(parser):
+def add_arguments(parser: argparse.ArgumentParser) -> argparse.ArgumentParser:
     """Add the ``experiment`` arguments to ``parser``."""
-    parser.add_argument('name', choices=tuple(EXPERIMENTS) + ('fleet',), metavar='NAME',
-                        help='; '.join(f'{k}: {v.help}' for k, v in EXPERIMENTS.items())
+    parser.add_argument('name', choices=tuple(EXPERIMENT_HELP) + ('fleet',), metavar='NAME',
+                        help='; '.join(f'{k}: {v}' for k, v in EXPERIMENT_HELP.items())
                         + '; fleet: a simulated robot fleet, one recording per joint and day, '
                           'some joints wearing: DIR/manifest.csv, the recordings and '
                           'DIR/truth.json for "friction_joint fleet" (docs/fleet.md)')
@@ -71,25 +61,26 @@ def add_arguments(parser):
     return parser
 
 
-def run(args):
+def run(args: argparse.Namespace) -> int:
     """Run the experiment and write its results."""
     from ..exceptions import ArgumentError
     from ..jobs.experiment import run_experiment
     if args.name == 'fleet':
-        from ..experiments.fleet import simulate_fleet
-        truth = simulate_fleet(args.out, joints=args.joints, days=args.days, seed=args.seed,
-                               gear=args.truth, force=args.force,
-                               progress=progress_printer(args.quiet))
+        from ..jobs.fleet_simulation import run_fleet_simulation
+        fleet = run_fleet_simulation(args.out, joints=args.joints, days=args.days,
+                                     seed=args.seed, gear=args.truth, force=args.force,
+                                     progress=progress_printer(args.quiet))
+        truth = fleet.truth
         wearing = sorted(j for j, d in truth['joints'].items() if d['wear'])
-        print(f'wrote {os.path.normpath(truth["manifest"])} ({len(truth["recordings"])} '
+        print(f'wrote {os.path.normpath(fleet.manifest)} ({len(truth["recordings"])} '
               f'recordings of {len(truth["joints"])} joints; the truth, {len(wearing)} '
               f'wearing, in {os.path.normpath(os.path.join(args.out, "truth.json"))})')
         return 0
     if args.truth is None:
         raise ArgumentError(f'experiment {args.name} needs --truth (the simulated hardware)')
-    paths = run_experiment(args.name, args.model, args.truth, args.out,
-                           duration_scale=args.duration_scale,
-                           progress=progress_printer(args.quiet), force=args.force,
-                           gains=args.gains)
-    print('wrote ' + ', '.join(os.path.normpath(p) for p in paths))
+    run = run_experiment(args.name, args.model, args.truth, args.out,
+                         duration_scale=args.duration_scale,
+                         progress=progress_printer(args.quiet), force=args.force,
+                         gains=args.gains)
+    print('wrote ' + ', '.join(os.path.normpath(p) for p in run.written))
     return 0

@@ -1,22 +1,14 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 
 """
+``friction_joint identify``: recordings -> an identified gear file (seed Section V-A).
+
 ``friction_joint identify RECORDING ... --model STRUCTURE.yaml --out GEAR.yaml``.
 
 See :mod:`friction_joint.identification`.
 """
+import argparse
 import os
 
 from ._console import progress_printer
@@ -37,7 +29,7 @@ DESCRIPTION = ('Identify the temperature- and load-dependent static friction mod
                'STRUCTURE.yaml; write GEAR.yaml and a report with figures.')
 
 
-def add_arguments(parser):
+def add_arguments(parser: argparse.ArgumentParser) -> argparse.ArgumentParser:
     """Add the ``identify`` arguments to ``parser``."""
     parser.add_argument('recordings', nargs='+', metavar='RECORDING',
                         help='rosbag2 directories or .mcap files')
@@ -59,6 +51,10 @@ def add_arguments(parser):
     parser.add_argument('--joint', default=None, metavar='NAME',
                         help="joint to identify (default: the structure's joint_name; a "
                              'recording without it is an error); the gear file is named for it')
+    parser.add_argument('--velocity-from-position', action='store_true',
+                        help="use the position's centred difference instead of the recorded "
+                             'velocity (one that disagrees with the position: other units, the '
+                             'opposite sign); recorded in the report')
     parser.add_argument('--force', action='store_true',
                         help='replace an existing GEAR.yaml and report directory (as a whole; '
                              '--out or --report equal to an input is an error even then)')
@@ -66,13 +62,13 @@ def add_arguments(parser):
     return parser
 
 
-def parse_orders(text):
+def parse_orders(text: str | None) -> str | dict[str, int] | None:
     """``--orders`` text -> None (the structure's), ``'auto'`` or ``{name: order}``."""
     if text is None or text == 'structure':
         return None
     if text == 'auto':
         return 'auto'
-    out = {}
+    out: dict[str, int] = {}
     for item in text.split(','):
         key, _, val = item.partition('=')
         key = key.strip()
@@ -87,16 +83,25 @@ def parse_orders(text):
         if not 0 <= order <= MAX_POLYNOMIAL_ORDER:
             raise GearConfigError(f'--orders: {key}={order}: an order is an integer from 0 to '
                                   f'{MAX_POLYNOMIAL_ORDER}')
+        if key in out:
+            raise GearConfigError(f'--orders: {key} given twice in {text!r} ({key}={out[key]} '
+                                  f'and {key}={order}); give each polynomial once')
         out[key] = order
     return out
 
 
-def run(args):
+def run(args: argparse.Namespace) -> int:
     """Identify and write the gear file and its report."""
+    from ..jobs.diagnose import current_sources
     from ..jobs.identify import run_identify
-    paths = run_identify(args.recordings, args.model, args.out, orders=parse_orders(args.orders),
-                         report_dir=args.report, presliding=args.presliding,
-                         joint_name=args.joint, progress=progress_printer(args.quiet),
-                         force=args.force)
-    print('wrote ' + ', '.join(os.path.normpath(p) for p in paths))
+    for src in current_sources(args.recordings):     # recorded by import (--current)
+        print(f'torque: {src["recording"]}: {src["text"]}')
+    if args.velocity_from_position:
+        print("velocity: the position's centred difference replaces the recorded velocity "
+              '(--velocity-from-position)')
+    run = run_identify(args.recordings, args.model, args.out, orders=parse_orders(args.orders),
+                       report_dir=args.report, presliding=args.presliding,
+                       joint_name=args.joint, progress=progress_printer(args.quiet),
+                       force=args.force, velocity_from_position=args.velocity_from_position)
+    print('wrote ' + ', '.join(os.path.normpath(p) for p in run.written))
     return 0

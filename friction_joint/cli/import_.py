@@ -1,18 +1,9 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 
 """
+``friction_joint import``: foreign logs (CSV/TSV/NPZ) -> the topics of a recording.
+
 ``friction_joint import LOG [LOG ...] --out REC --time COL[:unit] --position ... ``.
 
 Outputs: docs/interfaces.md (recordings).
@@ -26,6 +17,7 @@ error nothing is written and the command exits with status 2.  How the columns
 were converted is printed and written into REC's ``metadata.yaml``
 (``custom_data``, key ``friction_joint.import``).
 """
+import argparse
 import sys
 
 from ..exceptions import RecordingError
@@ -37,19 +29,23 @@ HELP = 'turn CSV/TSV/NPZ logs into a recording'
 DESCRIPTION = ('Turn CSV/TSV/NPZ logs (one run per file, kept as separate pieces) into a '
                'recording: columns and units from the options or --mapping, linear devices '
                'mapped to the joint with --radius, irregular stamps resampled, a log of the '
-               'friction itself written as the effort (--friction).')
+               'friction itself written as the effort (--friction), a motor current '
+               'converted to the joint torque (--current with --torque-constant K and '
+               '--gear-ratio N: torque = current x K x N).')
 
 _TORQUES = 'Nm, Nmm, mNm, kNm; N, kN, mN, uN'
 _COLUMNS = (('time', 's, ms, us, ns, min, h'), ('position', 'rad, deg, rev; m, cm, mm, um'),
             ('velocity', 'rad/s, deg/s, rev/s, rpm; m/s, mm/s, um/s (default: centred '
                          'difference)'),
             ('torque', f'drive torque: {_TORQUES}'),
+            ('current', 'motor current, instead of --torque: A, mA (torque = current x '
+                        '--torque-constant x --gear-ratio)'),
             ('friction', f'friction logged directly, instead of --torque: {_TORQUES}'),
             ('load', f'measured external torque tau_ext: {_TORQUES}'),
             ('temperature', 'gear temperature: degC, K, degF'))
 
 
-def add_arguments(parser):
+def add_arguments(parser: argparse.ArgumentParser) -> argparse.ArgumentParser:
     """Add the ``import`` arguments to ``parser``."""
     parser.add_argument('logs', nargs='+', metavar='LOG',
                         help='text logs (comma, tab, semicolon or whitespace delimited, one '
@@ -61,9 +57,15 @@ def add_arguments(parser):
                             help=f'column (header name or 0-based index); units {units}')
     parser.add_argument('--mapping', default=None, metavar='FILE',
                         help='YAML with the column keys above (and radius, unwrap, '
-                             'flip_friction, skip_rows)')
+                             'flip_friction, skip_rows, velocity_from_position, '
+                             'torque_constant, gear_ratio)')
     parser.add_argument('--radius', type=float, default=None, metavar='R',
                         help='radius (m) of a linear device: q = x / R, tau = F R (default 1)')
+    parser.add_argument('--torque-constant', type=float, default=None, metavar='K',
+                        help='torque constant (N m/A, motor side) of the --current column')
+    parser.add_argument('--gear-ratio', type=float, default=None, metavar='N',
+                        help='gear ratio N of the --current column: joint torque = current x '
+                             'K x N (default 1)')
     parser.add_argument('--unwrap', action='store_true', default=None,
                         help='unwrap an angle logged modulo one turn')
     parser.add_argument('--flip-friction', action='store_true', default=None,
@@ -71,6 +73,10 @@ def add_arguments(parser):
                              'body, which opposes motion)')
     parser.add_argument('--skip-rows', type=int, default=None, metavar='N',
                         help='lines to skip before the header line (default 0)')
+    parser.add_argument('--velocity-from-position', action='store_true', default=None,
+                        help="write the position's centred difference as the velocity (a "
+                             '--velocity column is then not read): for a logged velocity that '
+                             'disagrees with the position (other units, the opposite sign)')
     parser.add_argument('--joint', default='joint', metavar='NAME',
                         help='joint name of the recording (default: joint)')
     parser.add_argument('--force', action='store_true', help='replace an existing REC')
@@ -78,11 +84,11 @@ def add_arguments(parser):
     return parser
 
 
-def run(args):
+def run(args: argparse.Namespace) -> int:
     """Import the logs and write the recording; prints the conversions used."""
     import os
 
-    from ..bag import import_logs, load_mapping, parse_column, write_recording
+    from ..bag import check_motor, import_logs, load_mapping, parse_column, write_recording
     from ..output import OutputSet
 
     columns, options = ({}, {}) if args.mapping is None else load_mapping(args.mapping)
@@ -90,11 +96,15 @@ def run(args):
         spec = getattr(args, name)
         if spec is not None:
             columns[name] = parse_column(name, spec, f'--{name}')
-    for key in ('radius', 'unwrap', 'flip_friction', 'skip_rows'):
+    for key in ('radius', 'unwrap', 'flip_friction', 'skip_rows', 'velocity_from_position',
+                'torque_constant', 'gear_ratio'):
         if getattr(args, key) is not None:
             options[key] = getattr(args, key)
     if options.get('skip_rows', 0) < 0:
         raise RecordingError('--skip-rows must be >= 0')
+    for key in ('torque_constant', 'gear_ratio'):
+        if getattr(args, key) is not None:
+            check_motor(key, getattr(args, key))
     out = os.fspath(args.out)
     inputs = [('LOG', p) for p in args.logs] + [('--mapping', args.mapping)]
     with OutputSet(force=args.force, inputs=inputs, error=RecordingError) as outputs:

@@ -1,22 +1,12 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 
 """
-``friction_joint record OUT`` (also the ``record`` console script).
+``friction_joint record OUT``: topics recorded into a rosbag2 directory.
 
-Records topics into a rosbag2 directory; see :func:`friction_joint.ros.record.record`.
+Also the ``record`` console script; see :func:`friction_joint.ros.record.record`.
 """
+import argparse
 import sys
 
 __all__ = ['NAME', 'HELP', 'DESCRIPTION', 'add_arguments', 'run', 'main']
@@ -27,7 +17,7 @@ DESCRIPTION = ('Record topics into a rosbag2 directory (version 9, MCAP, CDR) un
                'SIGTERM or --duration; every message received is written.')
 
 
-def add_arguments(parser):
+def add_arguments(parser: argparse.ArgumentParser) -> argparse.ArgumentParser:
     """Add the ``record`` arguments to ``parser``."""
     from ..bag import CONTRACT_TYPES         # here: a Ctrl-C while loading it is handled
     parser.add_argument('out', metavar='OUT', help='rosbag2 directory to create (must not exist)')
@@ -44,7 +34,7 @@ def add_arguments(parser):
     return parser
 
 
-def run(args):
+def run(args: argparse.Namespace) -> int:
     """Record; prints the message counts."""
     from ..ros.record import format_counts, record
     counts = record(args.out, topics=args.topics, duration=args.duration,
@@ -54,7 +44,7 @@ def run(args):
     return 0
 
 
-def main(args=None):
+def main(args: list[str] | None = None) -> int:
     """Console script ``record`` (``ros2 run friction_joint record OUT ...``)."""
     from ._console import console_main
     return console_main(sys.modules[__name__], args)

@@ -1,22 +1,13 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 
 """
 ``friction_joint recover PATH OUT``: a recording from a truncated MCAP file.
 
 See :func:`friction_joint.bag.recover.recover_recording`.
 """
+import argparse
+
 
 __all__ = ['NAME', 'HELP', 'DESCRIPTION', 'add_arguments', 'run']
 
@@ -30,7 +21,7 @@ DESCRIPTION = ('Read a truncated MCAP file (a recorder killed with SIGKILL, a fu
                'removed once OUT is complete (unless --keep).')
 
 
-def add_arguments(parser):
+def add_arguments(parser: argparse.ArgumentParser) -> argparse.ArgumentParser:
     """Add the ``recover`` arguments to ``parser``."""
     parser.add_argument('path', metavar='PATH',
                         help="truncated .mcap file, its directory, or a recorder's staging "
@@ -45,7 +36,7 @@ def add_arguments(parser):
     return parser
 
 
-def run(args):
+def run(args: argparse.Namespace) -> int:
     """Recover; prints the counts per topic and what was lost."""
     from ..bag.recover import recover_recording
     from ..bag.staging import FLUSH_PERIOD
@@ -55,8 +46,10 @@ def run(args):
     detail = ', '.join(f'{t}: {n}' for t, n in res.counts.items())
     print(f'recovered {total} messages ({detail}) from {res.source} to {res.out}, '
           f'log times {res.span[0]:.3f}-{res.span[1]:.3f} s')
-    if res.complete:
+    if res.complete and not res.unreadable:
         print('the file was complete: nothing was lost')
+    elif res.complete:
+        print('the file was complete but for the unreadable chunks named above')
     else:
         print(f'the file was cut short ({res.reason}; {res.lost_bytes} bytes after the last '
               f'whole record): what the recorder received after its last flush (it flushes '

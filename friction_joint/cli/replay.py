@@ -1,22 +1,12 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 
 """
-``friction_joint replay BAG`` (also the ``replay`` console script).
+``friction_joint replay BAG``: a recording published again, with ``/clock``.
 
-Publishes a recording again with ``/clock``; see :func:`friction_joint.ros.replay.replay`.
+Also the ``replay`` console script; see :func:`friction_joint.ros.replay.replay`.
 """
+import argparse
 import sys
 
 __all__ = ['NAME', 'HELP', 'DESCRIPTION', 'add_arguments', 'run', 'main']
@@ -28,7 +18,7 @@ DESCRIPTION = ('Publish the messages of a recording (rosbag2 directory or .mcap)
                'nodes with use_sim_time run on recorded data.')
 
 
-def add_arguments(parser):
+def add_arguments(parser: argparse.ArgumentParser) -> argparse.ArgumentParser:
     """Add the ``replay`` arguments to ``parser``."""
     parser.add_argument('bag', metavar='BAG', help='rosbag2 directory or .mcap file')
     parser.add_argument('--rate', default='1', metavar='R',
@@ -49,7 +39,7 @@ def add_arguments(parser):
     return parser
 
 
-def run(args):
+def run(args: argparse.Namespace) -> int:
     """Replay; prints the message counts."""
     from ..ros.record import format_counts
     from ..ros.replay import parse_rate, replay
@@ -60,7 +50,7 @@ def run(args):
     return 0
 
 
-def main(args=None):
+def main(args: list[str] | None = None) -> int:
     """Console script ``replay`` (``ros2 run friction_joint replay BAG ...``)."""
     from ._console import console_main
     return console_main(sys.modules[__name__], args)

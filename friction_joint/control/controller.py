@@ -1,16 +1,5 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 
 """
 Joint controller of eq. 17 and PD gain design from step-response specs.
@@ -53,18 +42,27 @@ if TYPE_CHECKING:
 __all__ = ['PAPER_RISE_TIME', 'PAPER_OVERSHOOT', 'pd_gains', 'step_metrics', 'SineTrajectory',
            'Controller']
 
+
+def _number(key: str) -> float:
+    """Return the paper's number ``key`` (:data:`~friction_joint.paper.PAPER`), not a range."""
+    value = PAPER[key].value
+    if isinstance(value, tuple):
+        raise TypeError(f'the paper gives a range for {key}, not a number')
+    return value
+
+
 #: the 10-90 % rise time (s) the paper designs the PD gains for (Section V-C)
-PAPER_RISE_TIME: float = PAPER['rise_time'].value
+PAPER_RISE_TIME: float = _number('rise_time')
 #: the maximum overshoot the paper designs the PD gains for, as a fraction (the table holds %)
-PAPER_OVERSHOOT: float = PAPER['overshoot'].value / 100.0
+PAPER_OVERSHOOT: float = _number('overshoot') / 100.0
 
 
-def _zeta_from_overshoot(overshoot):
+def _zeta_from_overshoot(overshoot: float) -> float:
     lo = math.log(overshoot)
     return -lo / math.sqrt(math.pi ** 2 + lo ** 2)
 
 
-def _unit_step(tn, zeta):
+def _unit_step(tn: float, zeta: float) -> float:
     """Step response of wn^2/(s^2 + 2 zeta wn s + wn^2) at normalised time tn = wn t."""
     wd = math.sqrt(1.0 - zeta ** 2)
     return 1.0 - math.exp(-zeta * tn) * (math.cos(wd * tn) + zeta / wd * math.sin(wd * tn))
@@ -125,10 +123,11 @@ def step_metrics(t: ArrayLike, y: ArrayLike, final: float) -> tuple[float, float
         Rise time (s) and overshoot as a fraction of ``final``.
 
     """
-    y = np.asarray(y) / final
-    t10 = np.interp(0.1, y[: np.argmax(y >= 0.9) + 1], t[: np.argmax(y >= 0.9) + 1])
-    t90 = np.interp(0.9, y[: np.argmax(y >= 0.9) + 1], t[: np.argmax(y >= 0.9) + 1])
-    return t90 - t10, max(0.0, float(np.max(y)) - 1.0)
+    yn = np.asarray(y) / final
+    ta = np.asarray(t)
+    t10 = np.interp(0.1, yn[: np.argmax(yn >= 0.9) + 1], ta[: np.argmax(yn >= 0.9) + 1])
+    t90 = np.interp(0.9, yn[: np.argmax(yn >= 0.9) + 1], ta[: np.argmax(yn >= 0.9) + 1])
+    return t90 - t10, max(0.0, float(np.max(yn)) - 1.0)
 
 
 class SineTrajectory:
@@ -149,7 +148,7 @@ class SineTrajectory:
     def __init__(self, amplitude: float, *, omega: float = 1.5, offset: float = 0.0) -> None:
         self.a, self.w, self.offset = float(amplitude), float(omega), float(offset)
 
-    def __call__(self, t):
+    def __call__(self, t: float) -> tuple[float, float, float]:
         s, c = math.sin(self.w * t), math.cos(self.w * t)
         return (self.offset + self.a * s, self.a * self.w * c, -self.a * self.w ** 2 * s)
 
@@ -187,7 +186,7 @@ class Controller:
         self.kind = friction
         self.ff_velocity = ff_velocity
         self.friction = friction_model(gear, friction)
-        self.last = {}
+        self.last: dict[str, float] = {}
 
     def reset(self) -> None:
         """Relax the friction feed-forward state."""
@@ -210,7 +209,8 @@ class Controller:
         """
         return self.mgl * math.sin(q - self.lever_offset)
 
-    def __call__(self, q, qd, xi, q_d, qd_d=0.0, qdd_d=0.0, *, dt=None):
+    def __call__(self, q: float, qd: float, xi: float, q_d: float, qd_d: float = 0.0,
+                 qdd_d: float = 0.0, *, dt: float | None = None) -> float:
         """
         Torque command for one sample; components are kept in ``self.last``.
 

@@ -1,16 +1,5 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 
 """
 Gain design of the eq. 17 controller, separate from the plant it runs on.
@@ -84,11 +73,11 @@ class GainDesign:
     kp: float | None = None
     kd: float | None = None
 
-    def __post_init__(self):
+    def __post_init__(self) -> None:
         if (self.kp is None) != (self.kd is None):
             raise ArgumentError('give both kp and kd, or neither')
-        if self.kp is not None and not (self.kp > 0 and self.kd >= 0
-                                        and math.isfinite(self.kp + self.kd)):
+        if self.kp is not None and self.kd is not None and not (
+                self.kp > 0 and self.kd >= 0 and math.isfinite(self.kp + self.kd)):
             raise ArgumentError(f'gains must be finite, kp > 0 and kd >= 0, got kp={self.kp}'
                                 f', kd={self.kd}')
         if self.design_inertia is not None and not (math.isfinite(self.design_inertia)
@@ -114,7 +103,7 @@ class GainDesign:
             Nm/rad and Nm s/rad.
 
         """
-        if self.kp is not None:
+        if self.kp is not None and self.kd is not None:         # both or neither
             return float(self.kp), float(self.kd)
         inertia = model_inertia if self.design_inertia is None else self.design_inertia
         return pd_gains(inertia, rise_time=self.rise_time, overshoot=self.overshoot)
@@ -215,9 +204,9 @@ def loop_metrics(kp: float, kd: float, inertia: float) -> dict[str, float]:
             'rise_time': _rise_time(wn, zeta), 'inertia': float(inertia)}
 
 
-def _rise_time(wn, zeta):
+def _rise_time(wn: float, zeta: float) -> float:
     """10-90 % rise time of wn^2 / (s^2 + 2 zeta wn s + wn^2), by bisection on its step."""
-    def y(t):
+    def y(t: float) -> float:
         x = wn * t
         if zeta < 1.0:
             wd = math.sqrt(1.0 - zeta ** 2)
@@ -228,7 +217,7 @@ def _rise_time(wn, zeta):
         p1, p2 = zeta - r, zeta + r
         return 1.0 - (p2 * math.exp(-p1 * x) - p1 * math.exp(-p2 * x)) / (p2 - p1)
 
-    def cross(level):
+    def cross(level: float) -> float:
         lo, hi = 0.0, 1.0 / wn
         while y(hi) < level:
             lo, hi = hi, 2.0 * hi

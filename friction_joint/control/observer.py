@@ -1,16 +1,5 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 
 """
 Velocity-based disturbance observer with friction model (seed eq. 4 and 15).
@@ -117,7 +106,7 @@ class DisturbanceObserver:
         self.tau_friction = 0.0
         self._qd = qd
 
-    def __call__(self, tau, q, qd, xi):
+    def __call__(self, tau: float, q: float, qd: float, xi: float) -> float:
         """
         Return tau_ext^ for one sample of drive torque, position, velocity and temperature.
 
@@ -138,7 +127,7 @@ class DisturbanceObserver:
         try:
             if not math.isfinite(tau_f):
                 raise InputRejected(f'the friction model gives {tau_f} Nm')
-            estimate = self.q_filter(u - tau_f) - bjq
+            estimate: float = self.q_filter(u - tau_f) - bjq
             if not math.isfinite(estimate):
                 raise InputRejected(f'the estimate overflows ({estimate} Nm)')
         except ValueError as exc:

@@ -1,16 +1,5 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 
 """
 Diagnosis: what a friction model gets wrong on measured data, and the extension that fixes it.
@@ -18,6 +7,7 @@ Diagnosis: what a friction model gets wrong on measured data, and the extension 
 * :mod:`~friction_joint.diagnosis.data`: recordings -> measured friction torque on bins;
 * :mod:`~friction_joint.diagnosis.structures`: candidate model structures, linear
   least squares with grids over their nonlinear parameters;
+  :mod:`~friction_joint.diagnosis.physical`: the fits bounded to physical coefficients;
   :mod:`~friction_joint.diagnosis.crossval`: their block cross-validation;
 * :mod:`~friction_joint.diagnosis.testability`: which candidates the data can tell
   (:func:`untestable`: a one-line reason per untestable effect);
@@ -28,11 +18,11 @@ Diagnosis: what a friction model gets wrong on measured data, and the extension 
 * :mod:`~friction_joint.diagnosis.gravity`: the ``gravity`` candidate's testability
   and the corrected lever;
 * :mod:`~friction_joint.diagnosis.criterion`: blocks, the signed-rank test, Holm,
-  confounds, model adequacy and the report's headline;
+  confounds, model adequacy and the report's verdict (headline, findings, next steps);
 * :mod:`~friction_joint.diagnosis.pipeline`: base fit, candidates, greedy extension
   (:func:`diagnose`);
 * :mod:`~friction_joint.diagnosis.velocity`: open-loop velocity of held-out windows;
-* :mod:`~friction_joint.diagnosis.gears`: gear files of fitted structures, the
+* :mod:`~friction_joint.diagnosis.fitted_gear`: gear files of fitted structures, the
   physical ``extended.yaml`` (:func:`extended_model`);
 * :mod:`~friction_joint.diagnosis.scan`: the open residual scan of the final
   model's residual against time, position, velocity, ... (:func:`residual_scan`);
@@ -41,7 +31,7 @@ Diagnosis: what a friction model gets wrong on measured data, and the extension 
 """
 from .crossval import cross_validate_structures
 from .data import DiagnosisData, load_data
-from .gears import extended_model
+from .fitted_gear import extended_model
 from .pipeline import (ALPHA, base_structure, diagnose, Diagnosis, EFFECTS, extend, MIN_GAIN,
                        UNREPRESENTABLE)
 from .scan import residual_scan

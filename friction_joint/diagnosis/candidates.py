@@ -1,16 +1,5 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 
 """
 The diagnosis's model structure of a gear file, and its extension by one candidate effect.
@@ -24,7 +13,7 @@ with the terms the diagnosis adds, into a
 """
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
+from typing import Any, TYPE_CHECKING
 
 import numpy as np
 
@@ -59,8 +48,8 @@ def base_structure(gear: GearParams) -> dm.CandidateStructure:
     mid = np.mean(f.temperature_range)
     linear = tuple(f.delta_v) == (1.0,)
     static = StaticStructure.from_gear(gear, fixed=('delta_v',) if linear else ())
-    terms = {}
-    if f.fs is not None:
+    terms: dict[str, Any] = {}
+    if f.fs is not None and f.vs is not None:      # given together (the gear file check)
         vs0 = float(np.polynomial.polynomial.polyval(mid, f.vs))
         terms['vs'] = max(vs0, 1e-6) / f.velocity_scale
     if 'delta_v' in static.orders:
@@ -69,9 +58,10 @@ def base_structure(gear: GearParams) -> dm.CandidateStructure:
         terms.update(ripple=len(f.position_ripple.amplitude), cyc=f.position_ripple.cycles_per_rev)
     if getattr(f, 'offset', None):
         terms['offset'] = True
-    if f.model == 'lugre':
+    # a pre-sliding model has its section (the gear file check)
+    if f.model == 'lugre' and f.lugre is not None:
         terms.update(presliding=True, ps=('lugre', f.lugre.sigma0))
-    elif f.model == 'gms':
+    elif f.model == 'gms' and f.gms is not None:
         terms.update(presliding=True, ps=('gms', float(sum(f.gms.k))))
     return dm.CandidateStructure.from_static(static, **terms)
 

@@ -1,16 +1,5 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 
 """
 The criterion of the diagnosis: blocks, a robust paired test, confounds, model adequacy.
@@ -55,13 +44,42 @@ explains: the held-out R^2 and the held-out RMSE against the friction level
 (the median |measured friction torque|).  A model whose held-out RMSE is
 :data:`INADEQUATE` (half) of the friction level or more does not explain the
 data, whatever the candidates say.
+
+Verdict
+-------
+:func:`verdict` builds the one :class:`Verdict` of a diagnosis from its report
+(named effects, the base and extended :class:`Fit`, the largest unexplained
+structure of the residual scan, an unconfirmed large gain, the untestable
+candidates); the headline (:attr:`Verdict.headline`), the adequacy table
+(:meth:`Verdict.adequacy_lines`), the findings and the next steps
+(:mod:`~friction_joint.diagnosis.findings`) are all worded from it, so they
+cannot disagree.
 """
+from __future__ import annotations
+
+from collections.abc import Callable, Iterable, Mapping, Sequence
+import dataclasses
+from typing import Any, TYPE_CHECKING, TypeAlias
+
 import numpy as np
+import numpy.typing as npt
 from scipy import stats
+
+from .verdicts import CandidateVerdict, Confound, Fit, ScanRow
+
+if TYPE_CHECKING:
+    from .result import DiagnosisResult
+
+#: a :class:`~friction_joint.diagnosis.data.DiagnosisData`, a
+#: :class:`~friction_joint.diagnosis.crossval.CVResult`: both modules import this one (through
+#: ``reblock``), so naming their classes here would close an import cycle
+_Data: TypeAlias = Any
+_CV: TypeAlias = Any
 
 __all__ = ['MIN_BLOCKS', 'MAX_BLOCKS', 'BLOCK_BINS', 'CONFOUND_RHO', 'PREFERENCE', 'INADEQUATE',
            'LARGE_GAIN', 'n_blocks', 'reblock', 'holm', 'compare', 'explained_torque', 'relevant',
-           'effect_variables', 'confounds', 'prefer', 'adequacy', 'headline']
+           'effect_variables', 'confounds', 'prefer', 'adequacy', 'headline', 'Fit', 'Unconfirmed',
+           'Verdict', 'verdict']
 
 #: fewest cross-validation blocks
 MIN_BLOCKS = 10
@@ -91,12 +109,12 @@ _POSITION = 'travels the same positions repeatedly in both directions (so that p
             'accumulated travel part)'
 
 
-def n_blocks(n_bins):
+def n_blocks(n_bins: int) -> int:
     """Return the number of cross-validation blocks for ``n_bins`` sliding bins."""
     return int(np.clip(n_bins // BLOCK_BINS, MIN_BLOCKS, MAX_BLOCKS))
 
 
-def reblock(data, k):
+def reblock(data: _Data, k: int) -> _Data:
     """
     Cut ``data``'s bins into ``k`` contiguous blocks (in place): ``block``, ``block_of``.
 
@@ -115,7 +133,7 @@ def reblock(data, k):
     return data
 
 
-def holm(p):
+def holm(p: npt.ArrayLike) -> npt.NDArray[np.float64]:
     """Return the Holm-Bonferroni adjusted p-values of ``p``."""
     p = np.asarray(p, float)
     m = len(p)
@@ -127,7 +145,7 @@ def holm(p):
     return adj
 
 
-def compare(cur, cand):
+def compare(cur: _CV, cand: _CV) -> dict[str, Any]:
     """
     Return the paired one-sided test of a candidate's per-block held-out MSE (a dict).
 
@@ -147,12 +165,13 @@ def compare(cur, cand):
             'median_log_mse_ratio': float(np.median(d))}
 
 
-def explained_torque(rmse_m, rmse_c):
+def explained_torque(rmse_m: float, rmse_c: float) -> float:
     """Return the RMS torque (Nm) a candidate explains: sqrt(MSE_m - MSE_c), 0 if none."""
     return float(np.sqrt(max(rmse_m ** 2 - rmse_c ** 2, 0.0)))
 
 
-def relevant(gain, explained, level, min_gain, min_explained):
+def relevant(gain: float, explained: float, level: float, min_gain: float,
+             min_explained: float) -> bool:
     """
     Return whether a held-out improvement matters in practice.
 
@@ -168,7 +187,8 @@ def relevant(gain, explained, level, min_gain, min_explained):
                                      and explained >= min_explained * level))
 
 
-def effect_variables(data, travel):
+def effect_variables(data: _Data,
+                     travel: npt.NDArray[np.float64]) -> dict[str, npt.NDArray[np.float64]]:
     """
     Return ``{effect: bin-averaged variable}`` of the candidates told apart by one variable.
 
@@ -182,7 +202,8 @@ def effect_variables(data, travel):
     return out
 
 
-def confounds(variables, effects):
+def confounds(variables: Mapping[str, npt.NDArray[np.float64]],
+              effects: Iterable[str]) -> list[dict[str, Any]]:
     """
     Return the confounded pairs among ``effects`` (list of dicts).
 
@@ -210,7 +231,8 @@ def confounds(variables, effects):
     return out
 
 
-def prefer(significant, table, pairs):
+def prefer(significant: Sequence[str], table: Mapping[str, CandidateVerdict],
+           pairs: Sequence[Confound]) -> str:
     """
     Return the effect to add among ``significant`` (a round's significant candidates).
 
@@ -218,15 +240,19 @@ def prefer(significant, table, pairs):
     :func:`confounds`) with another significant candidate that measures a
     physical cause first in :data:`PREFERENCE`: then that one.
     """
-    best = max(significant, key=lambda e: table[e]['gain_raw'])
+    best = max(significant, key=lambda e: _gain(table[e]))
     group = {best}
     for pair in pairs:
-        if best in pair['effects']:
-            group.update(e for e in pair['effects'] if e in significant)
+        if best in pair.effects:
+            group.update(e for e in pair.effects if e in significant)
     return min(group, key=PREFERENCE.index)
 
 
-def adequacy(y, pred, level):
+def _gain(v: CandidateVerdict) -> float:
+    return 0.0 if v.gain_raw is None else v.gain_raw
+
+
+def adequacy(y: npt.ArrayLike, pred: npt.ArrayLike, level: float) -> dict[str, Any]:
     """
     Return how much of the measured friction torque ``y`` a held-out prediction explains.
 
@@ -244,51 +270,189 @@ def adequacy(y, pred, level):
             'explains': bool(ratio < INADEQUATE)}
 
 
-def _largest_structure(scan):
+def _largest_structure(scan: Sequence[ScanRow]) -> str | None:
     """Return the residual scan's largest finding as text, or None."""
-    rows = [r for r in scan or () if r.get('explained') is not None]
+    rows = [(r, r.explained) for r in scan if r.explained is not None]
     if not rows:
         return None
-    flagged = [r for r in rows if r.get('flagged')]
-    top = max(flagged or rows, key=lambda r: r['explained'])
-    where = f' (period {top["period"]:.4g} rad)' if top.get('period') else ''
-    return (f'{top["variable"]}{where}, {100 * top["explained"]:.0f} % of the residual variance '
-            'held out' + ('' if top.get('flagged') else ', not significant'))
+    flagged = [(r, x) for r, x in rows if r.flagged]
+    top, explained = max(flagged or rows, key=lambda rx: rx[1])
+    where = f' (period {top.period:.4g} rad)' if top.period else ''
+    return (f'{top.variable}{where}, {100 * explained:.0f} % of the residual variance '
+            'held out' + ('' if top.flagged else ', not significant'))
 
 
-def headline(report):
+def _structure(scan: Sequence[ScanRow]) -> str:
+    """Return the sentence that points at the largest unexplained structure of the residual."""
+    top = _largest_structure(scan)
+    if top:
+        return f'Largest unexplained structure: {top}.'
+    if any(r.explained is not None for r in scan):
+        return 'The residual scan finds no structure in time, position or velocity.'
+    why = '; '.join(f'{r.variable}: {r.untestable or r.note or "untestable"}'
+                    for r in scan[:3])
+    return f'The residual scan cannot test the variables of this recording ({why}).'
+
+
+@dataclasses.dataclass(frozen=True)
+class Unconfirmed:
     """
-    Return the report's first sentence: adequacy first, then what is missing.
+    A tested candidate not named whose held-out gain is large (:data:`LARGE_GAIN`).
 
-    A model whose held-out RMSE stays comparable to the friction level does not
-    explain the data, named causes or not; a candidate with a large held-out
-    gain (:data:`LARGE_GAIN`) is never summed up as "nothing missing".
+    Attributes
+    ----------
+    effect : str
+        The candidate.
+    gain : float
+        Its held-out gain.
+    improved, blocks : int or str
+        Blocks it predicted better, of all (``'?'``: not said).
+    p_holm : float
+        Its Holm-adjusted p-value.
+
     """
-    named = report['named_causes']
-    ext = report['adequacy']['extended']
-    fit = (f'held-out R^2 {ext["r2"]:.2f}, RMSE {ext["rmse"]:.3g} Nm against a friction level '
-           f'of {ext["friction_level"]:.3g} Nm')
-    if not ext['explains']:
-        top = _largest_structure(report.get('residual_scan'))
-        scan = report.get('residual_scan') or []
-        why = '; '.join(f'{r["variable"]}: {r.get("untestable") or r.get("note") or "untestable"}'
-                        for r in scan[:3])
-        if top:
-            where = f'Largest unexplained structure: {top}.'
-        elif any(r.get('explained') is not None for r in scan):
-            where = 'The residual scan finds no structure in time, position or velocity.'
-        else:
-            where = f'The residual scan cannot test the variables of this recording ({why}).'
-        return ('The model does not explain the data' +
-                (f' even with {", ".join(named)}' if named else '') + f': {fit}. ' + where)
-    if named:
-        return f'Missing effects: {", ".join(named)} ({fit}).'
-    tested = [c for c in report['candidates'] if c.get('testable') and 'gain_raw' in c]
-    large = [c for c in tested if c['gain_raw'] >= LARGE_GAIN]
-    if large:
-        c = max(large, key=lambda c: c['gain_raw'])
-        return (f'No effect passes the criterion, but {c["effect"]} gains '
-                f'{100 * c["gain_raw"]:.0f} % held out ({c["blocks_improved"]}/{c["blocks"]} '
-                f'blocks, Holm p {c.get("p_holm", c["p_value"]):.2g}): the recordings are too '
-                f'short or too uneven to confirm it ({fit}).')
-    return f'Nothing significant is missing from the base model ({fit}).'
+
+    effect: str
+    gain: float
+    improved: int | str
+    blocks: int | str
+    p_holm: float
+
+
+@dataclasses.dataclass(frozen=True)
+class Verdict:
+    """
+    The one story of a diagnosis, built once from its report (:func:`verdict`).
+
+    The headline, the findings, the next steps and the adequacy table are all
+    worded from it, so they cannot disagree.
+
+    Attributes
+    ----------
+    named : tuple of str
+        The named effects, in the order they were added.
+    written : tuple of str
+        The named effects ``extended.yaml`` holds.
+    base, extended : Fit
+        How much the base and the extended model explain held out.
+    structure : str
+        The sentence that points at the largest unexplained structure (residual scan).
+    unconfirmed : Unconfirmed or None
+        A tested candidate not named whose held-out gain is at least
+        :data:`LARGE_GAIN`; None when there is none or an effect is named.
+    untestable : tuple of (str, str)
+        The candidates the recordings cannot test, with their reasons.
+
+    """
+
+    named: tuple[str, ...]
+    written: tuple[str, ...]
+    base: Fit
+    extended: Fit
+    structure: str
+    unconfirmed: Unconfirmed | None
+    untestable: tuple[tuple[str, str], ...]
+
+    @property
+    def explains(self) -> bool:
+        """Return whether the final model explains the data (:func:`adequacy`)."""
+        return self.extended.explains
+
+    @property
+    def nothing_missing(self) -> bool:
+        """Return whether the base model stands: it explains the data, nothing is missing."""
+        return not self.named and self.explains and self.unconfirmed is None
+
+    @property
+    def unconfirmed_text(self) -> str:
+        """Return the unconfirmed candidate's gain in words ('' without one)."""
+        u = self.unconfirmed
+        if not u:
+            return ''
+        return (f'{u.effect} gains {100 * u.gain:.0f} % held out ({u.improved}/'
+                f'{u.blocks} blocks, Holm p {u.p_holm:.2g})')
+
+    @property
+    def headline(self) -> str:
+        """
+        Return the report's first sentence: adequacy first, then what is missing.
+
+        A model whose held-out RMSE stays comparable to the friction level does not
+        explain the data, named causes or not; a candidate with a large held-out
+        gain (:data:`LARGE_GAIN`) is never summed up as "nothing missing".
+        """
+        fit = self.extended.text
+        if not self.explains:
+            return ('The model does not explain the data' +
+                    (f' even with {", ".join(self.named)}' if self.named else '') +
+                    f': {fit}. ' + self.structure)
+        if self.named:
+            return f'Missing effects: {", ".join(self.named)} ({fit}).'
+        if self.unconfirmed:
+            return (f'No effect passes the criterion, but {self.unconfirmed_text}: the '
+                    f'recordings are too short or too uneven to confirm it ({fit}).')
+        return f'Nothing significant is missing from the base model ({fit}).'
+
+    def adequacy_lines(self) -> list[str]:
+        """Return the Markdown table of how much of the friction torque each model explains."""
+        def row(label: str, get: Callable[[Fit], object], spec: str) -> str:
+            return f'| {label} | {format(get(self.base), spec)} | ' \
+                   f'{format(get(self.extended), spec)} |'
+
+        def yes(f: Fit) -> str:
+            return 'yes' if f.explains else '**no**'
+        return ['| model adequacy | base | extended |', '|---|---|---|',
+                row('held-out R^2 of the friction torque', lambda f: f.r2, '.3f'),
+                row('held-out RMSE / friction level', lambda f: f.rmse_over_level, '.3f'),
+                row(f'explains the data (RMSE / friction level below {INADEQUATE:g})', yes, ''),
+                '', f'Friction level (the median of abs(measured friction torque)): '
+                f'{self.base.friction_level:.4g} Nm.', '']
+
+
+def verdict(result: DiagnosisResult) -> Verdict:
+    """
+    Return the :class:`Verdict` of a diagnosis result.
+
+    Parameters
+    ----------
+    result : DiagnosisResult
+        The diagnosis's result (the ``report.json`` content, typed; read back with
+        :meth:`~friction_joint.diagnosis.result.DiagnosisResult.from_dict`).
+
+    Returns
+    -------
+    Verdict
+
+    """
+    named = tuple(result.named_causes)
+    unconfirmed = None
+    if not named:
+        tested = [c for c in result.candidates if c.testable and c.gain_raw is not None]
+        large = [c for c in tested if _gain(c) >= LARGE_GAIN]
+        if large:
+            c = max(large, key=_gain)
+            p = c.p_holm if c.p_holm is not None else c.p_value
+            unconfirmed = Unconfirmed(
+                c.effect, _gain(c), '?' if c.blocks_improved is None else c.blocks_improved,
+                '?' if c.blocks is None else c.blocks, float(1.0 if p is None else p))
+    return Verdict(named=named, written=tuple(result.extended_effects),
+                   base=result.adequacy.base, extended=result.adequacy.extended,
+                   structure=_structure(result.residual_scan), unconfirmed=unconfirmed,
+                   untestable=tuple(result.untestable.items()))
+
+
+def headline(result: DiagnosisResult) -> str:
+    """
+    Return the report's first sentence (:attr:`Verdict.headline` of the result).
+
+    Parameters
+    ----------
+    result : DiagnosisResult
+        The diagnosis's result.
+
+    Returns
+    -------
+    str
+
+    """
+    return verdict(result).headline

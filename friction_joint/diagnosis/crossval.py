@@ -1,16 +1,5 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 """
 Block cross-validation of the diagnosis's model structures, and their fit on all data.
 
@@ -22,13 +11,21 @@ refine its nonlinear parameters with :class:`~friction_joint.diagnosis.refine.Re
 """
 from __future__ import annotations
 
+from collections.abc import Sequence
 import dataclasses
+from typing import TYPE_CHECKING
 
 import numpy as np
 
+from .physical import constraints, solve_physical
 from .refine import Refiner
-from .structures import CandidateStructure, constraints, Context, design, solve_physical
+from .structures import CandidateStructure, Context, design
 from ..identification.folds import held_out_sse
+
+if TYPE_CHECKING:
+    from numpy.typing import NDArray
+
+    from .structures import Column
 
 __all__ = ['CVResult', 'cross_validate_structures', 'fit_all']
 
@@ -37,23 +34,23 @@ __all__ = ['CVResult', 'cross_validate_structures', 'fit_all']
 class CVResult:
     """Held-out errors of one structure over K blocks."""
 
-    sse: np.ndarray          # held-out SSE per block
-    n: np.ndarray            # bins per block
-    structures: list         # structure chosen per fold
-    pred: np.ndarray         # held-out prediction per bin
-    betas: list              # coefficients per fold
-    names: list              # column names per fold
+    sse: NDArray[np.float64]                # held-out SSE per block
+    n: NDArray[np.float64]                  # bins per block
+    structures: list[CandidateStructure]    # structure chosen per fold
+    pred: NDArray[np.float64]               # held-out prediction per bin
+    betas: list[NDArray[np.float64]]        # coefficients per fold
+    names: list[list[Column]]               # column names per fold
 
     @property
-    def mse(self):
+    def mse(self) -> NDArray[np.float64]:
         return self.sse / self.n
 
     @property
-    def rmse(self):
+    def rmse(self) -> float:
         return float(np.sqrt(self.sse.sum() / self.n.sum()))
 
 
-def _penalty(s, ctx):
+def _penalty(s: CandidateStructure, ctx: Context) -> float:
     """
     Training-error factor that makes the grid prefer simpler explanations.
 
@@ -63,13 +60,14 @@ def _penalty(s, ctx):
     return 1.02 if s.ripple and abs(s.cyc - 2.0 * ctx.gear_ratio) > 1e-9 else 1.0
 
 
-def _refiner(ctx, y, block, k):
+def _refiner(ctx: Context, y: NDArray[np.float64], block: NDArray[np.int64], k: int) -> Refiner:
     return Refiner(ctx, y, block, k, {'design': design, 'solve': solve_physical,
                                       'constraints': constraints, 'penalty': _penalty})
 
 
-def cross_validate_structures(structures: list[CandidateStructure], ctx: Context, y: np.ndarray,
-                              block: np.ndarray, k: int) -> CVResult:
+def cross_validate_structures(structures: list[CandidateStructure], ctx: Context,
+                              y: NDArray[np.float64], block: NDArray[np.int64],
+                              k: int) -> CVResult:
     """
     Cross-validate a grid of structures over K contiguous blocks, refined per fold.
 
@@ -99,10 +97,13 @@ def cross_validate_structures(structures: list[CandidateStructure], ctx: Context
     """
     ref = _refiner(ctx, y, block, k)
     one = len(structures) == 1             # the parameters of a structure are fitted already
-    chosen, betas, names = [], [], []
+    chosen: list[CandidateStructure] = []
+    betas: list[NDArray[np.float64]] = []
+    names: list[list[Column]] = []
     pred = np.empty_like(y)
 
-    def fit_predict(fold, train, test):
+    def fit_predict(fold: int, train: NDArray[np.int64],
+                    test: NDArray[np.int64]) -> NDArray[np.float64]:
         """Choose and fit on the other blocks (the refiner's own sums); residuals on ``fold``."""
         if one:
             s = structures[0]
@@ -119,7 +120,8 @@ def cross_validate_structures(structures: list[CandidateStructure], ctx: Context
     return CVResult(sse, n, chosen, pred, betas, names)
 
 
-def fit_all(structures, ctx, y):
+def fit_all(structures: Sequence[CandidateStructure], ctx: Context, y: NDArray[np.float64]
+            ) -> tuple[CandidateStructure, NDArray[np.float64], list[Column], NDArray[np.float64]]:
     """
     Fit on all bins: the best grid point, its nonlinear parameters refined continuously.
 

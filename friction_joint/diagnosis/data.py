@@ -1,16 +1,5 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 
 """
 Diagnosis input: recordings -> friction-torque data averaged over short time bins.
@@ -114,7 +103,7 @@ from collections.abc import Callable, Sequence
 import dataclasses
 import math
 import os
-from typing import TYPE_CHECKING
+from typing import Any, cast, TYPE_CHECKING, TypedDict
 
 import numpy as np
 
@@ -125,11 +114,28 @@ from ..bag.stamps import BRIDGE_MARGIN, gap_summary, piece_on_grid, split_pieces
 from ..exceptions import ExcitationError, PreslidingDataError, RecordingError
 
 if TYPE_CHECKING:
+    from numpy.typing import NDArray
+
     from ..bag import Recording
+    from ..bag.stamps import Pieces
     from ..gear import GearParams
 
+    class _Piece(TypedDict):
+        """A contiguous piece of one recording, as recorded."""
+
+        rec: Recording
+        dt: float
+        steps: NDArray[np.int64]
+        t: NDArray[np.float64]
+        q: NDArray[np.float64]
+        effort: NDArray[np.float64]
+
+    #: a piece on its uniform grid: t, q, effort and the bridged mask
+    _OnGrid = tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64],
+                    NDArray[np.bool_]]
+
 __all__ = ['BIN', 'V_STICK_FRACTION', 'V_NOISE', 'STICK_MARGIN', 'STILL_WINDOW', 'MIN_STILL',
-           'N_BLOCKS', 'DiagnosisData', 'load_data', 'derivative_noise_gain']
+           'N_BLOCKS', 'MAX_STEP', 'DiagnosisData', 'load_data', 'derivative_noise_gain']
 
 #: bin length (s) over which samples are averaged
 BIN = 0.01
@@ -156,6 +162,11 @@ N_BLOCKS = 10
 MIN_PIECE = 1.0
 #: samples this close (s) to the start or end of a piece are not used (filter edge effects)
 EDGE = 0.1
+#: longest sample time (s) diagnosed: 10 samples in an open-loop window
+#: (:data:`~friction_joint.diagnosis.velocity.WINDOW`, 0.5 s) and a derivative cut-off of at
+#: least 4 Hz (:data:`MAX_CUTOFF_RATE` of the rate); a 33 Hz tribometer is diagnosed, a log
+#: in ms read as s (a sample time of 1 s) is refused
+MAX_STEP = 0.05
 
 
 @dataclasses.dataclass
@@ -202,23 +213,23 @@ class DiagnosisData:
 
     """
 
-    t: np.ndarray
-    q: np.ndarray
-    qf: np.ndarray
-    qd: np.ndarray
-    qdd: np.ndarray
-    effort: np.ndarray
-    tau_ext: np.ndarray
-    xi: np.ndarray
-    tl: np.ndarray
-    piece: np.ndarray
-    dt: np.ndarray
-    bin_of: np.ndarray
-    block_of: np.ndarray
-    y: np.ndarray
-    count: np.ndarray
-    t_bin: np.ndarray
-    block: np.ndarray
+    t: NDArray[np.float64]
+    q: NDArray[np.float64]
+    qf: NDArray[np.float64]
+    qd: NDArray[np.float64]
+    qdd: NDArray[np.float64]
+    effort: NDArray[np.float64]
+    tau_ext: NDArray[np.float64]
+    xi: NDArray[np.float64]
+    tl: NDArray[np.float64]
+    piece: NDArray[np.int64]
+    dt: NDArray[np.float64]
+    bin_of: NDArray[np.int64]
+    block_of: NDArray[np.int64]
+    y: NDArray[np.float64]
+    count: NDArray[np.float64]
+    t_bin: NDArray[np.float64]
+    block: NDArray[np.int64]
     n_blocks: int
     inertia: float
     mgl_sim: float
@@ -229,8 +240,8 @@ class DiagnosisData:
     resolution: float = 0.0
     friction_level: float = 1.0
     stroke: float = 0.0
-    bridged: np.ndarray | None = None
-    gaps: dict | None = None
+    bridged: NDArray[np.bool_] | None = None
+    gaps: dict[str, Any] | None = None
     velocity_noise: float = 0.0
     quantisation_noise: float = 0.0
     standstill_noise: float = 0.0
@@ -238,10 +249,10 @@ class DiagnosisData:
     cutoff: float = 0.0
 
     @property
-    def n_bins(self):
+    def n_bins(self) -> int:
         return len(self.y)
 
-    def average(self, f: np.ndarray) -> np.ndarray:
+    def average(self, f: NDArray[np.float64]) -> NDArray[np.float64]:
         """
         Return the bin averages (used bins) of a full-rate array.
 
@@ -256,10 +267,13 @@ class DiagnosisData:
 
         """
         sel = self.bin_of >= 0
-        return np.bincount(self.bin_of[sel], weights=f[sel], minlength=self.n_bins) / self.count
+        out: NDArray[np.float64] = np.bincount(self.bin_of[sel], weights=f[sel],
+                                               minlength=self.n_bins) / self.count
+        return out
 
 
-def _pieces(t, qd, path):
+def _pieces(t: NDArray[np.float64], qd: NDArray[np.float64],
+            path: str) -> tuple[list[tuple[int, int]], Pieces]:
     """Pieces of at least MIN_PIECE s (cut at long gaps, short ones bridged) and the cut."""
     if len(t) > 1 and not np.median(np.diff(t)) > 0:
         raise RecordingError(f'{path}: /joint_states: stamps do not increase')
@@ -268,9 +282,10 @@ def _pieces(t, qd, path):
             if b - a >= 2 and t[b - 1] - t[a] >= MIN_PIECE], cut
 
 
-def load_data(paths: Sequence[str | os.PathLike], gear: GearParams, *,
+def load_data(paths: Sequence[str | os.PathLike[str]], gear: GearParams, *,
               joint_name: str | None = None, n_blocks: int = N_BLOCKS,
-              progress: Callable[[str], None] | None = None) -> DiagnosisData:
+              progress: Callable[[str], None] | None = None,
+              velocity_from_position: bool = False) -> DiagnosisData:
     """
     Read recordings into :class:`DiagnosisData`.
 
@@ -287,6 +302,9 @@ def load_data(paths: Sequence[str | os.PathLike], gear: GearParams, *,
         Number of contiguous cross-validation blocks (default :data:`N_BLOCKS`).
     progress : callable, optional
         Progress callback (currently not called).
+    velocity_from_position : bool
+        Replace the recorded velocity by the position's centred difference
+        (:func:`~friction_joint.bag.read_recording`).
 
     Returns
     -------
@@ -304,13 +322,16 @@ def load_data(paths: Sequence[str | os.PathLike], gear: GearParams, *,
     if not paths:
         raise RecordingError('no recordings given')
     joint = gear.joint_name if joint_name is None else joint_name
-    recs = [read_recording(path, joint_name=joint) for path in paths]
+    recs = [read_recording(path, joint_name=joint, velocity_from_position=velocity_from_position)
+            for path in paths]
+    cols: dict[str, list[NDArray[Any]]]
     cols = {k: [] for k in ('t', 'q', 'qf', 'qd', 'qdd', 'effort', 'tau_ext', 'xi', 'dt',
                             'piece', 'cutoff', 'bridged')}
     have_link = all(r.link_torque is not None and len(r.link_torque) > 1 for r in recs)
     have_temp = all(_temperature(r) is not None for r in recs)
     xi_none = float(np.mean(gear.friction.temperature_range))
-    cuts, raw = [], []
+    cuts: list[Pieces] = []
+    raw: list[_Piece] = []
     for rec in recs:
         js = rec.joint_states
         pieces, cut = _pieces(js.t, js.qd, rec.path)
@@ -322,6 +343,7 @@ def load_data(paths: Sequence[str | os.PathLike], gear: GearParams, *,
                 f'longer than {cut.limit:.3g} s, {len(cut.bridged)} bridged)')
         for a, b in pieces:
             dt, _ = uniform_grid(js.t[a:b])
+            _check_step(rec.path, js.t[a] - js.t[0], dt)
             steps = cut.bridged[(cut.bridged >= a) & (cut.bridged < b - 1)] - a
             raw.append({'rec': rec, 'dt': dt, 'steps': steps,
                         't': js.t[a:b], 'q': js.q[a:b], 'effort': js.effort[a:b]})
@@ -338,8 +360,9 @@ def load_data(paths: Sequence[str | os.PathLike], gear: GearParams, *,
         except PreslidingDataError as exc:
             raise ExcitationError(f'{rec.path}: {exc}') from None
         qf = _lowpass(q, dt, cutoff)
-        if have_link:
-            te = np.interp(t, rec.link_torque.t, rec.link_torque.tau)
+        link = rec.link_torque
+        if have_link and link is not None:      # have_link: every recording has one
+            te = np.interp(t, link.t, link.tau)
         else:
             te = gear.lever_torque(q)
         xi = (rec.temperature_at(t=t) if _temperature(rec) is not None
@@ -387,10 +410,11 @@ def load_data(paths: Sequence[str | os.PathLike], gear: GearParams, *,
             f'are needed ({n_blocks} '
             'cross-validation blocks)')
     sel = bin_raw >= 0
-    count = np.bincount(bin_raw[sel], minlength=nb_total).astype(float)
+    count: NDArray[np.float64] = np.bincount(bin_raw[sel], minlength=nb_total).astype(float)
 
-    def avg(f):
-        return np.bincount(bin_raw[sel], weights=f[sel], minlength=nb_total) / count
+    def avg(f: NDArray[np.float64]) -> NDArray[np.float64]:
+        sums = np.bincount(bin_raw[sel], weights=f[sel], minlength=nb_total)
+        return cast('NDArray[np.float64]', sums) / count
 
     inertia = gear.inertia
     y = avg(c['effort'] - c['tau_ext'] - inertia * c['qdd'])
@@ -398,18 +422,29 @@ def load_data(paths: Sequence[str | os.PathLike], gear: GearParams, *,
     data = DiagnosisData(
         t=c['t'], q=c['q'], qf=c['qf'], qd=c['qd'], qdd=c['qdd'], effort=c['effort'],
         tau_ext=c['tau_ext'], xi=c['xi'], tl=np.abs(c['tau_ext']), piece=c['piece'],
-        dt=c['dt'], bin_of=bin_raw, block_of=None, y=y, count=count, t_bin=t_bin,
-        block=None, n_blocks=n_blocks, inertia=inertia,
+        dt=c['dt'], bin_of=bin_raw, block_of=np.zeros(0, np.int64), y=y, count=count, t_bin=t_bin,
+        block=np.zeros(0, np.int64), n_blocks=n_blocks, inertia=inertia,
         mgl_sim=0.0 if have_link else gear.mgl, link_torque=have_link, recordings=recs,
         has_temperature=have_temp, v_stick=v_stick, resolution=sc['resolution'],
         friction_level=max(float(np.median(np.abs(y))), 1e-12), stroke=sc['stroke'],
         bridged=c['bridged'], gaps=gap_summary(cuts), velocity_noise=sc['velocity_noise'],
         quantisation_noise=sc['quantisation_noise'], standstill_noise=sc['standstill_noise'],
         standstill_fraction=sc['standstill_fraction'], cutoff=sc['cutoff'])
-    return reblock(data, n_blocks)
+    reblock(data, n_blocks)
+    return data
 
 
-def _temperature(rec):
+def _check_step(path: str, start: float, dt: float) -> None:
+    """Raise unless the sample time ``dt`` (s) of a piece is one the method resolves."""
+    if not dt <= MAX_STEP:
+        raise RecordingError(
+            f'{path}: /joint_states: a sample time of {dt:.6g} s (the piece from t = '
+            f'{start:.6g} s); diagnose needs at most {MAX_STEP:g} s (10 samples in its '
+            f'0.5 s open-loop windows): stamps in other units than s? (import: --time '
+            'COL:ms)')
+
+
+def _temperature(rec: Recording) -> Any:
     """Return the recording's ``/joint_temperature`` series, None when it has none."""
     temp = getattr(rec, 'temperature', None)
     if temp is None or len(getattr(temp, 't', ())) == 0:
@@ -417,7 +452,7 @@ def _temperature(rec):
     return temp
 
 
-def derivative_noise_gain(dt, cutoff):
+def derivative_noise_gain(dt: float, cutoff: float) -> float:
     """
     Return the white-noise gain (1/s) of the zero-phase derivative filter.
 
@@ -430,27 +465,30 @@ def derivative_noise_gain(dt, cutoff):
     return _noise_gains(dt, cutoff)[0]
 
 
-def _max_cutoff(dt):
+def _max_cutoff(dt: float) -> float:
     """Return the highest cutoff (Hz) of the zero-phase derivative at sample time ``dt``."""
     return min(MAX_CUTOFF, MAX_CUTOFF_RATE / dt)
 
 
-def _on_grid(r, cutoff):
+def _on_grid(r: _Piece, cutoff: float) -> _OnGrid:
     """Piece ``r`` on its uniform grid: t, q, effort and the bridged mask for ``cutoff``."""
     t, (q, effort), ok = piece_on_grid(r['t'], (r['q'], r['effort']), r['steps'],
                                        margin=BRIDGE_MARGIN / cutoff)
     return t, q, effort, ~ok
 
 
-def _lowpass(q, dt, cutoff):
+def _lowpass(q: NDArray[np.float64], dt: float, cutoff: float) -> NDArray[np.float64]:
     """Zero-phase Butterworth low-pass of the position (the derivative filter's)."""
     from scipy import signal
 
     bb, aa = signal.butter(2, cutoff, fs=1.0 / dt)
-    return signal.filtfilt(bb, aa, q)
+    out: NDArray[np.float64] = signal.filtfilt(bb, aa, q)
+    return out
 
 
-def _resolution(pieces):
+def _resolution(pieces: Sequence[tuple[NDArray[np.float64], NDArray[np.float64],
+                                       NDArray[np.float64], NDArray[np.bool_], float]]
+                ) -> tuple[float, float]:
     """Position resolution and stroke of pieces ``(t, q, effort, bridged, dt)`` (docstring)."""
     steps, widths, stroke = [], [], 0.0
     for _, q, _, bridged, dt in pieces:
@@ -467,7 +505,7 @@ def _resolution(pieces):
     return max(res, 1e-12 * max(stroke, 1.0)), stroke
 
 
-def _noise_gains(dt, cutoff):
+def _noise_gains(dt: float, cutoff: float) -> tuple[float, float]:
     """White-noise gains of the zero-phase velocity and of its bin-averaged acceleration."""
     half = int(math.ceil(40.0 / (cutoff * dt))) + 10
     x = np.zeros(2 * half + 1)
@@ -478,7 +516,9 @@ def _noise_gains(dt, cutoff):
     return float(np.sqrt(np.sum(qd ** 2))), float(np.sqrt(np.sum(acc ** 2)))
 
 
-def _cutoff_scale(pieces, res):
+def _cutoff_scale(pieces: Sequence[tuple[NDArray[np.float64], NDArray[np.float64],
+                                         NDArray[np.float64], NDArray[np.bool_], float]],
+                  res: float) -> float:
     """
     Factor (<= 1) on the highest derivative cutoff that the encoder's resolution allows.
 
@@ -505,14 +545,15 @@ def _cutoff_scale(pieces, res):
     return float(scales[-1])
 
 
-def _standstill(c, m, res):
+def _standstill(c: dict[str, NDArray[Any]], m: NDArray[np.bool_],
+                res: float) -> NDArray[np.bool_]:
     """Mark the samples of piece mask ``m`` whose filtered position moves < ``res`` nearby."""
     from scipy.ndimage import maximum_filter1d, minimum_filter1d
 
     qf = c['qf'][m]
     cutoff, dt = float(c['cutoff'][m][0]), float(c['dt'][m][0])
     w = max(3, int(round(STILL_WINDOW / (cutoff * dt))))
-    still = (maximum_filter1d(qf, w) - minimum_filter1d(qf, w)) < res
+    still: NDArray[np.bool_] = (maximum_filter1d(qf, w) - minimum_filter1d(qf, w)) < res
     still &= ~c['bridged'][m]
     edge = int(round(EDGE / dt))
     still[:edge] = False
@@ -520,7 +561,7 @@ def _standstill(c, m, res):
     return still
 
 
-def _scales(c, n_piece, res):
+def _scales(c: dict[str, NDArray[Any]], n_piece: int, res: float) -> dict[str, float]:
     """
     Velocity noise and sliding threshold from the samples (module docstring).
 

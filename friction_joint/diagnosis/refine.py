@@ -1,16 +1,5 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 
 """
 Continuous nonlinear parameters: a grid, then bounded scalar optimisation (variable projection).
@@ -43,12 +32,22 @@ evaluations; the design's column groups that a parameter leaves alone come
 from the context's cache (:func:`~friction_joint.diagnosis.structures.design`).
 In a cross-validation each fold refines on its training blocks only.
 """
+from __future__ import annotations
+
+from collections.abc import Callable, Sequence
 import math
+from typing import TYPE_CHECKING, TypedDict
 
 import numpy as np
 from scipy import optimize
 
-__all__ = ['LATTICE', 'NONLINEAR', 'active_params', 'varying_params', 'Refiner']
+if TYPE_CHECKING:
+    from numpy.typing import NDArray
+
+    from .structures import CandidateStructure, Column, Context
+
+__all__ = ['LATTICE', 'NONLINEAR', 'active_params', 'varying_params', 'Refiner', 'Fitting',
+           'Normal']
 
 #: lattice points per step of a parameter (the resolution of the refinement)
 LATTICE = 64
@@ -56,26 +55,42 @@ LATTICE = 64
 NONLINEAR = ('vs', 'dv', 'cyc', 'ps')
 
 
-def active_params(s):
+class Fitting(TypedDict):
+    """The functions a :class:`Refiner` fits with (:mod:`~friction_joint.diagnosis.structures`)."""
+
+    design: Callable[[CandidateStructure, Context],
+                     tuple[NDArray[np.float64], list[Column]]]
+    solve: Callable[[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64] | None],
+                    NDArray[np.float64]]
+    constraints: Callable[[Sequence[Column], Context], NDArray[np.float64] | None]
+    penalty: Callable[[CandidateStructure, Context], float]
+
+
+#: design, column names, per-block normal equations (G, b, y'y) and constraints of a structure
+Normal = tuple['NDArray[np.float64]', 'list[Column]', 'NDArray[np.float64]',
+               'NDArray[np.float64]', 'NDArray[np.float64]', 'NDArray[np.float64] | None']
+
+
+def active_params(s: CandidateStructure) -> list[str]:
     """Nonlinear parameters structure ``s`` has (a subset of :data:`NONLINEAR`, in order)."""
     flags = {'vs': bool(s.nfs), 'dv': bool(s.dv_free), 'cyc': bool(s.ripple),
              'ps': bool(s.presliding)}
     return [p for p in NONLINEAR if flags[p]]
 
 
-def varying_params(structures):
+def varying_params(structures: Sequence[CandidateStructure]) -> list[str]:
     """Nonlinear parameters whose values differ among ``structures`` (a grid's)."""
     return [p for p in NONLINEAR if len({getattr(s, p) for s in structures}) > 1]
 
 
-def _t(s, p):
+def _t(s: CandidateStructure, p: str) -> float:
     v = getattr(s, p)
     if p == 'ps':
         return math.log(v[1])
     return math.log(v) if p == 'vs' else float(v)
 
 
-def _at(s, p, t):
+def _at(s: CandidateStructure, p: str, t: float) -> CandidateStructure:
     if p == 'ps':
         return s.with_(ps=(s.ps[0], float(math.exp(t))))
     return s.with_(**{p: float(math.exp(t)) if p == 'vs' else float(t)})
@@ -101,14 +116,15 @@ class Refiner:
 
     """
 
-    def __init__(self, ctx, y, block, k, fns):
+    def __init__(self, ctx: Context, y: NDArray[np.float64], block: NDArray[np.int64], k: int,
+                 fns: Fitting) -> None:
         self.ctx, self.y, self.k, self.fns = ctx, y, k, fns
         self.rows = [np.flatnonzero(block == i) for i in range(k)]
-        self.memo = {}
+        self.memo: dict[CandidateStructure, Normal] = {}
         self.evaluations = 0
-        self._steps = None
+        self._steps: dict[str, float] | None = None
 
-    def normal(self, s):
+    def normal(self, s: CandidateStructure) -> Normal:
         """Design, names, per-block normal equations and constraints of ``s`` (memoised)."""
         out = self.memo.get(s)
         if out is None:
@@ -124,7 +140,8 @@ class Refiner:
             self.evaluations += 1
         return out
 
-    def train(self, s, fold=None):
+    def train(self, s: CandidateStructure,
+              fold: int | None = None) -> tuple[float, NDArray[np.float64]]:
         """Penalised training SSE and coefficients of ``s`` without block ``fold`` (None: all)."""
         x, names, g, b, yy, a = self.normal(s)
         gt, bt, yt = g.sum(0), b.sum(0), yy.sum()
@@ -134,7 +151,7 @@ class Refiner:
         sse = (yt - 2.0 * beta @ bt + beta @ gt @ beta) * self.fns['penalty'](s, self.ctx)
         return float(sse), beta
 
-    def steps(self):
+    def steps(self) -> dict[str, float]:
         """One step (in the search scale) of every parameter."""
         if self._steps is None:
             c = self.ctx
@@ -149,7 +166,8 @@ class Refiner:
                 'ps': math.log(lengths[1] / lengths[0]) if len(lengths) > 1 else math.log(2.0)}
         return self._steps
 
-    def _bounds(self, s, p, grid):
+    def _bounds(self, s: CandidateStructure, p: str,
+                grid: Sequence[CandidateStructure]) -> tuple[float, float]:
         """Search interval of ``p`` around ``s``: grid neighbours, else one step either side."""
         t0, step = _t(s, p), self.steps()[p]
         pts = sorted({_t(g, p) for g in grid if p != 'ps' or g.ps[0] == s.ps[0]})
@@ -165,14 +183,15 @@ class Refiner:
             lo = max(lo, 0.5 * t0)
         return lo, hi
 
-    def search(self, s, p, grid, fold, cur):
+    def search(self, s: CandidateStructure, p: str, grid: Sequence[CandidateStructure],
+               fold: int | None, cur: float) -> tuple[float, CandidateStructure]:
         """Refine ``p`` of ``s`` (training error ``cur``); return the better (error, structure)."""
         lo, hi = self._bounds(s, p, grid)
         lat = self.steps()[p] / LATTICE
         if not hi - lo > 2.0 * lat:
             return cur, s
 
-        def snapped(t):
+        def snapped(t: float) -> CandidateStructure:
             return _at(s, p, min(max(round(t / lat) * lat, lo), hi))
 
         res = optimize.minimize_scalar(lambda t: self.train(snapped(t), fold)[0],
@@ -182,7 +201,9 @@ class Refiner:
         err = self.train(s_new, fold)[0]
         return (err, s_new) if err < cur else (cur, s)
 
-    def best(self, structures, fold=None, every=False):
+    def best(self, structures: Sequence[CandidateStructure], fold: int | None = None,
+             every: bool = False) -> tuple[CandidateStructure, NDArray[np.float64],
+                                           NDArray[np.float64], list[Column]]:
         """
         Best structure for the training blocks (all but ``fold``): grid, then refinement.
 

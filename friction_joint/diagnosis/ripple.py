@@ -1,16 +1,5 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 
 """
 Ripple periods a recording can tell: a ripple must repeat within the travel of a piece.
@@ -25,12 +14,20 @@ periodogram of the friction torque against position (after a Coulomb +
 viscous fit), searched between twice the travel of a bin and
 ``stroke / MIN_REPEATS``.
 """
+from __future__ import annotations
+
 import math
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from .data import BIN
 from .scan import position_periodogram
+
+if TYPE_CHECKING:
+    from numpy.typing import NDArray
+
+    from .data import DiagnosisData
 
 __all__ = ['MIN_REPEATS', 'ripple_cycles', 'ripple_untestable', 'longest_period']
 
@@ -40,16 +37,16 @@ MIN_REPEATS = 3
 MIN_PHASE_BINS = 5
 
 
-def _stroke(data, q):
+def _stroke(data: DiagnosisData, q: NDArray[np.float64]) -> float:
     return float(getattr(data, 'stroke', 0.0) or (np.ptp(q) if len(q) else 0.0))
 
 
-def longest_period(data):
+def longest_period(data: DiagnosisData) -> float:
     """Longest ripple period (rad) the data can tell: the stroke of a piece / MIN_REPEATS."""
     return _stroke(data, np.asarray(getattr(data, 'q', ()), float)) / MIN_REPEATS
 
 
-def ripple_cycles(data, gear_ratio):
+def ripple_cycles(data: DiagnosisData, gear_ratio: float) -> list[float]:
     """
     Ripple fundamentals (cycles per output turn) tried by the ``position_ripple`` candidate.
 
@@ -85,7 +82,7 @@ def ripple_cycles(data, gear_ratio):
     return cycles
 
 
-def ripple_untestable(data, gear_ratio):
+def ripple_untestable(data: DiagnosisData, gear_ratio: float) -> str | None:
     """
     Return why ``position_ripple`` cannot be tested on ``data`` (None: it can).
 

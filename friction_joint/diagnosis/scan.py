@@ -1,16 +1,5 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 
 """
 Open residual scan: the final model's held-out residual against variables no candidate covers.
@@ -72,9 +61,15 @@ by the first testable member's.
 """
 from __future__ import annotations
 
+from collections.abc import Callable, Mapping, Sequence
+from typing import Any, cast, TYPE_CHECKING, TypedDict
+
 import numpy as np
 
 from .data import BIN, DiagnosisData
+
+if TYPE_CHECKING:
+    from numpy.typing import ArrayLike, NDArray
 
 __all__ = ['N_PERM', 'N_QUANT', 'SCAN_ALPHA', 'SCAN_MIN_EXPLAINED', 'BREAKAWAY_BINS',
            'TEMPERATURE_RATE_WINDOW', 'BUFFER', 'CORR_FLOOR', 'MIN_UNITS', 'MIN_COVERAGE',
@@ -118,7 +113,27 @@ COLLINEAR_NOTE = ('collinear in this recording: a recording that moves them inde
                   'would separate them')
 
 
-def _folds(r, block, k):
+class _Folds(TypedDict):
+    """Cross-validation folds of the scan (:func:`_folds`)."""
+
+    block: NDArray[np.int64]        # block of every bin
+    k: int                          # number of blocks
+    h: int                          # blocks left out on either side of the held-out one
+    corr_s: float                   # correlation time of the residual (s)
+    m: NDArray[np.float64]          # training matrix (row i: fold i's training blocks)
+
+
+class _Scanned(TypedDict):
+    """One variable's scan: statistic per row (or why none), note, plot data, table extras."""
+
+    stat: NDArray[np.float64] | None
+    reason: str
+    note: str
+    plot: dict[str, Any] | None
+    extra: dict[str, Any]
+
+
+def _folds(r: NDArray[np.float64], block: NDArray[np.int64], k: int) -> _Folds:
     """Cross-validation folds: blocks, buffer and training matrix (row i: fold i's blocks)."""
     r0 = r - r.mean()
     n = len(r0)
@@ -133,7 +148,8 @@ def _folds(r, block, k):
             'm': (np.abs(i[:, None] - i[None, :]) > h).astype(float)}
 
 
-def _permuted(r, block, k, rng):
+def _permuted(r: NDArray[np.float64], block: NDArray[np.int64], k: int,
+              rng: np.random.Generator) -> NDArray[np.float64]:
     """
     Rows: ``r`` and :data:`N_PERM` copies cut into ``k`` contiguous pieces put in random order.
 
@@ -148,25 +164,28 @@ def _permuted(r, block, k, rng):
     rows[0] = r
     for i in range(1, N_PERM + 1):
         rolled = np.roll(rs, -int(rng.integers(0, max(n, 1))))
-        parts = [rolled[a:b] for a, b in zip(edges[:-1], edges[1:])]
+        parts = [rolled[a:b] for a, b in zip(edges[:-1], edges[1:], strict=True)]
         rows[i, order] = np.concatenate([parts[j] for j in rng.permutation(k)])
     return rows
 
 
-def quantile_cells(x: np.ndarray, n_quant: int = N_QUANT) -> tuple[np.ndarray, int]:
+def quantile_cells(x: NDArray[np.float64],
+                   n_quant: int = N_QUANT) -> tuple[NDArray[np.int64], int]:
     """Return each value's cell among ``n_quant`` quantile cells of ``x``, and the cell count."""
     edges = np.unique(np.quantile(x, np.linspace(0, 1, n_quant + 1)[1:-1]))
     return np.searchsorted(edges, x, side='right'), len(edges) + 1
 
 
-def _coverage(key, n_cells, block, k, m):
+def _coverage(key: NDArray[np.int64], n_cells: int, block: NDArray[np.int64], k: int,
+              m: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.bool_]]:
     """Training counts per fold and cell, and whether each bin's cell has training bins."""
     cnt = np.bincount(block * n_cells + key, minlength=k * n_cells).reshape(k, n_cells)
     tc = m @ cnt
     return tc, tc[block, key] > 0
 
 
-def _explained(rows, key, block, k, n_cells, m):
+def _explained(rows: NDArray[np.float64], key: NDArray[np.int64], block: NDArray[np.int64],
+               k: int, n_cells: int, m: NDArray[np.float64]) -> NDArray[np.float64]:
     """Held-out explained variance of cell means (cell ``key``) per row of ``rows``."""
     nr, n = rows.shape
     tc, _ = _coverage(key, n_cells, block, k, m)
@@ -181,18 +200,19 @@ def _explained(rows, key, block, k, n_cells, m):
     return np.where(sst > 0, 1.0 - sse / np.where(sst > 0, sst, 1.0), 0.0)
 
 
-def _monotone_reason(cov, cv):
+def _monotone_reason(cov: float, cv: _Folds) -> str:
     return (f'untestable: only {100 * cov:.0f} % of the bins have their value range visited '
             f'again more than {cv["h"]} block(s) away (the residual is correlated over '
             f'{cv["corr_s"]:.3g} s): a dependence on the variable cannot be told from a drift '
             'of the residual')
 
 
-def _result(stat=None, reason='', note='', plot=None, extra=None):
+def _result(stat: NDArray[np.float64] | None = None, reason: str = '', note: str = '',
+            plot: dict[str, Any] | None = None, extra: dict[str, Any] | None = None) -> _Scanned:
     return {'stat': stat, 'reason': reason, 'note': note, 'plot': plot, 'extra': extra or {}}
 
 
-def _scan_variable(x, rows, cv):
+def _scan_variable(x: NDArray[np.float64], rows: NDArray[np.float64], cv: _Folds) -> _Scanned:
     """Statistic per row of one variable (quantile-cell smooth fit), or why there is none."""
     if len(x) < MIN_BINS:
         return _result(reason=f'only {len(x)} bins (at least {MIN_BINS} needed)')
@@ -209,12 +229,13 @@ def _scan_variable(x, rows, cv):
     return _result(_explained(rows, key, block, k, n_cells, m), plot=plot)
 
 
-def _units_reason(k):
+def _units_reason(k: int) -> str:
     return (f'untestable: only {k} cross-validation blocks, at least {MIN_UNITS} are needed for '
             'a block-permutation p-value below the level')
 
 
-def _grid(q, p_min):
+def _grid(q: NDArray[np.float64], p_min: float
+          ) -> tuple[NDArray[np.int64], int, float, NDArray[np.float64]]:
     """Position cells of the periodogram: index per bin, count, width and weights."""
     span = float(np.ptp(q))
     cell = max(p_min / 4.0, span / MAX_CELLS)
@@ -224,7 +245,9 @@ def _grid(q, p_min):
     return idx, n_cells, cell, w
 
 
-def position_periodogram(q, rows, p_min, p_max):
+def position_periodogram(q: NDArray[np.float64], rows: Sequence[NDArray[np.float64]],
+                         p_min: float, p_max: float
+                         ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """Return periods and |FFT|^2 (per row) of residuals ``rows`` on a uniform grid of ``q``."""
     idx, n_cells, cell, w = _grid(q, p_min)
     grid = np.stack([np.bincount(idx, weights=r - r.mean(), minlength=n_cells) * w
@@ -233,10 +256,11 @@ def position_periodogram(q, rows, p_min, p_max):
     power = np.abs(np.fft.rfft(grid, nfft, axis=1)) ** 2
     f = np.fft.rfftfreq(nfft, d=cell)
     band = (f >= 1.0 / p_max) & (f <= 1.0 / p_min)
-    return 1.0 / f[band], power[:, band] / n_cells
+    return cast('NDArray[np.float64]', 1.0 / f[band]), power[:, band] / n_cells
 
 
-def _fold_periods(q, rows, cv, p_range):
+def _fold_periods(q: NDArray[np.float64], rows: NDArray[np.float64], cv: _Folds,
+                  p_range: tuple[float, float]) -> NDArray[np.float64] | None:
     """Strongest period of the training blocks' periodogram, per row and fold."""
     block, k, h = cv['block'], cv['k'], cv['h']
     idx, n_cells, cell, w = _grid(q, p_range[0])
@@ -252,12 +276,13 @@ def _fold_periods(q, rows, cv, p_range):
     lo, hi = np.flatnonzero(band)[[0, -1]]
     near = np.clip(np.arange(k)[:, None] + np.array([[-h, h + 1]]), 0, k)
 
-    def training(v):
+    def training(v: NDArray[Any]) -> NDArray[Any]:
         """Per fold: the sum over all blocks minus that over the held-out one and its buffer."""
         c = np.concatenate([np.zeros((1,) + v.shape[1:], v.dtype), np.cumsum(v, axis=0)])
-        return c[-1][None] - (c[near[:, 1]] - c[near[:, 0]])
+        out: NDArray[Any] = c[-1][None] - (c[near[:, 1]] - c[near[:, 0]])
+        return out
 
-    def spectra(v):
+    def spectra(v: NDArray[np.float64]) -> NDArray[np.complex128]:
         g = np.bincount(key, weights=v * w[idx], minlength=k * n_cells).reshape(k, n_cells)
         return training(np.fft.rfft(g, nfft, axis=1)[:, lo:hi + 1])
 
@@ -271,7 +296,9 @@ def _fold_periods(q, rows, cv, p_range):
     return out
 
 
-def _sine_explained(q, rows, cv, periods, covered):
+def _sine_explained(q: NDArray[np.float64], rows: NDArray[np.float64], cv: _Folds,
+                    periods: NDArray[np.float64], covered: NDArray[np.bool_]
+                    ) -> NDArray[np.float64]:
     """Held-out explained variance of a sine at each row's and fold's period (training fit)."""
     nr, block, m = rows.shape[0], cv['block'], cv['m']
     sse, sst = np.zeros(nr), np.zeros(nr)
@@ -293,7 +320,7 @@ def _sine_explained(q, rows, cv, periods, covered):
     return np.where(sst > 0, 1.0 - sse / np.where(sst > 0, sst, 1.0), 0.0)
 
 
-def _scan_position(data, rows, cv):
+def _scan_position(data: DiagnosisData, rows: NDArray[np.float64], cv: _Folds) -> _Scanned:
     q, r = data.average(data.q), rows[0]
     travel = float(np.median(np.abs(data.average(data.qd)))) * BIN
     p_min = max(2.0 * travel, 2.0 * data.resolution)
@@ -325,13 +352,13 @@ def _scan_position(data, rows, cv):
     return out
 
 
-def _ranks(x):
+def _ranks(x: NDArray[np.float64]) -> NDArray[np.float64]:
     """Return the ranks of ``x``, ties averaged."""
     _, inv, cnt = np.unique(x, return_inverse=True, return_counts=True)
     return ((np.cumsum(cnt) - cnt) + (cnt - 1) / 2.0)[inv.ravel()]
 
 
-def _collinear(xs):
+def _collinear(xs: Mapping[str, NDArray[np.float64]]) -> list[list[str]]:
     """Return groups (name lists, in order) of variables with |rank correlation| > COLLINEAR."""
     names = list(xs)
     with np.errstate(invalid='ignore', divide='ignore'):
@@ -342,20 +369,24 @@ def _collinear(xs):
             if abs(c[i, j]) > COLLINEAR and label[j] != label[i]:
                 old = label[j]
                 label = [label[i] if lab == old else lab for lab in label]
-    return [[n for n, lab in zip(names, label) if lab == g] for g in dict.fromkeys(label)]
+    return [[n for n, lab in zip(names, label, strict=True) if lab == g]
+            for g in dict.fromkeys(label)]
 
 
-def _combine(group, results):
+def _combine(group: Sequence[str], results: Sequence[_Scanned]
+             ) -> tuple[dict[str, Any], dict[str, Any] | None]:
     """Table entry and plot data of a group of variables, tested once (position or the first)."""
-    entry = {'variable': ' ~ '.join(group), 'explained': None, 'p_value': None, 'note': '',
-             'untestable': ''}
+    entry: dict[str, Any] = {'variable': ' ~ '.join(group), 'explained': None, 'p_value': None,
+                             'note': '', 'untestable': ''}
     for res in results:
         entry.update(res['extra'])
     test = [res for res in results if res['stat'] is not None]
     if test:
-        best = next((res for name, res in zip(group, results)
+        best = next((res for name, res in zip(group, results, strict=True)
                      if name == 'position' and res['stat'] is not None), test[0])
         stat = best['stat']
+        if stat is None:                # best is one of test
+            raise AssertionError('a tested variable without its statistic')
         entry['explained'] = float(stat[0])
         entry['p_value'] = float((1 + np.count_nonzero(stat[1:] >= stat[0])) / len(stat))
         entry['note'] = best['note']
@@ -370,7 +401,7 @@ def _combine(group, results):
     return entry, pdata
 
 
-def _temperature_rate(data):
+def _temperature_rate(data: DiagnosisData) -> NDArray[np.float64]:
     rate = np.zeros(len(data.t))
     for p in np.unique(data.piece):
         m = np.flatnonzero(data.piece == p)
@@ -385,7 +416,7 @@ def _temperature_rate(data):
     return rate
 
 
-def _dwell(data):
+def _dwell(data: DiagnosisData) -> tuple[NDArray[np.float64], NDArray[np.bool_]]:
     """Per bin: dwell time before the breakaway, and whether it is a first bin after one."""
     stick = np.abs(data.qd) < data.v_stick
     n = len(stick)
@@ -410,7 +441,8 @@ def _dwell(data):
     return dw, sel
 
 
-def residual_scan(data: DiagnosisData, r: np.ndarray) -> dict:
+def residual_scan(data: DiagnosisData, r: ArrayLike, *,
+                  progress: Callable[[str], None] | None = None) -> dict[str, Any]:
     """
     Scan the residual ``r`` (per bin) against the variables of the module docstring.
 
@@ -420,6 +452,9 @@ def residual_scan(data: DiagnosisData, r: np.ndarray) -> dict:
         The diagnosis data.
     r : ndarray
         Held-out residual of the final model per bin (Nm).
+    progress : callable, optional
+        Called with a line before each variable's permutation test (the scan takes
+        tens of seconds on long recordings).
 
     Returns
     -------
@@ -436,23 +471,30 @@ def residual_scan(data: DiagnosisData, r: np.ndarray) -> dict:
     block, k = data.block, data.n_blocks
     rows = _permuted(r, block, k, rng)
     cv = _folds(r, block, k)
-    table, plot = [], {}
+    table: list[dict[str, Any]] = []
+    plot: dict[str, dict[str, Any] | None] = {}
 
-    def add(entry, pdata):
+    def add(entry: dict[str, Any], pdata: dict[str, Any] | None) -> None:
         table.append(entry)
         plot[entry['variable']] = pdata
 
-    xs = {'time': np.arange(len(r)) * BIN, 'position': data.average(data.q),
-          'velocity': data.average(data.qd), 'acceleration': data.average(data.qdd)}
+    xs: dict[str, NDArray[np.float64]] = {
+        'time': np.arange(len(r), dtype=float) * BIN, 'position': data.average(data.q),
+        'velocity': data.average(data.qd), 'acceleration': data.average(data.qdd)}
     if data.has_temperature:
         xs['temperature_rate'] = data.average(_temperature_rate(data))
-    res = {name: _scan_position(data, rows, cv) if name == 'position'
-           else _scan_variable(x, rows, cv) for name, x in xs.items()}
+    say = progress or (lambda message: None)
+    res: dict[str, _Scanned] = {}
+    for i, (name, x) in enumerate(xs.items()):
+        say(f'residual scan: {name} ({i + 1} of {len(xs) + 1}, {N_PERM} permutations)')
+        res[name] = (_scan_position(data, rows, cv) if name == 'position'
+                     else _scan_variable(x, rows, cv))
     for group in _collinear(xs):
         add(*_combine(group, [res[name] for name in group]))
     if not data.has_temperature:
         add(*_combine(['temperature_rate'],
                       [_result(reason='no temperature signal in the recordings')]))
+    say(f'residual scan: dwell after a breakaway ({len(xs) + 1} of {len(xs) + 1})')
     dw, sel = _dwell(data)
     sgn = np.sign(data.average(data.qd))
     rd = (r * sgn)[sel]

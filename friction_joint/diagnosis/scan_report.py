@@ -1,16 +1,5 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 
 """
 The residual scan's figure and table (:func:`.scan.residual_scan` computes the scan).
@@ -21,13 +10,20 @@ binned means, and the position periodogram with its strongest period;
 """
 from __future__ import annotations
 
+from collections.abc import Iterable
+from typing import Any, TYPE_CHECKING
+
 import numpy as np
 
 from .scan import (BUFFER, COLLINEAR, N_PERM, N_QUANT, quantile_cells, SCAN_ALPHA,
                    SCAN_MIN_EXPLAINED)
 from ..results import render_png
 
-__all__ = ['draw_scan', 'scan_png', 'markdown_lines', 'MAX_POINTS', 'SCAN_SIZE']
+if TYPE_CHECKING:
+    from matplotlib.figure import Figure
+    from numpy.typing import NDArray
+
+__all__ = ['draw_scan', 'scan_png', 'markdown_lines', 'table_cell', 'MAX_POINTS', 'SCAN_SIZE']
 
 #: size of the residual-scan figure, inches
 SCAN_SIZE = (12, 7)
@@ -42,7 +38,18 @@ _LABELS = {'time': 'sliding time (s)', 'position': 'cycles per rad (1 / period)'
            'dwell': 'dwell time before the breakaway (s)'}
 
 
-def _binned_means(x, r):
+def table_cell(text: object) -> str:
+    r"""
+    Return computed or user text as one Markdown table cell: pipes escaped, one line.
+
+    A ``|`` in a cell (``|tau_ext|``, ``|qd|``) would end the cell and cut the
+    rest of the row in every renderer; ``\|`` shows it as written.
+    """
+    return ' '.join(str(text).replace('\\|', '|').replace('|', '\\|').split())
+
+
+def _binned_means(x: NDArray[np.float64], r: NDArray[np.float64]
+                  ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     key, n_cells = quantile_cells(x)
     cnt = np.bincount(key, minlength=n_cells)
     ok = cnt > 0
@@ -50,24 +57,25 @@ def _binned_means(x, r):
     return xm, np.bincount(key, weights=r, minlength=n_cells)[ok] / cnt[ok]
 
 
-def scan_png(scan, size=SCAN_SIZE, dpi=100):
+def scan_png(scan: dict[str, Any], size: tuple[float, float] = SCAN_SIZE,
+             dpi: float = 100) -> bytes:
     """Return the PNG bytes of the residual-scan figure (:func:`draw_scan`)."""
     return render_png(lambda fig: draw_scan(fig, scan), size, dpi=dpi, tight=False)
 
 
-def _title(entry):
+def _title(entry: dict[str, Any]) -> str:
     if entry['p_value'] is None:
         return f'{entry["variable"]}: untestable'
     return (f'{entry["variable"]}: explained {100 * entry["explained"]:.1f} %, '
             f'p {entry["p_value"]:.3g}')
 
 
-def draw_scan(fig, scan):
+def draw_scan(fig: Figure, scan: dict[str, Any]) -> None:
     """Draw the residual scan (:func:`residual_scan`'s result) on a matplotlib figure."""
     ax = fig.subplots(2, 3).ravel()
     for a in ax[len(scan['table']):]:
         a.set_axis_off()
-    for a, entry in zip(ax, scan['table']):
+    for a, entry in zip(ax, scan['table'], strict=False):
         name = entry['variable']
         pdata = scan['plot'].get(name)
         a.locator_params(nbins=4)
@@ -98,7 +106,7 @@ def draw_scan(fig, scan):
     fig.subplots_adjust(left=0.07, right=0.98, bottom=0.08, top=0.95, wspace=0.3, hspace=0.35)
 
 
-def markdown_lines(table):
+def markdown_lines(table: Iterable[dict[str, Any]]) -> list[str]:
     """Lines of the residual-scan section of ``report.md``."""
     lines = ['## Residual scan', '',
              'The held-out residual of the diagnosed model (all named effects) against '
@@ -119,6 +127,6 @@ def markdown_lines(table):
         ex = '-' if e['explained'] is None else f'{100 * e["explained"]:.1f} %'
         p = (('untestable' if e.get('untestable') else '-') if e['p_value'] is None
              else f'{e["p_value"]:.3g}')
-        lines.append(f'| {e["variable"]} | {ex} | {p} | {"**yes**" if e["flagged"] else "no"} '
-                     f'| {e["note"]} |')
+        lines.append(f'| {table_cell(e["variable"])} | {ex} | {p} | '
+                     f'{"**yes**" if e["flagged"] else "no"} | {table_cell(e["note"])} |')
     return lines + ['', '![residual_scan.png](residual_scan.png)', '']

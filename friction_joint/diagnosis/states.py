@@ -1,16 +1,5 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 
 """
 Signals the diagnosis's design derives from the measured position: pre-sliding state, travel.
@@ -32,13 +21,32 @@ own updates, in normalised units:
   h = sum alpha_i clip(h_i + k_i dq / (alpha_i g), -1, 1), slip being
   instantaneous (attraction :data:`GMS_SLIP`).
 """
+from __future__ import annotations
+
+from typing import Protocol, TYPE_CHECKING
+
 import numpy as np
 
 from .._jit import njit
 from ..models.gms import gms_update
 from ..models.lugre import lugre_update
 
+if TYPE_CHECKING:
+    from numpy.typing import NDArray
+
+    from .data import DiagnosisData
+
 __all__ = ['presliding_state', 'accumulated_travel', 'GMS_SLIP']
+
+
+class _StateContext(Protocol):
+    """What :func:`presliding_state` reads of a design context (``structures.Context``)."""
+
+    data: DiagnosisData
+    g_nom: float
+    gms_ratios: NDArray[np.float64]
+    gms_alpha: NDArray[np.float64]
+
 
 #: attraction parameter C of the GMS elements of :func:`presliding_state` (unit steps, |g| = 1):
 #: a slipping element's torque is its share of g to the last bit (exp(-C) < 1e-43), while a
@@ -48,7 +56,8 @@ GMS_SLIP = 100.0
 
 
 @njit
-def _lugre_state(dq, piece, a, out):
+def _lugre_state(dq: NDArray[np.float64], piece: NDArray[np.int64], a: float,
+                 out: NDArray[np.float64]) -> None:
     """
     Write the LuGre state h = sigma0 z / g over position increments ``dq`` (eq. 10) to out.
 
@@ -66,7 +75,8 @@ def _lugre_state(dq, piece, a, out):
 
 
 @njit
-def _gms_state(dq, piece, k, alpha, out):
+def _gms_state(dq: NDArray[np.float64], piece: NDArray[np.int64], k: NDArray[np.float64],
+               alpha: NDArray[np.float64], out: NDArray[np.float64]) -> None:
     """
     Write the GMS state h = sum alpha_i h_i over position increments ``dq`` to out.
 
@@ -89,7 +99,7 @@ def _gms_state(dq, piece, k, alpha, out):
         out[j] = gms_update((z, stick, slipdir), (k, alpha, GMS_SLIP), dq[j], 1.0, 1.0)
 
 
-def presliding_state(ctx, ps):
+def presliding_state(ctx: _StateContext, ps: tuple[str, float]) -> NDArray[np.float64]:
     """Normalised pre-sliding friction state h (full rate) for ``ps = (model, stiffness)``."""
     d = ctx.data
     dq = np.diff(d.qf, prepend=d.qf[0])
@@ -103,7 +113,7 @@ def presliding_state(ctx, ps):
     return out
 
 
-def accumulated_travel(data):
+def accumulated_travel(data: DiagnosisData) -> NDArray[np.float64]:
     """
     Accumulated travel s / s_total (full rate, 0..1) of the data, in recording order.
 
@@ -112,5 +122,6 @@ def accumulated_travel(data):
     """
     dq = np.abs(np.diff(data.qf, prepend=data.qf[0]))
     dq[np.r_[True, data.piece[1:] != data.piece[:-1]]] = 0.0
-    s = np.cumsum(dq)
-    return s / s[-1] if s[-1] > 0 else s
+    s: NDArray[np.float64] = np.cumsum(dq)
+    total = float(s[-1])
+    return s / total if total > 0 else s

@@ -1,16 +1,5 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 
 """
 Friction model structures for diagnosis, as linear regressions over the bin averages.
@@ -27,6 +16,7 @@ optimisation between the grid points (variable projection,
           + sum_n a_n sin(n c q) + b_n cos(n c q)                  (position ripple)
           + offset + dJ q̈                                          (asymmetry, inertia)
           + a sin q + b cos q                                      (gravity)
+            (short stroke: c0 + c1 x + c2 x^2, x = (q - centre) / half stroke)
           + sum_j fc_drift_j P_j(s) h (1 - E)                          (drift)
 
 with E = exp(-|kappa qd / v_s|^delta_s), u the (clipped, centred, scaled)
@@ -72,7 +62,8 @@ between grid points leaves no systematic residual for another candidate.
 
 Physical fits
 -------------
-Every least-squares fit is bounded (:func:`solve_physical`): F_c, F_s and F_v
+Every least-squares fit is bounded
+(:func:`~friction_joint.diagnosis.physical.solve_physical`): F_c, F_s and F_v
 (with their load terms) must be >= 0 on a grid over the temperature range the
 fit is valid on (the data's, clipped to the base's) and over the data's load
 range.  The unconstrained solution is kept when it satisfies this; otherwise
@@ -81,8 +72,10 @@ delta_v in [0.3, 1.7] hold by their grids and the refinement's bounds.
 """
 from __future__ import annotations
 
+from collections.abc import Sequence
 import dataclasses
 import math
+from typing import Any, TYPE_CHECKING
 
 import numpy as np
 
@@ -90,9 +83,18 @@ from .ripple import ripple_cycles
 from .states import accumulated_travel, presliding_state
 from ..identification.static_structure import StaticStructure
 
-__all__ = ['CandidateStructure', 'design', 'column_groups', 'solve', 'solve_physical', 'grid_of',
+if TYPE_CHECKING:
+    from numpy.typing import ArrayLike, NDArray
+
+    from .data import DiagnosisData
+    from ..gear import GearParams
+
+#: a design column's name: (coefficient kind, power or index)
+Column = tuple[str, int]
+
+__all__ = ['CandidateStructure', 'design', 'column_groups', 'grid_of',
            'coefficients', 'presliding_state', 'fit_range', 'drift_basis', 'DRIFT_ORDER',
-           'accumulated_travel', 'ripple_cycles', 'constraints', 'Context']
+           'accumulated_travel', 'ripple_cycles', 'Context', 'Column']
 
 #: floats the context's cache of design column groups holds at most
 CACHE_FLOATS = 10_000_000
@@ -110,8 +112,6 @@ N_CONSTRAINT = 9
 RIPPLE_HARMONICS = 3
 #: basis functions of the travel-dependent Coulomb level of ``drift``
 DRIFT_ORDER = 2
-#: points of the travel grid of the physical constraints of ``drift``
-N_DRIFT_CONSTRAINT = 9
 GMS_RATIOS = np.array([0.6, 0.25, 0.1, 0.05])
 
 
@@ -164,7 +164,7 @@ class CandidateStructure:
 
     @classmethod
     def from_static(cls, static: StaticStructure,
-                    **terms: float | bool | tuple) -> CandidateStructure:
+                    **terms: Any) -> CandidateStructure:
         """
         Return the structure of a static structure plus the terms the diagnosis adds.
 
@@ -194,6 +194,7 @@ class CandidateStructure:
         if fixed:
             raise ValueError(f'the diagnosis fits {", ".join(fixed)}: cannot keep it fixed')
         loads = static.load_orders
+        own: dict[str, Any]
         own = {'nfc': static.length('fc'), 'nfv': static.length('fv'),
                'nfs': static.length('fs') if static.stribeck else 0,
                'nfc_load': loads.get('fc', 0), 'nfv_load': loads.get('fv', 0),
@@ -239,7 +240,7 @@ class CandidateStructure:
                                          'velocity_scale': base.velocity_scale}
         return StaticStructure(orders, load, fixed, bool(self.nfs), **extra)
 
-    def with_(self, **kw: float | bool | tuple) -> CandidateStructure:
+    def with_(self, **kw: Any) -> CandidateStructure:
         """
         Return a copy with some fields changed.
 
@@ -259,7 +260,7 @@ class CandidateStructure:
 class Context:
     """What the design matrix needs besides the data: base polynomial shapes and scales."""
 
-    def __init__(self, gear, data):
+    def __init__(self, gear: GearParams, data: DiagnosisData) -> None:
         f = gear.friction
         self.kappa = f.velocity_scale
         self.ds = f.delta_s
@@ -300,29 +301,32 @@ class Context:
         self.gms_alpha = np.asarray(f.gms.alpha, float) if f.gms is not None else \
             np.full(len(ratios), 1.0 / len(ratios))
         self.g_nom = level
-        self.ps_models = ('lugre', 'gms')
+        #: ``(centre, half stroke)`` (rad): ``gravity`` is a smooth pose-dependent load about
+        #: the stroke's centre (the stroke too short for a lever's sine); None: the sine
+        self.pose: tuple[float, float] | None = None
+        self.ps_models: tuple[str, ...] = ('lugre', 'gms')
         self.data = data
         self.dv_grid = DV_GRID
-        self._travel = None
-        self.columns = {}
+        self._travel: NDArray[np.float64] | None = None
+        self.columns: dict[CandidateStructure, tuple[NDArray[np.float64], list[Column]]] = {}
         self._cached = 0
 
     @property
-    def travel(self):
+    def travel(self) -> NDArray[np.float64]:
         """Return the accumulated travel as a fraction of its total, 0..1, at full rate."""
         if self._travel is None:
             self._travel = accumulated_travel(self.data)
         return self._travel
 
 
-def drift_basis(x, order):
+def drift_basis(x: ArrayLike, order: int) -> list[NDArray[np.float64]]:
     """Shifted Legendre polynomials 1..``order`` of ``x`` in 0..1 (list of arrays)."""
     z = 2.0 * np.asarray(x, float) - 1.0
     return [np.polynomial.legendre.legval(z, np.eye(order + 1)[j]) for j in range(1, order + 1)]
 
 
 #: the fields of each column group of :func:`design`, and their values when a group is left out
-_GROUPS = (
+_GROUPS: tuple[dict[str, Any], ...] = (
     {'nfc': 0, 'nfc_load': 0, 'drift': 0, 'nfs': 0, 'nfs_load': 0, 'vs': 0.0,
      'presliding': False, 'ps': None},                             # Coulomb/Stribeck/drift
     {'nfv': 0, 'nfv_load': 0, 'dv': 1.0},                          # viscous
@@ -330,7 +334,7 @@ _GROUPS = (
     {'offset': False, 'gravity': False, 'inertia': False})         # the others
 
 
-def column_groups(s):
+def column_groups(s: CandidateStructure) -> list[CandidateStructure]:
     """
     Return the column groups of ``s``'s design, each a structure with only those columns.
 
@@ -351,7 +355,7 @@ def column_groups(s):
     return out
 
 
-def design(s, ctx):
+def design(s: CandidateStructure, ctx: Context) -> tuple[NDArray[np.float64], list[Column]]:
     """
     Bin-averaged design matrix (n_bins, p) and column names of structure ``s``.
 
@@ -376,14 +380,15 @@ def design(s, ctx):
     return x, names
 
 
-def _columns(s, ctx):
+def _columns(s: CandidateStructure, ctx: Context) -> tuple[NDArray[np.float64], list[Column]]:
     """Bin-averaged columns and names of ``s`` (computed)."""
     d = ctx.data
     v = ctx.kappa * d.qd
     sgn = np.sign(d.qd)
-    cols, names = [], []
+    cols: list[NDArray[np.float64]] = []
+    names: list[Column] = []
 
-    def terms(base, name, n_temp, n_load):
+    def terms(base: NDArray[np.float64], name: str, n_temp: int, n_load: int) -> None:
         # polynomial in the temperature variable u (powers 0..) and the load vl (powers 1..)
         for k in range(n_temp):
             cols.append(base * ctx.u ** k)
@@ -396,7 +401,7 @@ def _columns(s, ctx):
         h = presliding_state(ctx, s.ps) if s.presliding else sgn
         if s.nfs:
             vs = s.vs * ctx.kappa * ctx.vs_shape
-            e = np.exp(-np.abs(v / vs) ** ctx.ds)
+            e: NDArray[np.float64] | float = np.exp(-np.abs(v / vs) ** ctx.ds)
         else:
             e = 0.0
         terms(h * (1.0 - e), 'fc', s.nfc, s.nfc_load)
@@ -420,7 +425,12 @@ def _columns(s, ctx):
     if s.offset:
         cols.append(np.ones_like(v))
         names.append(('offset', 0))
-    if s.gravity:                      # a direction-independent m g l sin(q - q0)
+    if s.gravity and ctx.pose is not None:     # short stroke: a smooth pose-dependent load
+        x = (d.qf - ctx.pose[0]) / ctx.pose[1]
+        for k in range(0 if not s.offset else 1, 3):
+            cols.append(x ** k)
+            names.append(('pose', k))
+    elif s.gravity:                    # a direction-independent m g l sin(q - q0)
         cols.extend((np.sin(d.qf), np.cos(d.qf)))
         names.extend((('gravity_sin', 0), ('gravity_cos', 0)))
     if s.inertia:
@@ -430,7 +440,7 @@ def _columns(s, ctx):
     return x, names
 
 
-def grid_of(s, new, ctx):
+def grid_of(s: CandidateStructure, new: str | None, ctx: Context) -> list[CandidateStructure]:
     """Grid of structures over the nonlinear parameter named in ``new`` (None: no grid)."""
     if new is None:
         return [s]
@@ -446,17 +456,7 @@ def grid_of(s, new, ctx):
     raise ValueError(new)
 
 
-def solve(g, b):
-    """Least squares from normal equations, columns scaled, tiny ridge for conditioning."""
-    sc = np.sqrt(np.maximum(np.diag(g), 1e-300))
-    gs = g / np.outer(sc, sc)
-    bs = b / sc
-    p = len(bs)
-    beta = np.linalg.solve(gs + 1e-10 * np.eye(p), bs)
-    return beta / sc
-
-
-def fit_range(gear, data):
+def fit_range(gear: GearParams, data: DiagnosisData) -> tuple[float, float]:
     """
     Temperature range (degC) an extended model is valid on.
 
@@ -469,61 +469,7 @@ def fit_range(gear, data):
     return (nlo, nhi) if nhi > nlo else (lo, hi)
 
 
-def constraints(names, ctx):
-    """
-    Rows ``A`` of the physical constraints ``A beta >= 0`` of a design's columns, or None.
-
-    F_c, F_s and F_v (each with its load terms) at :data:`N_CONSTRAINT`
-    temperatures of ``ctx.range`` and at zero and the largest load of the data.
-    """
-    rows = []
-    for group in ('fc', 'fs', 'fv'):
-        cols = [(j, kind[len(group):], i) for j, (kind, i) in enumerate(names)
-                if kind in (group, group + '_load', group + '_drift')]
-        if not cols:
-            continue
-        n_drift = max([i for _, kind, i in cols if kind == '_drift'] or [0])
-        s_grid = np.linspace(0.0, 1.0, N_DRIFT_CONSTRAINT) if n_drift else np.zeros(1)
-        phis = drift_basis(s_grid, n_drift) if n_drift else []
-        for u in ctx.u_grid:
-            for vl in {0.0, ctx.vl_max}:
-                for m in range(len(s_grid)):
-                    row = np.zeros(len(names))
-                    for j, kind, i in cols:
-                        row[j] = (u ** i if kind == '' else vl ** i if kind == '_load'
-                                  else phis[i - 1][m])
-                    rows.append(row)
-    return np.array(rows) if rows else None
-
-
-def solve_physical(g, b, a):
-    """
-    Least squares from normal equations with the constraints ``a beta >= 0`` (None: none).
-
-    The unconstrained solution (:func:`solve`) when it satisfies them, else the
-    bounded quadratic problem solved by SLSQP on scaled columns.
-    """
-    beta = solve(g, b)
-    if a is None:
-        return beta
-    sc = np.sqrt(np.maximum(np.diag(g), 1e-300))
-    scale = float(np.max(np.abs(a @ beta))) or 1.0
-    if np.min(a @ beta) >= 0.0:
-        return beta
-    from scipy import optimize
-    gs, bs, a_s = g / np.outer(sc, sc), b / sc, a / sc
-    gs = gs + 1e-10 * np.eye(len(bs))
-    z0 = beta * sc
-    margin = 1e-9 * scale            # strictly inside: the gear file checks >= 0 exactly
-    res = optimize.minimize(lambda z: z @ gs @ z - 2.0 * bs @ z, z0,
-                            jac=lambda z: 2.0 * (gs @ z - bs), method='SLSQP',
-                            constraints=[{'type': 'ineq', 'fun': lambda z: a_s @ z - margin,
-                                          'jac': lambda z: a_s}],
-                            options={'maxiter': 200, 'ftol': 1e-12})
-    return res.x / sc
-
-
-def _raw_poly(c, xc, xs):
+def _raw_poly(c: Sequence[float], xc: float, xs: float) -> list[float]:
     """Coefficients in u = (x - xc)/xs -> coefficients in x."""
     p = np.polynomial.Polynomial(c)(np.polynomial.Polynomial([-xc / xs, 1.0 / xs]))
     out = np.zeros(len(c))
@@ -531,18 +477,20 @@ def _raw_poly(c, xc, xs):
     return [float(v) for v in out]
 
 
-def coefficients(s, beta, names, ctx):
+def coefficients(s: CandidateStructure, beta: NDArray[np.float64], names: Sequence[Column],
+                 ctx: Context) -> dict[str, Any]:
     """Gear-file coefficient lists and extras from a fitted structure."""
-    by = {}
-    for (kind, i), val in zip(names, beta):
+    by: dict[str, dict[int, float]] = {}
+    for (kind, i), val in zip(names, beta, strict=True):
         by.setdefault(kind, {})[i] = float(val)
 
-    def temp(kind, n):
+    def temp(kind: str, n: int) -> list[float] | None:
         return _raw_poly([by[kind][i] for i in range(n)], ctx.xc, ctx.xs) if n else None
 
-    def load(kind, n):
+    def load(kind: str, n: int) -> list[float]:
         return [by[kind][j] / ctx.ts ** j for j in range(1, n + 1)]
 
+    out: dict[str, Any]
     out = {'fc': temp('fc', s.nfc), 'fv': temp('fv', s.nfv),
            'fc_load': load('fc_load', s.nfc_load), 'fv_load': load('fv_load', s.nfv_load)}
     if s.nfs:
@@ -553,12 +501,14 @@ def coefficients(s, beta, names, ctx):
             out['vs'] = [float(c * scale) for c in ctx.vs_coef]
         else:
             out['vs'] = [s.vs * ctx.kappa]
+        out['velocity_scale'] = float(ctx.kappa)           # vs is in velocity_scale x rad/s
     if s.dv_free or s.dv != 1.0:
-        dvc = list(ctx.dv_coef)
+        dvc: list[Any] = list(ctx.dv_coef)
         dvc[0] += s.dv - np.polynomial.polynomial.polyval(ctx.xc, ctx.dv_coef)
         out['delta_v'] = [float(v) for v in dvc]
     if s.ripple:
-        amp, ph = [], []
+        amp: list[float] = []
+        ph: list[float] = []
         for n in range(1, s.ripple + 1):
             a, b = by['ripple_sin'][n], by['ripple_cos'][n]
             amp.append(math.hypot(a, b))
@@ -568,7 +518,13 @@ def coefficients(s, beta, names, ctx):
         out['offset'] = by['offset'][0]
     if s.inertia:
         out['d_inertia'] = by['inertia'][0]
-    if s.gravity:
+    if s.gravity and 'pose' in by:     # Nm per power of rad about the stroke's centre
+        if ctx.pose is None:                # set whenever a pose term is fitted
+            raise AssertionError('a pose term without the frame of its stroke')
+        c, h = ctx.pose
+        out['gravity'] = {'pose': {'center': float(c), 'coefficients': [
+            by['pose'].get(k, 0.0) / h ** k for k in range(3)]}}
+    elif s.gravity:
         out['gravity'] = {'sin': by['gravity_sin'][0], 'cos': by['gravity_cos'][0]}
     if s.presliding:
         out['presliding'] = {'model': s.ps[0], 'stiffness': s.ps[1]}

@@ -1,16 +1,5 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 
 """
 Which candidate effects the data can tell: untestable ones get a one-line reason.
@@ -33,7 +22,8 @@ sliding threshold, position resolution), none in rad/s, Nm or Nm/rad:
 * ``nonlinear_viscous``, ``stribeck``: sliding speeds spanning a ratio of at
   least :data:`SPEED_RATIO` (5-95 %);
 * ``presliding``: at least :data:`MIN_REVERSALS` velocity reversals (sign
-  changes of qd among samples with ``|qd| >= v_stick``);
+  changes of qd among samples with ``|qd| >= v_stick``, within a piece: across
+  a gap the direction changes unseen);
 * ``inertia``: std(J qdd) at least :data:`INERTIA_SPAN` times the friction
   level (a base inertia of 0 cannot be scaled), and (checked after the base
   fit, :func:`inertia_noise_gain`) the encoder's quantisation in the
@@ -55,6 +45,8 @@ import numpy as np
 from .ripple import ripple_untestable
 
 if TYPE_CHECKING:
+    from numpy.typing import NDArray
+
     from .data import DiagnosisData
 
 __all__ = ['MIN_XI_SPAN', 'LOAD_SPAN', 'SPEED_RATIO', 'MIN_REVERSALS', 'INERTIA_SPAN',
@@ -77,7 +69,7 @@ MIN_DIRECTION = 0.05
 DRIFT_STROKES = 5.0
 
 
-def _span(x):
+def _span(x: NDArray[np.float64]) -> float:
     return float(np.percentile(x, 97.5) - np.percentile(x, 2.5))
 
 
@@ -100,7 +92,7 @@ def untestable(data: DiagnosisData, gear_ratio: float, effects: Sequence[str]) -
         Effect -> one-line reason, only for untestable effects.
 
     """
-    why = {}
+    why: dict[str, str] = {}
     level = data.friction_level
     qd = data.average(data.qd)
     if 'thermal' in effects:
@@ -127,8 +119,10 @@ def untestable(data: DiagnosisData, gear_ratio: float, effects: Sequence[str]) -
             why[eff] = (f'sliding speeds span only {lo:.3g}..{hi:.3g} rad/s (5-95 %), a ratio '
                         f'below {SPEED_RATIO:g}')
     if 'presliding' in effects:
-        s = np.sign(data.qd[np.abs(data.qd) >= data.v_stick])
-        rev = int(np.count_nonzero(s[1:] != s[:-1]))
+        moving = np.abs(data.qd) >= data.v_stick
+        s, piece = np.sign(data.qd[moving]), data.piece[moving]
+        # a change of direction across a gap between pieces is not seen (the state restarts)
+        rev = int(np.count_nonzero((s[1:] != s[:-1]) & (piece[1:] == piece[:-1])))
         if rev < MIN_REVERSALS:
             why['presliding'] = (f'only {rev} velocity reversals (at least {MIN_REVERSALS} '
                                  'needed)')
@@ -156,7 +150,7 @@ def untestable(data: DiagnosisData, gear_ratio: float, effects: Sequence[str]) -
     return why
 
 
-def acceleration_noise(data, seed=0):
+def acceleration_noise(data: DiagnosisData, seed: int = 0) -> float:
     """
     Return the std (rad/s^2) of the encoder's quantisation in the bin-averaged acceleration.
 
@@ -172,7 +166,7 @@ def acceleration_noise(data, seed=0):
         m = data.piece == p
         dt = float(data.dt[m][0])
         cutoff = min(float(getattr(data, 'cutoff', 0.0) or np.inf), 0.2 / dt, 100.0)
-        n = int(min(np.count_nonzero(m), 20000))
+        n = min(int(np.count_nonzero(m)), 20000)
         k = max(1, int(round(BIN / dt)))
         if n < 20 * k or not 0 < cutoff < 0.5 / dt:
             continue
@@ -183,7 +177,7 @@ def acceleration_noise(data, seed=0):
     return worst
 
 
-def inertia_noise_gain(data, mse):
+def inertia_noise_gain(data: DiagnosisData, mse: float) -> float:
     """
     Return the held-out gain a refitted J would show from the encoder's quantisation alone.
 

@@ -1,16 +1,5 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 
 """
 Open-loop velocity of held-out windows: the base and the extended model against the encoder.
@@ -21,13 +10,24 @@ The base and the final model are simulated open loop
 torque, temperature and external torque; each window with the gear of the fit
 that did not see its block (:func:`fold_gears`).
 """
+from __future__ import annotations
+
+from collections.abc import Sequence
 import math
+from typing import Any, TYPE_CHECKING
 
 import numpy as np
 
 from . import structures as dm
-from .gears import sim_gear
-from .gravity import corrected_lever
+from .fitted_gear import sim_gear
+from .gravity import corrected_lever, lever_section
+
+if TYPE_CHECKING:
+    from numpy.typing import NDArray
+
+    from .crossval import CVResult
+    from .data import DiagnosisData
+    from ..gear import GearParams
 
 __all__ = ['WINDOW', 'simulate_windows', 'fold_gears']
 
@@ -35,16 +35,17 @@ __all__ = ['WINDOW', 'simulate_windows', 'fold_gears']
 WINDOW = 0.5
 
 
-def _windows(data):
+def _windows(data: DiagnosisData) -> tuple[NDArray[np.int64], int]:
     """Start indices and length (samples) of open-loop simulation windows."""
-    starts, n_len = [], None
+    starts: list[int] = []
+    n_len: int | None = None
     for p in np.unique(data.piece):
         idx = np.flatnonzero(data.piece == p)
         dt = data.dt[idx[0]]
         n = int(round(WINDOW / dt))
         if n_len is None:
             n_len = n
-        if n != n_len:
+        if n != n_len or n < 2:                     # n < 2: refused by load_data (MAX_STEP)
             continue
         for a in range(idx[0], idx[-1] - n, n):
             if data.block_of[a] == data.block_of[a + n]:
@@ -52,7 +53,10 @@ def _windows(data):
     return np.asarray(starts, dtype=np.int64), n_len or 1
 
 
-def simulate_windows(data, gears_by_fold, offsets_by_fold, levers_by_fold=None):
+def simulate_windows(data: DiagnosisData, gears_by_fold: Sequence[GearParams],
+                     offsets_by_fold: Sequence[float],
+                     levers_by_fold: Sequence[tuple[float, float]] | None = None
+                     ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.int64]]:
     """
     Open-loop velocity of every window with its held-out fold's gear.
 
@@ -72,11 +76,11 @@ def simulate_windows(data, gears_by_fold, offsets_by_fold, levers_by_fold=None):
     folds = data.block_of[starts]
     sim = np.empty((len(starts), n - 1))
     meas = data.qd[idx + 1]
-    by_model = {}
+    by_model: dict[str, list[int]] = {}
     for w, f in enumerate(folds):
         by_model.setdefault(gears_by_fold[f].friction.model, []).append(w)
-    for model, ws in by_model.items():
-        ws = np.asarray(ws)
+    for model, windows in by_model.items():
+        ws = np.asarray(windows)
         glist = [gears_by_fold[folds[w]] for w in ws]
         lev = np.array([levers_by_fold[folds[w]] if levers_by_fold else (data.mgl_sim, 0.0)
                         for w in ws])
@@ -91,7 +95,8 @@ def simulate_windows(data, gears_by_fold, offsets_by_fold, levers_by_fold=None):
     return sim, meas, folds
 
 
-def fold_gears(base, cv, ctx, data):
+def fold_gears(base: GearParams, cv: CVResult, ctx: dm.Context, data: DiagnosisData
+               ) -> tuple[list[GearParams], list[float], list[tuple[float, float]]]:
     """
     Per fold: simulation gear, friction offset and lever ``(m g l, angle offset)``.
 
@@ -99,8 +104,10 @@ def fold_gears(base, cv, ctx, data):
     ``gravity`` term; with it the lever torque is the fitted term alone (the
     measured external torque is applied as it is).
     """
-    gears, offsets, levers = [], [], []
-    lever = base.section('lever')
+    gears: list[GearParams] = []
+    offsets: list[float] = []
+    levers: list[tuple[float, float]] = []
+    lever = lever_section(base)
     own = (data.mgl_sim, float(lever.get('angle_offset', 0.0)))
     for f, s in enumerate(cv.structures):
         beta, names = cv.betas[f], cv.names[f]
@@ -108,6 +115,10 @@ def fold_gears(base, cv, ctx, data):
         gears.append(sim_gear(base, s, coef))
         offsets.append(coef.get('offset', 0.0))
         grav = coef.get('gravity')
+        if grav is not None and 'pose' in grav:     # the joint model has a sine: the nearest
+            if ctx.pose is None:                    # set whenever a pose term is fitted
+                raise AssertionError('a pose term without the frame of its stroke')
+            grav = _pose_as_sine(grav['pose'], ctx.pose)
         if grav is None:
             levers.append(own if data.mgl_sim else (0.0, 0.0))
         elif data.mgl_sim:
@@ -117,3 +128,12 @@ def fold_gears(base, cv, ctx, data):
             levers.append((math.hypot(grav['sin'], grav['cos']),
                            math.atan2(-grav['cos'], grav['sin'])))
     return gears, offsets, levers
+
+
+def _pose_as_sine(pose: dict[str, Any], frame: tuple[float, float]) -> dict[str, float]:
+    """Return ``{'sin': a, 'cos': b}`` nearest (least squares) a pose term over its stroke."""
+    c, h = frame
+    q = np.linspace(c - h, c + h, 41)
+    tq = np.polynomial.polynomial.polyval(q - pose['center'], pose['coefficients'])
+    (a, b), *_ = np.linalg.lstsq(np.column_stack([np.sin(q), np.cos(q)]), tq, rcond=None)
+    return {'sin': float(a), 'cos': float(b)}

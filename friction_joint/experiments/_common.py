@@ -1,35 +1,26 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 
-"""Shared pieces of the test-bed experiments: the result type, checks, the closed loop."""
+"""Shared pieces of the test-bed experiments: their results, checks, the closed loop."""
+from __future__ import annotations
+
 import collections
-import dataclasses
+from collections.abc import Mapping
 import math
+from typing import Any
 
 import numpy as np
 
+from ._basics import clip_window as _clip_window, json_key, MODEL_LABELS, MODELS, reversal_window
+from .plots import experiment_figures
 from ..exceptions import ExperimentError, GearConfigError
 from ..inputs import MEMORY_BUDGET
-from ..results import json_clean
+from ..results import ExperimentResult
 
-__all__ = ['MODELS', 'MIN_SAMPLES', 'STEP_BYTES', 'MAX_STEPS', 'ExperimentData', 'Experiment',
+__all__ = ['MODELS', 'MIN_SAMPLES', 'STEP_BYTES', 'MAX_STEPS', 'experiment_result', 'Experiment',
            'json_key', 'n_steps', 'check_steps', 'check_scale', 'check_model', 'rmse', 'corr',
            'MODEL_LABELS', 'peak_window', 'reversal_peak_window', 'sign_changes',
            'reversal_window', 'SumOfSines', 'closed_loop']
-
-#: friction feed-forward / observer models compared
-MODELS = ('none', 'lugre', 'gms')
 
 #: minimum number of samples in an evaluation window
 MIN_SAMPLES = 100
@@ -40,61 +31,39 @@ STEP_BYTES = 32 * 8
 MAX_STEPS = MEMORY_BUDGET // STEP_BYTES
 
 
-@dataclasses.dataclass
-class ExperimentData:
+def experiment_result(name: str, summary: dict[str, Any],
+                      series: Mapping[str, Any] | None = None,
+                      truth_model: str = '') -> ExperimentResult:
     """
-    Numbers and signals of one test-bed experiment run.
+    Return the result of one test-bed experiment run, its figures bound to it.
 
-    The experiment functions return it; the figures are drawn from it by
-    :mod:`~friction_joint.experiments.plots` (:meth:`figures`), the numbers
-    written as ``summary.json`` (:meth:`to_dict`) and read by the report.
+    The figures are drawn from the result by
+    :mod:`~friction_joint.experiments.plots` (:func:`experiment_figures`); the
+    numbers are written as ``summary.json`` and read by the report.
 
-    Attributes
+    Parameters
     ----------
     name : str
         The experiment (``chirp``, ``compensation``, ``estimation``,
         ``gain_sweep``); selects its figures.
     summary : dict
         Plain numbers, as documented by the experiment function.
-    series : dict
+    series : dict, optional
         The signals the figures are drawn from (numpy arrays), per experiment.
     truth_model : str
         Friction model of the simulated hardware (``lugre``, ``gms``).
 
+    Returns
+    -------
+    ExperimentResult
+
     """
-
-    name: str
-    summary: dict
-    series: dict = dataclasses.field(default_factory=dict)
-    truth_model: str = ''
-
-    def to_dict(self):
-        """Return the summary as plain JSON types (what ``summary.json`` holds)."""
-        return json_clean(self.summary)
-
-    def figures(self):
-        """Return the figures of the run: file name -> ``(draw(fig), (width, height))``."""
-        from .plots import experiment_figures
-        return experiment_figures(self)
-
-    def plot(self, fig, name=None):
-        """
-        Draw one figure of the run on the matplotlib Figure ``fig``.
-
-        Parameters
-        ----------
-        fig : matplotlib.figure.Figure
-            The (empty) figure to draw on.
-        name : str, optional
-            File name of the figure (see :meth:`figures`); default the first.
-
-        """
-        figs = self.figures()
-        draw, _ = figs[name if name is not None else next(iter(figs))]
-        draw(fig)
+    result = ExperimentResult(name, summary, dict(series or {}), truth_model)
+    result.figures.update(experiment_figures(result))
+    return result
 
 
-#: ``func(model, truth, duration_scale) -> ExperimentData``, ``help`` one line;
+#: ``func(model, truth, duration_scale) -> ExperimentResult``, ``help`` one line;
 #: ``output``: ``'results'`` (figures + summary.json in a directory) or ``'recording'``
 #: (``func(model, truth, duration_scale, progress=None)`` returns ``(topics, summary)``,
 #: written as a rosbag2 recording);
@@ -104,11 +73,6 @@ Experiment = collections.namedtuple('Experiment', ['func', 'help', 'output', 'ne
 
 
 # ---------------------------------------------------------------- helpers ---
-
-def json_key(x):
-    """JSON key of a temperature or amplitude: '27', '0.4'."""
-    return f'{float(x):g}'
-
 
 def check_steps(duration, dt, what):
     """
@@ -169,19 +133,6 @@ def corr(a, b):
     return float(np.corrcoef(a, b)[0, 1])
 
 
-#: display name of each friction model in figures and progress messages
-MODEL_LABELS = {'none': 'no friction model', 'lugre': 'LuGre', 'gms': 'GMS'}
-
-
-def _clip_window(t, t0, t1):
-    """Shift ``(t0, t1)`` to lie inside the time range of ``t`` (width kept if possible)."""
-    if t0 < t[0]:
-        t0, t1 = t[0], min(t1 + t[0] - t0, t[-1])
-    if t1 > t[-1]:
-        t0, t1 = max(t0 - (t1 - t[-1]), t[0]), t[-1]
-    return float(t0), float(t1)
-
-
 def peak_window(t, errors, start, half_width):
     """
     Zoom window ``(t0, t1)``: ``half_width`` either side of the largest |error|.
@@ -236,26 +187,6 @@ def sign_changes(t, v):
     """Return the times where ``v`` changes sign (the later sample of each pair)."""
     t, v = np.asarray(t), np.asarray(v)
     return t[1:][np.sign(v[1:]) * np.sign(v[:-1]) < 0]
-
-
-def reversal_window(t, v, half_width, moving=0.05):
-    """
-    Zoom window ``(t0, t1)`` on the first velocity reversal of ``v``, or None.
-
-    Samples with |v| below ``moving`` times the peak |v| count as standing
-    still (stiction); the window is centred on the first moving sample after
-    the first change of sign -- the break-away into the new direction --
-    ``half_width`` either side.  None if ``v`` never reverses.
-    """
-    t, v = np.asarray(t), np.asarray(v)
-    peak = float(np.max(np.abs(v))) if v.size else 0.0
-    mv = np.flatnonzero(np.abs(v) > moving * peak) if peak > 0.0 else np.array([], int)
-    sign = np.sign(v[mv])
-    flips = np.flatnonzero(sign[1:] != sign[:-1])
-    if flips.size == 0:
-        return None
-    k = mv[flips[0] + 1]
-    return _clip_window(t, t[k] - half_width, t[k] + half_width)
 
 
 class SumOfSines:

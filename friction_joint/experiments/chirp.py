@@ -1,16 +1,5 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 
 """
 Dynamic simulation (seed Section V-B, Fig. 5).
@@ -20,7 +9,7 @@ Open-loop chirp torques, measured vs LuGre/GMS.
 
 import numpy as np
 
-from ._common import check_model, check_scale, corr, ExperimentData, json_key, n_steps, rmse
+from ._common import check_model, check_scale, corr, experiment_result, json_key, n_steps, rmse
 from ..models.joint import Joint
 from ..testbed.plant import Plant
 
@@ -66,7 +55,7 @@ def chirp(model, truth, duration_scale=1.0):
 
     Returns
     -------
-    ExperimentData
+    ExperimentResult
         ``summary``: per model and amplitude (keys like ``'5.5'``)
         ``velocity_rmse`` (rad/s, model vs measured velocity),
         ``velocity_rmse_rel`` (relative to the RMS measured velocity),
@@ -116,4 +105,4 @@ def chirp(model, truth, duration_scale=1.0):
             np.mean(np.abs(meas['qd_true']) < c['stiction_velocity']))
         summary['effort_rmse'][key] = rmse(meas['effort'] - cmd)
         series[key] = {'t': meas['t'], 'command': cmd, 'measured': meas, 'models': sims}
-    return ExperimentData('chirp', summary, series, truth.friction.model)
+    return experiment_result('chirp', summary, series, truth.friction.model)

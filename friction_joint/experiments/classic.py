@@ -1,16 +1,5 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 
 """
 The four classic LuGre experiments of Canudas de Wit et al. (1995).
@@ -38,17 +27,21 @@ positions are in m and forces in N (``gear_ratio = 1``, ``inertia = 1``).
 * :func:`stick_slip` -- mass pulled through a spring at constant speed
   (Fig. 6): periodic stick-slip.
 
-Each function returns a :class:`ClassicResult`: ``summary`` holds the key
-numbers (plain floats and lists, written to JSON by the command, see
-:meth:`ClassicResult.to_dict`), ``series`` the numpy arrays the figure is
-drawn from.
+Each function returns an :class:`~friction_joint.results.ExperimentResult`:
+``summary`` holds the key numbers (plain floats and lists, written to JSON by
+the command, see :meth:`~friction_joint.results.ExperimentResult.to_dict`),
+``series`` the numpy arrays the figure is drawn from, ``figures`` the one
+figure, ``NAME.png``.
 
 Figures and files: :mod:`friction_joint.experiments.classic_report`; the
 command ``friction_joint classic EXPERIMENT --out DIR`` runs one experiment
 and writes ``DIR/EXPERIMENT.png`` and ``DIR/EXPERIMENT.json``, both atomically.
 """
-import dataclasses
+from __future__ import annotations
+
+from collections.abc import Callable, Sequence
 import math
+from typing import Any, TYPE_CHECKING
 import warnings
 
 import numpy as np
@@ -59,10 +52,13 @@ from ..gear import gear_from_dict
 from ..models.joint import Joint
 from ..models.lugre import LuGre
 from ..models.static import StaticFriction
-from ..results import json_clean
+from ..results import ExperimentResult
 
-__all__ = ['CANUDAS_1995', 'ClassicResult', 'canudas_gear', 'presliding', 'frictional_lag',
-           'breakaway', 'stick_slip', 'slip_onsets', 'CLASSIC_EXPERIMENTS']
+if TYPE_CHECKING:
+    from matplotlib.figure import Figure
+
+__all__ = ['CANUDAS_1995', 'FIGURE_SIZES', 'FIGURE_SIZE', 'canudas_gear', 'presliding',
+           'frictional_lag', 'breakaway', 'stick_slip', 'slip_onsets', 'CLASSIC_EXPERIMENTS']
 
 #: Table I of Canudas de Wit et al. (1995) plus the unit mass (SI units).
 CANUDAS_1995 = {'sigma0': 1e5, 'sigma1': math.sqrt(1e5), 'sigma2': 0.4,
@@ -71,47 +67,19 @@ CANUDAS_1995 = {'sigma0': 1e5, 'sigma1': math.sqrt(1e5), 'sigma2': 0.4,
 XI = 25.0   # temperature input; the Canudas set has no temperature dependency
 
 
-@dataclasses.dataclass
-class ClassicResult:
-    """
-    Numbers and signals of one classic experiment run.
+#: the figure's size (inches) of each experiment (default :data:`FIGURE_SIZE`)
+FIGURE_SIZES: dict[str, tuple[float, float]] = {'stick-slip': (9, 6.5)}
+FIGURE_SIZE: tuple[float, float] = (10, 5)
 
-    The figure is drawn from it by
-    :mod:`~friction_joint.experiments.classic_report` (:meth:`plot`), the
-    numbers written as ``NAME.json`` (:meth:`to_dict`).
 
-    Attributes
-    ----------
-    name : str
-        The experiment's command-line name (``presliding``, ``lag``,
-        ``breakaway``, ``stick-slip``; :data:`CLASSIC_EXPERIMENTS`).
-    summary : dict
-        Key numbers, as documented by the experiment function.
-    series : dict
-        The numpy arrays the figure is drawn from.
-
-    """
-
-    name: str
-    summary: dict
-    series: dict = dataclasses.field(default_factory=dict)
-
-    def to_dict(self):
-        """Return the summary as plain JSON types (what ``NAME.json`` holds)."""
-        return json_clean(self.summary)
-
-    def plot(self, fig):
-        """
-        Draw the experiment's figure on the matplotlib Figure ``fig``.
-
-        Parameters
-        ----------
-        fig : matplotlib.figure.Figure
-            The (empty) figure to draw on.
-
-        """
+def _result(name: str, summary: dict[str, Any], series: dict[str, Any]) -> ExperimentResult:
+    """Return the run as an :class:`ExperimentResult` with its one figure, ``NAME.png``."""
+    def draw(fig: Figure) -> None:
         from .classic_report import draw_classic
-        draw_classic(fig, self)
+        draw_classic(fig, result)
+    result = ExperimentResult(name, summary, series)
+    result.figures[name + '.png'] = (draw, FIGURE_SIZES.get(name, FIGURE_SIZE))
+    return result
 
 
 def canudas_gear(params=None):
@@ -164,7 +132,9 @@ def _nsteps(duration, dt):
 
 # ------------------------------------------------------------ presliding ---
 
-def presliding(amplitude=None, ramp_time=5.0, hold_time=2.0, dt=1e-4, params=None):
+def presliding(*, amplitude: float | None = None, ramp_time: float = 5.0,
+               hold_time: float = 2.0, dt: float = 1e-4,
+               params: dict[str, Any] | None = None) -> ExperimentResult:
     """
     Pre-sliding displacement under a force below F_s (Canudas 1995, Fig. 2).
 
@@ -200,7 +170,7 @@ def presliding(amplitude=None, ramp_time=5.0, hold_time=2.0, dt=1e-4, params=Non
 
     Returns
     -------
-    ClassicResult
+    ExperimentResult
         ``summary``: ``sigma0``, ``force_amplitude`` (N), ``stiffness``
         (N/m, mean of the zero-force passages), ``stiffness_passages``
         (least-squares slope of applied force vs displacement over
@@ -261,7 +231,7 @@ def presliding(amplitude=None, ramp_time=5.0, hold_time=2.0, dt=1e-4, params=Non
         'x_min_quasistatic': -q_scale * math.log(1.0 + a / p['fs']),
     }
     series = {'t': t, 'force': force, 'x': x, 'v': v, 'friction': traj.tau_r}
-    return ClassicResult('presliding', summary, series)
+    return _result('presliding', summary, series)
 
 
 # --------------------------------------------------------- frictional lag ---
@@ -288,8 +258,10 @@ def _loop_width(v, f, margin=0.05, points=201):
     return float(np.max(np.abs(diff))), area
 
 
-def frictional_lag(omegas=(1.0, 10.0, 25.0), v_mean=1.5e-3, v_amplitude=1e-3, periods=2,
-                   samples_per_period=100000, params=None):
+def frictional_lag(*, omegas: Sequence[float] = (1.0, 10.0, 25.0), v_mean: float = 1.5e-3,
+                   v_amplitude: float = 1e-3, periods: int = 2,
+                   samples_per_period: int = 100000,
+                   params: dict[str, Any] | None = None) -> ExperimentResult:
     """
     Frictional lag: hysteresis in friction vs velocity (Canudas 1995, Fig. 3).
 
@@ -319,7 +291,7 @@ def frictional_lag(omegas=(1.0, 10.0, 25.0), v_mean=1.5e-3, v_amplitude=1e-3, pe
 
     Returns
     -------
-    ClassicResult
+    ExperimentResult
         ``summary``: ``omegas`` (rad/s), ``v_mean``, ``v_amplitude`` (m/s),
         ``loop_width`` (N per frequency), ``loop_area`` (N m/s per frequency).
         ``series``: ``v`` and ``friction`` (lists of arrays, one period per
@@ -353,7 +325,7 @@ def frictional_lag(omegas=(1.0, 10.0, 25.0), v_mean=1.5e-3, v_amplitude=1e-3, pe
                'v_amplitude': float(v_amplitude), 'loop_width': widths, 'loop_area': areas}
     series = {'v': vs_list, 'friction': fs_list, 'v_static': v_static,
               'friction_static': f_static}
-    return ClassicResult('lag', summary, series)
+    return _result('lag', summary, series)
 
 
 # -------------------------------------------------------------- break-away ---
@@ -367,8 +339,9 @@ def _first_peak(f, prominence):
     return int(np.argmax(f[:below[0]]))
 
 
-def breakaway(rates=(0.1, 0.2, 0.5, 1.0, 2.0, 5.0, 10.0, 20.0, 30.0), f_end=2.0,
-              prominence=0.01, params=None):
+def breakaway(*, rates: Sequence[float] = (0.1, 0.2, 0.5, 1.0, 2.0, 5.0, 10.0, 20.0, 30.0),
+              f_end: float = 2.0, prominence: float = 0.01,
+              params: dict[str, Any] | None = None) -> ExperimentResult:
     """
     Varying break-away force under force ramps F = r t (Canudas 1995, Fig. 4).
 
@@ -403,7 +376,7 @@ def breakaway(rates=(0.1, 0.2, 0.5, 1.0, 2.0, 5.0, 10.0, 20.0, 30.0), f_end=2.0,
 
     Returns
     -------
-    ClassicResult
+    ExperimentResult
         ``summary``: ``rates`` (N/s), ``breakaway_force`` (N, friction at the
         peak; None where there is none), ``applied_force_at_breakaway`` (N),
         ``time_to_breakaway`` (s), ``fs``, ``fc`` (N).
@@ -415,8 +388,9 @@ def breakaway(rates=(0.1, 0.2, 0.5, 1.0, 2.0, 5.0, 10.0, 20.0, 30.0), f_end=2.0,
     if f_end <= p['fs']:
         raise ArgumentError(f'breakaway: f_end must exceed F_s = {p["fs"]} N')
     gear = canudas_gear(params)
-    out = {'breakaway_force': [], 'applied_force_at_breakaway': [], 'time_to_breakaway': []}
-    series = {'t': [], 'force': [], 'friction': [], 'v': []}
+    out: dict[str, list[Any]] = {'breakaway_force': [], 'applied_force_at_breakaway': [],
+                                 'time_to_breakaway': []}
+    series: dict[str, list[Any]] = {'t': [], 'force': [], 'friction': [], 'v': []}
     for r in rates:
         r = float(r)
         if not r > 0.0:
@@ -438,7 +412,7 @@ def breakaway(rates=(0.1, 0.2, 0.5, 1.0, 2.0, 5.0, 10.0, 20.0, 30.0), f_end=2.0,
         for key, arr in (('t', t), ('force', force), ('friction', traj.tau_r), ('v', traj.qd)):
             series[key].append(arr)
     summary = {'rates': [float(r) for r in rates], **out, 'fs': p['fs'], 'fc': p['fc']}
-    return ClassicResult('breakaway', summary, series)
+    return _result('breakaway', summary, series)
 
 
 # -------------------------------------------------------------- stick-slip ---
@@ -467,7 +441,8 @@ def slip_onsets(t, v, threshold=0.05):
     return out
 
 
-def stick_slip(k=2.0, vp=0.1, duration=30.0, dt=5e-5, threshold=0.05, params=None):
+def stick_slip(*, k: float = 2.0, vp: float = 0.1, duration: float = 30.0, dt: float = 5e-5,
+               threshold: float = 0.05, params: dict[str, Any] | None = None) -> ExperimentResult:
     """
     Stick-slip of the unit mass pulled through a spring (Canudas 1995, Fig. 6).
 
@@ -498,7 +473,7 @@ def stick_slip(k=2.0, vp=0.1, duration=30.0, dt=5e-5, threshold=0.05, params=Non
 
     Returns
     -------
-    ClassicResult
+    ExperimentResult
         ``summary`` exactly: ``slip_onsets`` (s), ``period`` (s, mean
         difference of the onsets; None with fewer than two), ``v_max`` (m/s),
         ``x_end`` (m), ``spring_stiffness`` (N/m, ``k``), ``pull_velocity``
@@ -523,11 +498,11 @@ def stick_slip(k=2.0, vp=0.1, duration=30.0, dt=5e-5, threshold=0.05, params=Non
                'x_end': float(traj.q[-1]), 'spring_stiffness': float(k),
                'pull_velocity': float(vp), 'spring_force_at_slip': spring}
     series = {'t': t, 'x': traj.q, 'v': traj.qd, 'friction': traj.tau_r, 'y': vp * t}
-    return ClassicResult('stick-slip', summary, series)
+    return _result('stick-slip', summary, series)
 
 
 #: command-line name -> experiment function (no arguments: the Canudas 1995 set-up)
-CLASSIC_EXPERIMENTS = {
+CLASSIC_EXPERIMENTS: dict[str, Callable[[], ExperimentResult]] = {
     'presliding': presliding,
     'lag': frictional_lag,
     'breakaway': breakaway,

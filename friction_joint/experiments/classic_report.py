@@ -1,22 +1,11 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 
 """
 Figures and report tables of the classic LuGre experiments (:mod:`.classic`).
 
-:func:`draw_classic` draws the figure of a
-:class:`~friction_joint.experiments.classic.ClassicResult`; the files
+:func:`draw_classic` draws the figure of a classic experiment's
+:class:`~friction_joint.results.ExperimentResult`; the files
 ``NAME.png`` and ``NAME.json`` are written by :mod:`friction_joint.jobs.classic`
 (the ``classic`` command and the demo).
 :func:`summary_markdown` renders a summary as Markdown tables with units, the
@@ -156,7 +145,7 @@ def _md_lag(m):
             'area enclosed in the friction-velocity plane.', '']
     return head + _rows('| ω (rad/s) | loop width (N) | loop area (N mm/s) |', [
         f'| {w:g} | {_g(width)} | {_g(1e3 * area)} |'
-        for w, width, area in zip(m['omegas'], m['loop_width'], m['loop_area'])])
+        for w, width, area in zip(m['omegas'], m['loop_width'], m['loop_area'], strict=True)])
 
 
 def _md_breakaway(m):
@@ -165,7 +154,7 @@ def _md_breakaway(m):
             'peak, where the mass breaks loose.', '']
     rows = []
     for r, f, fa, tb in zip(m['rates'], m['breakaway_force'],
-                            m['applied_force_at_breakaway'], m['time_to_breakaway']):
+                            m['applied_force_at_breakaway'], m['time_to_breakaway'], strict=True):
         if f is None:
             rows.append(f'| {r:g} | no peak: friction rises straight to the kinetic level '
                         '| – | – |')
@@ -235,7 +224,7 @@ def draw_classic(fig, result):
     ----------
     fig : matplotlib.figure.Figure
         The (empty) figure to draw on.
-    result : ClassicResult
+    result : ExperimentResult
         The run; its ``name`` selects the figure in :data:`FIGURES`.
 
     """

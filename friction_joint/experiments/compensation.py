@@ -1,16 +1,5 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 
 """Friction compensation (seed Section V-C, Fig. 6-7): sine tracking with feed-forward."""
 import copy
@@ -19,7 +8,7 @@ import time
 
 import numpy as np
 
-from ._common import (check_model, check_scale, check_steps, closed_loop, ExperimentData,
+from ._common import (check_model, check_scale, check_steps, closed_loop, experiment_result,
                       json_key, MODEL_LABELS, MODELS, n_steps, reversal_peak_window, rmse)
 from .warmup import warm_up
 from ..control.controller import Controller, SineTrajectory
@@ -109,7 +98,7 @@ def compensation(model, truth, duration_scale=1.0, *, gains=None, progress=None)
 
     Returns
     -------
-    ExperimentData
+    ExperimentResult
         ``summary``: ``max_error_pct[model][temperature][amplitude]`` (max
         |q_d - q_true| in % of a), ``rmse[...]`` (rad), ``max_error[...]``
         (rad), ``max_error_time[...]`` (s since the start of tracking, where
@@ -163,10 +152,10 @@ def compensation(model, truth, duration_scale=1.0, *, gains=None, progress=None)
                                             'rmse': table(('lugre', 'gms'))} for v in others}}
     traces = {}
     warm = warmed_plants(model, truth, kp, kd, c['temperatures'], progress=progress)
-    for (plant0, info), tk in zip(warm, temps):
+    for (plant0, info), tk in zip(warm, temps, strict=True):
         summary['warm_up'][tk] = info
         wall, runs = time.perf_counter(), 0
-        for amp, ak in zip(c['amplitudes'], amps):
+        for amp, ak in zip(c['amplitudes'], amps, strict=True):
             for kind in MODELS:
                 for variant in c['ff_velocity']:
                     if variant != main and kind == 'none':
@@ -197,7 +186,7 @@ def compensation(model, truth, duration_scale=1.0, *, gains=None, progress=None)
                                  f'{summary["max_error_pct"][m][tk][amps[0]]:.1f} %'
                                  for m in MODELS))
 
-    for (tk, ak, kind), (t, e) in traces.items():
+    for (tk, ak, kind), (t, _e) in traces.items():
         if kind != 'none':
             continue
         # the zoom of Fig. 6: the largest LuGre/GMS error of the table, at its reversal of q_d
@@ -208,4 +197,4 @@ def compensation(model, truth, duration_scale=1.0, *, gains=None, progress=None)
         worst = max(('lugre', 'gms'), key=lambda m: summary['max_error'][m][tk][ak])
         summary['zoom'][tk][ak] = {'window_s': list(window), 'model': worst,
                                    'time_s': summary['max_error_time'][worst][tk][ak]}
-    return ExperimentData('compensation', summary, {'error': traces}, truth.friction.model)
+    return experiment_result('compensation', summary, {'error': traces}, truth.friction.model)

@@ -1,22 +1,11 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 
 """External torque estimation (seed Section V-D, Fig. 8) with the disturbance observer."""
 
 import numpy as np
 
-from ._common import (check_model, check_scale, check_steps, closed_loop, ExperimentData,
+from ._common import (check_model, check_scale, check_steps, closed_loop, experiment_result,
                       json_key, MODELS, n_steps, reversal_peak_window, rmse, sign_changes,
                       SumOfSines)
 from .compensation import COMPENSATION
@@ -83,7 +72,7 @@ def estimation(model, truth, duration_scale=1.0, *, gains=None):
 
     Returns
     -------
-    ExperimentData
+    ExperimentResult
         ``summary``: ``rms_error``, ``max_error`` (Nm) and ``rms_error_pct``,
         ``max_error_pct`` (% of ``load_amplitude`` = max |tau_ext|) and
         ``max_error_time`` (s, where the maximum is) per observer model
@@ -196,4 +185,4 @@ def estimation(model, truth, duration_scale=1.0, *, gains=None):
                                               'rms_error_pct': 100.0 * rms / load,
                                               'max_error_pct': 100.0 * mx / load}
     series = {k: r[k] for k in ('t', 'tau_link', 'tau_ext', 'q', 'qd', 'estimates')}
-    return ExperimentData('estimation', summary, series, truth.friction.model)
+    return experiment_result('estimation', summary, series, truth.friction.model)

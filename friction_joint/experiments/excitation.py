@@ -1,16 +1,5 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 
 """
 Identification excitation: the paper's constant-velocity plateaus on the simulated test bed.
@@ -91,7 +80,11 @@ the highest order asked for), and keep the lever on so the load varies.
 pre-sliding periods; the temperature blocks, speeds and lever angles stay, so
 even a short run has everything the identification needs.
 """
+from __future__ import annotations
+
+from collections.abc import Callable, Mapping
 import math
+from typing import Any, TYPE_CHECKING
 
 import numpy as np
 
@@ -99,11 +92,14 @@ from ._common import check_steps
 from ..exceptions import ArgumentError
 from ..testbed.plant import Plant
 
+if TYPE_CHECKING:
+    from ..gear import GearParams
+
 __all__ = ['EXCITATION', 'BlockPlan', 'plan_block', 'block_temperatures', 'speeds',
            'record_segment', 'segment_topics', 'simulate_identification']
 
 #: the default identification experiment
-EXCITATION = {
+EXCITATION: dict[str, Any] = {
     'v_min': 0.01,                  # rad/s, slowest plateau
     'v_max': 3.5,                   # rad/s, fastest plateau
     'n_speeds': 15,                 # log-spaced speeds (denser at low velocity)
@@ -381,8 +377,11 @@ def record_segment(plant, command, q_ref, qd_ref, every, t_off, *, out, temp_t, 
     temp_xi.append(np.asarray(tx))
 
 
-def simulate_identification(truth, duration_scale=1.0, seed=None, cfg=None, presliding=True,
-                            progress=None):
+def simulate_identification(truth: GearParams, *, duration_scale: float = 1.0,
+                            seed: int | None = None, cfg: Mapping[str, Any] | None = None,
+                            presliding: bool = True,
+                            progress: Callable[[str], None] | None = None,
+                            ) -> tuple[dict[str, dict[str, Any]], dict[str, Any]]:
     """
     Run the identification excitation on the simulated test bed.
 
@@ -423,6 +422,8 @@ def simulate_identification(truth, duration_scale=1.0, seed=None, cfg=None, pres
         raise ArgumentError(f'duration scale must be a finite number > 0, '
                             f'got {duration_scale}')
     sim = truth.section('simulation')
+    sens = truth.section('sensors')
+    assert sim is not None and sens is not None  # a section with defaults
     rate = sim['rate']
     dt = 1.0 / rate
     every = max(1, int(round(rate / conf['publish_rate'])))
@@ -431,8 +432,10 @@ def simulate_identification(truth, duration_scale=1.0, seed=None, cfg=None, pres
     kp, kd = _gains(J, conf['bandwidth'])
     temps = block_temperatures(truth, conf)
 
-    out = {k: [] for k in ('t', 'q', 'qd', 'effort', 'tau', 'cmd', 'q_d', 'qd_d')}
-    temp_t, temp_xi = [], []
+    out: dict[str, list[np.ndarray]] = {k: [] for k in ('t', 'q', 'qd', 'effort', 'tau', 'cmd',
+                                                        'q_d', 'qd_d')}
+    temp_t: list[np.ndarray] = []
+    temp_xi: list[np.ndarray] = []
     plateaus, pres, blocks = [], [], []
     t_off = 0.0
     for b, xi0 in enumerate(temps):
@@ -440,8 +443,9 @@ def simulate_identification(truth, duration_scale=1.0, seed=None, cfg=None, pres
         q_ref, qd_ref, qdd_ref = plan.arrays()
         gear = truth.replace({'thermal': {'ambient': float(xi0), 'initial': float(xi0)}})
         plant = Plant(gear, xi0=float(xi0), seed=seed0 + b, q0=0.0)
-        record_segment(plant, lambda s, k: (J * qdd_ref[k] + kp * (q_ref[k] - s.q)
-                                            + kd * (qd_ref[k] - s.qd) + lever(s.q)),
+        record_segment(plant, lambda s, k, q_ref=q_ref, qd_ref=qd_ref, qdd_ref=qdd_ref: (
+                           J * qdd_ref[k] + kp * (q_ref[k] - s.q) + kd * (qd_ref[k] - s.qd)
+                           + lever(s.q)),
                        q_ref, qd_ref, every, t_off, out=out, temp_t=temp_t, temp_xi=temp_xi)
         plateaus += [dict(p, t0=p['t0'] + t_off, t1=p['t1'] + t_off, block=b)
                      for p in plan.plateaus]
@@ -458,8 +462,7 @@ def simulate_identification(truth, duration_scale=1.0, seed=None, cfg=None, pres
         '/joint_states': {'t': cat['t'], 'q': cat['q'], 'qd': cat['qd'], 'effort': cat['effort'],
                           'name': truth.joint_name},
         '/joint_temperature': {'t': np.concatenate(temp_t), 'xi': np.concatenate(temp_xi),
-                               'variance': truth.section('sensors')['temperature_resolution'] ** 2
-                               / 12.0},
+                               'variance': sens['temperature_resolution'] ** 2 / 12.0},
         '/link_torque': {'t': cat['t'], 'tau': cat['tau']},
         '/joint_command': {'t': cat['t'], 'effort': cat['cmd'], 'q_d': cat['q_d'],
                            'qd_d': cat['qd_d'], 'name': truth.joint_name},

@@ -1,24 +1,16 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 
 """
 A simulated robot fleet: one recording per joint and day, some joints wearing.
 
-:func:`simulate_fleet` writes what a fleet's log collection would hold
-(docs/fleet.md): ``DIR/manifest.csv`` (``recording``, ``joint``, ``time``,
-``travel``: the joint's odometer, rad of output travel, as a robot controller
-counts it), the recordings under ``DIR/recordings/``, and the truth in
+:func:`draw_fleet` plans what a fleet's log collection would hold
+(docs/fleet.md), :func:`fleet_recording` simulates one joint-day's topics,
+:func:`manifest_rows` gives the manifest's rows (``recording``, ``joint``,
+``time``, ``travel``: the joint's odometer, rad of output travel, as a robot
+controller counts it) and :func:`fleet_truth` the truth.  Nothing is written
+here: :func:`friction_joint.jobs.fleet_simulation.run_fleet_simulation` writes
+``DIR/manifest.csv``, the recordings under ``DIR/recordings/`` and the truth in
 ``DIR/truth.json``, a separate file that ``friction_joint fleet`` never reads.
 
 Every joint and day
@@ -50,29 +42,30 @@ The simulation is short on purpose (a few seconds of motion per recording,
 ``rate`` 1 kHz, published at 500 Hz) so that a fleet of hundreds of recordings
 is simulated in minutes.
 """
-import csv
+from __future__ import annotations
+
+from collections.abc import Mapping
 import datetime
-import io
-import json
 import math
 import os
+from typing import Any, TYPE_CHECKING
 import warnings
 
 import numpy as np
 
 from .excitation import BlockPlan, record_segment, segment_topics
-from ..bag import write_recording
 from ..control.controller import Controller, pd_gains
 from ..exceptions import ExperimentError, GearConfigWarning
-from ..gear import load_gear
 from ..models.static import StaticFriction
-from ..output import OutputSet
 from ..testbed.plant import Plant
 
-__all__ = ['FLEET', 'MAX_RECORDINGS', 'simulate_fleet', 'fleet_recording', 'draw_fleet',
-           'default_gear', 'check_fleet_size']
+if TYPE_CHECKING:
+    from ..gear import GearParams
 
-#: simulator settings (keyword ``cfg`` of :func:`simulate_fleet` overrides them)
+__all__ = ['FLEET', 'MAX_RECORDINGS', 'fleet_recording', 'draw_fleet', 'manifest_rows',
+           'MANIFEST_COLUMNS', 'fleet_truth', 'default_gear', 'check_fleet_size']
+
+#: simulator settings (keyword ``cfg`` of :func:`draw_fleet` overrides them)
 FLEET = {
     'start': '2026-03-02T00:00:00+00:00',   # first day (UTC)
     'ambient': (10.0, 40.0),        # degC, limits of the site's ambient temperature
@@ -103,7 +96,7 @@ MAX_RECORDINGS = 20000
 _COST = (0.7, 0.35e6)
 
 
-def check_fleet_size(joints, days, seed=0):
+def check_fleet_size(joints: int, days: int, seed: int = 0) -> None:
     """
     Check a simulated fleet's size and seed before any work; raise ExperimentError if refused.
 
@@ -131,7 +124,8 @@ def _iso(t):
     return t.isoformat(timespec='seconds')
 
 
-def draw_fleet(gear, joints, days, seed=0, cfg=None):
+def draw_fleet(gear: GearParams, joints: int, days: int, *, seed: int = 0,
+               cfg: Mapping[str, Any] | None = None) -> dict[str, Any]:
     """
     Draw a fleet's plan: per joint its offset and wear, per joint and day the conditions.
 
@@ -177,9 +171,9 @@ def draw_fleet(gear, joints, days, seed=0, cfg=None):
     heat = _heating(gear, c)
     truth, recs = {}, []
     for j, jid in enumerate(ids):
-        hours = rng.uniform(*c['hours'], days)
+        hours = rng.uniform(c['hours'][0], c['hours'][1], days)
         times = np.arange(days) + hours / 24.0                 # days since start
-        duty = rng.uniform(*c['duty'], days)
+        duty = rng.uniform(c['duty'][0], c['duty'][1], days)
         rate = c['travel_per_day'] * duty                       # rad/day, during day d
         odo_day = np.concatenate([[0.0], np.cumsum(rate)])      # travel at midnight
 
@@ -282,14 +276,27 @@ def _plan(rng, dt, c):
     return q[1:], qd[1:], qdd[1:]
 
 
-def fleet_recording(gear, joint, rec, path=None, cfg=None):
+def fleet_recording(gear: GearParams, joint: dict[str, Any], rec: dict[str, Any],
+                    cfg: Mapping[str, Any] | None = None) -> dict[str, dict[str, Any]]:
     """
-    Simulate one joint-day (a ``recordings`` entry of :func:`draw_fleet`); write it to ``path``.
+    Simulate one joint-day (a ``recordings`` entry of :func:`draw_fleet`).
+
+    Parameters
+    ----------
+    gear : GearParams
+        The joints' nominal gear.
+    joint : dict
+        The joint's truth (a ``joints`` entry of :func:`draw_fleet`).
+    rec : dict
+        The joint-day (a ``recordings`` entry of :func:`draw_fleet`).
+    cfg : dict, optional
+        Overrides of :data:`FLEET` (the plan's ``cfg``).
 
     Returns
     -------
     dict
-        Topic -> arrays, as written.
+        Topic -> arrays, for :func:`~friction_joint.bag.write_recording` (joint
+        ``gear.joint_name``).
 
     """
     c = _config(cfg)
@@ -301,26 +308,77 @@ def fleet_recording(gear, joint, rec, path=None, cfg=None):
     plant = Plant(truth, xi0=rec['xi'], seed=rec['seed'], q0=float(q_ref[0]))
     kp, kd = pd_gains(gear.inertia)
     ctrl = Controller(truth, kp, kd, friction='none', dt=dt)
-    out = {k: [] for k in ('t', 'q', 'qd', 'effort', 'tau', 'cmd', 'q_d', 'qd_d')}
-    temp_t, temp_xi = [], []
+    out: dict[str, list[Any]] = {k: [] for k in ('t', 'q', 'qd', 'effort', 'tau', 'cmd',
+                                                 'q_d', 'qd_d')}
+    temp_t: list[Any] = []
+    temp_xi: list[Any] = []
     record_segment(plant, lambda s, k: ctrl(s.q, s.qd, s.xi, q_ref[k], qd_ref[k], qdd_ref[k]),
                    q_ref, qd_ref, every, 0.0, out=out, temp_t=temp_t, temp_xi=temp_xi)
     cat = {k: np.concatenate(v) for k, v in out.items()}
     topics = segment_topics(cat, temp_t, temp_xi, truth)
     topics['/joint_states']['name'] = gear.joint_name
     topics['/link_torque'] = {'t': cat['t'], 'tau': cat['tau']}
-    if path is not None:
-        write_recording(path, topics, joint_name=gear.joint_name)
     return topics
 
 
-def _one(args):
-    gear_path, joint, rec, path, cfg = args
-    fleet_recording(load_gear(gear_path), joint, rec, path, cfg)
-    return path
+#: the columns of a simulated fleet's ``manifest.csv``
+MANIFEST_COLUMNS = ('recording', 'joint', 'time', 'travel')
 
 
-def default_gear():
+def manifest_rows(plan: dict[str, Any]) -> list[dict[str, str]]:
+    """
+    Name every joint-day's recording and return the manifest's rows.
+
+    Each ``recordings`` entry of ``plan`` gets its ``recording``:
+    ``recordings/JOINT_DATE.mcap``, relative to the manifest.
+
+    Parameters
+    ----------
+    plan : dict
+        A plan of :func:`draw_fleet` (its ``recordings`` are named in place).
+
+    Returns
+    -------
+    list of dict
+        One row per joint-day, by :data:`MANIFEST_COLUMNS` (``travel`` as text, 0.1 rad).
+
+    """
+    rows = []
+    for rec in plan['recordings']:
+        rel = f'recordings/{rec["joint"]}_{rec["time"][:10]}.mcap'
+        rec['recording'] = rel
+        rows.append({'recording': rel, 'joint': rec['joint'], 'time': rec['time'],
+                     'travel': f'{rec["travel"]:.1f}'})
+    return rows
+
+
+def fleet_truth(plan: dict[str, Any], gear: str, seed: int) -> dict[str, Any]:
+    """
+    Return a fleet's truth, as ``truth.json`` holds it.
+
+    Parameters
+    ----------
+    plan : dict
+        A plan of :func:`draw_fleet`, its recordings named (:func:`manifest_rows`).
+    gear : str
+        The joints' nominal gear file, as given.
+    seed : int
+        The seed the plan was drawn with.
+
+    Returns
+    -------
+    dict
+        ``joints``, ``recordings``, ``season``, ``mean_ambient``, ``gear``, ``cfg``
+        (plain JSON types), ``seed``.
+
+    """
+    return {'joints': plan['joints'], 'recordings': plan['recordings'], 'season': plan['season'],
+            'mean_ambient': plan['mean_ambient'], 'gear': gear,
+            'cfg': {k: list(v) if isinstance(v, tuple) else v for k, v in plan['cfg'].items()},
+            'seed': int(seed)}
+
+
+def default_gear() -> str:
     """Return the path of ``config/csd25.yaml`` (source tree or installed share directory)."""
     here = os.path.dirname(os.path.abspath(__file__))
     for base in (os.path.join(here, '..', '..', 'config'),
@@ -330,94 +388,3 @@ def default_gear():
         if os.path.exists(path):
             return path
     raise ExperimentError('cannot find config/csd25.yaml next to the package: give the gear')
-
-
-def simulate_fleet(out, *, joints, days, seed=0, gear=None, cfg=None, jobs=1, executor=None,
-                   force=False, progress=None):
-    """
-    Simulate a fleet and write ``out/manifest.csv``, the recordings and ``out/truth.json``.
-
-    Parameters
-    ----------
-    out : str or os.PathLike
-        Directory to write, one output (:class:`~friction_joint.output.OutputSet`: built
-        beside it and renamed into place; an existing one is an error unless ``force``).
-    joints, days : int
-        Fleet size: one recording per joint and day (:func:`check_fleet_size`: at most
-        :data:`MAX_RECORDINGS`, refused before any work with an estimate).
-    seed : int
-        Draws everything (conditions, wear, noise); >= 0.
-    gear : str, optional
-        The joints' nominal gear file (default :func:`default_gear`).
-    cfg : dict, optional
-        Overrides of :data:`FLEET`.
-    jobs : int
-        Processes simulating recordings in parallel.
-    executor : concurrent.futures.Executor, optional
-        Runs the recordings' simulations instead (e.g. on a Dask cluster); ``jobs`` is
-        then not used.
-    force : bool
-        Replace an existing ``out`` as a whole.
-    progress : callable, optional
-        Called with a message per joint.
-
-    Returns
-    -------
-    dict
-        The truth (as written to ``truth.json``), with ``manifest`` (its final path).
-
-    """
-    out = os.fspath(out)
-    check_fleet_size(joints, days, seed)          # before anything: a refusal costs nothing
-    gear = os.fspath(gear) if gear is not None else default_gear()
-    with OutputSet(force=force, inputs=[('--truth', gear)], error=ExperimentError) as outputs:
-        outputs.add_directory(out)
-        outputs.check()
-        base = load_gear(gear)
-        plan = draw_fleet(base, joints, days, seed, cfg)
-        stage = outputs.staging_path(out)
-        truth = _write_fleet(stage, gear, base, plan, (jobs, executor), progress)
-        truth['seed'] = int(seed)
-        with open(os.path.join(stage, 'truth.json'), 'w', encoding='utf-8') as fh:
-            json.dump(truth, fh, indent=2)
-        outputs.publish()
-    truth['manifest'] = os.path.join(out, 'manifest.csv')
-    return truth
-
-
-def _write_fleet(stage, gear, base, plan, jobs, progress):
-    os.makedirs(os.path.join(stage, 'recordings'))
-    work, rows = [], []
-    for rec in plan['recordings']:
-        rel = f'recordings/{rec["joint"]}_{rec["time"][:10]}.mcap'
-        rec['recording'] = rel
-        rows.append({'recording': rel, 'joint': rec['joint'], 'time': rec['time'],
-                     'travel': f'{rec["travel"]:.1f}'})
-        work.append((gear, plan['joints'][rec['joint']], rec, os.path.join(stage, rel),
-                     plan['cfg']))
-    days = len(plan['recordings']) // max(len(plan['joints']), 1)
-    jobs, executor = jobs
-    if executor is not None:
-        for k, _ in enumerate(executor.map(_one, work)):
-            if progress and (k + 1) % days == 0:
-                progress(f'{k + 1}/{len(work)} recordings')
-    elif jobs > 1:
-        from concurrent.futures import ProcessPoolExecutor
-        with ProcessPoolExecutor(int(jobs)) as pool:
-            for k, _ in enumerate(pool.map(_one, work, chunksize=4)):
-                if progress and (k + 1) % days == 0:
-                    progress(f'{k + 1}/{len(work)} recordings')
-    else:
-        for k, item in enumerate(work):
-            fleet_recording(base, item[1], item[2], item[3], plan['cfg'])
-            if progress and (k + 1) % days == 0:
-                progress(f'{k + 1}/{len(work)} recordings')
-    buf = io.StringIO()
-    writer = csv.DictWriter(buf, ['recording', 'joint', 'time', 'travel'], lineterminator='\n')
-    writer.writeheader()
-    writer.writerows(rows)
-    with open(os.path.join(stage, 'manifest.csv'), 'w', encoding='utf-8') as fh:
-        fh.write(buf.getvalue())
-    return {'joints': plan['joints'], 'recordings': plan['recordings'], 'season': plan['season'],
-            'mean_ambient': plan['mean_ambient'], 'gear': gear,
-            'cfg': {k: list(v) if isinstance(v, tuple) else v for k, v in plan['cfg'].items()}}

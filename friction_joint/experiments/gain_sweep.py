@@ -1,16 +1,5 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 
 """
 Where the paper's regime lies: the tracking error against the controller's design inertia.
@@ -28,7 +17,7 @@ import math
 
 import numpy as np
 
-from ._common import check_model, check_scale, check_steps, ExperimentData, json_key, n_steps
+from ._common import check_model, check_scale, check_steps, experiment_result, json_key, n_steps
 from .compensation import COMPENSATION, tracking_run
 from ..control.gains import GAIN_PRESETS, GainDesign, loop_metrics
 from ..paper import PAPER
@@ -73,7 +62,7 @@ def gain_sweep(model, truth, duration_scale=1.0):
 
     Returns
     -------
-    ExperimentData
+    ExperimentResult
         ``summary``: ``design_inertia`` (kg m^2, the grid), ``ratio`` (to the
         model's joint inertia), ``max_error_pct[model][temperature]`` (lists
         over the grid), ``loop`` (omega_n, zeta on the truth per grid point),
@@ -113,4 +102,4 @@ def gain_sweep(model, truth, duration_scale=1.0):
                                 for k, v in table['none'].items()},
                'presets': {k: (p.design_inertia or model.inertia)
                            for k, p in GAIN_PRESETS.items()}}
-    return ExperimentData('gain_sweep', summary, {}, truth.friction.model)
+    return experiment_result('gain_sweep', summary, {}, truth.friction.model)

@@ -1,16 +1,5 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 
 """
 Measured-style recordings with hidden effects, for testing ``friction_joint diagnose``.
@@ -57,12 +46,11 @@ compensation, gains from :func:`~friction_joint.control.controller.pd_gains`), r
 
 Topics: ``/joint_states`` (the plant's 3 kHz samples decimated to 1 kHz),
 ``/joint_temperature`` (the plant's 4 Hz housing sensor), ``/link_torque``
-(output torque sensor), ``/joint_command`` (commanded effort, q_d, qd_d).
-``simulate_recording(..., link_torque=False, command=False)`` leaves the
-optional topics out, as measured data may.
+(output torque sensor), ``/joint_command`` (commanded effort, q_d, qd_d); measured data
+may lack the optional ones: ``RecordingOptions(link_torque=False, command=False)``.
 
-Plant variation (keyword-only options; the defaults are the plant above)
------------------------------------------------------------------------
+Plant variation (:class:`RecordingOptions`; the defaults are the plant above)
+-----------------------------------------------------------------------------
 ``kinds`` (run kind per segment: ``rich`` as above, ``plateaus``, ``sweep``,
 ``oneway``, ``sweep_oneway``; :mod:`~friction_joint.experiments.hidden_plant`),
 ``encoder_bits`` (coarse encoder), ``warmup`` (temperature only rising), ``gain_scale``
@@ -70,8 +58,7 @@ Plant variation (keyword-only options; the defaults are the plant above)
 (drive-torque lag), ``temperature_lag_scale`` (temperature sensor lag), and
 through ``cfg`` the ``publish_rate``, the ``gap`` between segments and ``speed_ratio``;
 :func:`~friction_joint.experiments.hidden_plant.draw_plant` draws them all.
-``draw_effect(rng, effect, strength=u)`` sets the size from weak (u = 0) to
-strong (u = 1).
+``draw_effect(rng, effect, strength=u)`` sets the size from weak (u = 0) to strong (u = 1).
 
 Effect sizes (:data:`EFFECT_RANGES`)
 ------------------------------------
@@ -104,25 +91,35 @@ Effect sizes (:data:`EFFECT_RANGES`)
     and ``lever.angle_offset`` +- (0.03 .. 0.3) rad.  ``diagnose`` sees it only without
     ``/link_torque`` (tau_ext then comes from the base's lever; the sensor measures it).
 """
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
 import math
+import os
 import time
+from typing import Any, TYPE_CHECKING
 import warnings
 
 import numpy as np
 
 from .excitation import record_segment, segment_topics
-from .hidden_plant import add_sweep, plan_kind, RUN_KINDS, speed_bands, sweep_oneway
+from .hidden_plant import (add_sweep, plan_kind, RecordingOptions, RUN_KINDS, speed_bands,
+                           sweep_oneway)
 from ..bag import write_recording
 from ..control.controller import Controller, pd_gains
 from ..effects import HIDEABLE
 from ..exceptions import ArgumentError, GearConfigWarning
 from ..testbed.plant import Plant
 
+if TYPE_CHECKING:
+    from ..gear import GearParams
+
 __all__ = ['HIDEABLE', 'EFFECT_RANGES', 'MAGNITUDE', 'apply_effect', 'apply_effects',
-           'draw_effect', 'segment_temperatures', 'plan_segment', 'simulate_recording']
+           'draw_effect', 'segment_temperatures', 'plan_segment', 'RecordingOptions',
+           'simulate_recording']
 
 #: realistic size ranges drawn by :func:`draw_effect` (uniform; see the module docstring)
-EFFECT_RANGES = {
+EFFECT_RANGES: dict[str, dict[str, tuple[Any, Any]]] = {
     'thermal': {'fc_change': (0.15, 0.40), 'fv_change': (0.15, 0.40)},
     'load': {'fc_load': (0.01, 0.04)},
     'position_ripple': {'amplitude': (0.05, 0.2), 'phase': (0.0, 2.0 * math.pi),
@@ -137,7 +134,7 @@ EFFECT_RANGES = {
 }
 
 #: excitation defaults of :func:`simulate_recording` / :func:`plan_segment`
-SEGMENT = {
+SEGMENT: dict[str, Any] = {
     'n_segments': 3,
     'temperature_margin': 2.0,      # degC inside the base's temperature_range
     'temperature_jitter': 0.5,      # degC, random offset per segment
@@ -185,7 +182,8 @@ MAGNITUDE = {
 }
 
 
-def draw_effect(rng, effect, *, strength=None):
+def draw_effect(rng: np.random.Generator, effect: str, *,
+                strength: float | None = None) -> dict[str, Any]:
     """
     Draw a random realistic size of ``effect``.
 
@@ -194,12 +192,27 @@ def draw_effect(rng, effect, *, strength=None):
     drawing them: 0 is the weakest end of the range, 1 the strongest, geometric in
     the magnitude between; below 0 extrapolates to weaker sizes.  The other
     parameters (sign, phase, model, vs) are drawn as usual.
+
+    Parameters
+    ----------
+    rng : numpy.random.Generator
+        The random source.
+    effect : str
+        One of :data:`EFFECT_RANGES`.
+    strength : float, optional
+        Magnitude from weak (0) to strong (1); default drawn.
+
+    Returns
+    -------
+    dict
+        Parameter -> value.
+
     """
     if effect not in EFFECT_RANGES:
         raise ArgumentError(f'unknown effect {effect!r}; effects: {", ".join(HIDEABLE)}')
     if strength is not None and not strength <= 1.0:
         raise ArgumentError(f'strength must be <= 1, got {strength}')
-    out = {}
+    out: dict[str, Any] = {}
     for key, rng_ in EFFECT_RANGES[effect].items():
         if strength is not None and key in MAGNITUDE:
             mag, inv = MAGNITUDE[key]
@@ -237,7 +250,9 @@ def _size(effect, size):
     return full
 
 
-def apply_effect(base_gear, effect, size=None, temperatures=None):
+def apply_effect(base_gear: GearParams, effect: str, *,
+                 size: Mapping[str, Any] | float | None = None,
+                 temperatures: Sequence[float] | None = None) -> GearParams:
     """
     Return the truth gear: ``base_gear`` plus ``effect`` of ``size``.
 
@@ -316,11 +331,28 @@ def _apply(base_gear, effect, s, temperatures):
     return base_gear.replace({'friction': {'offset': s['sign'] * s['offset']}})
 
 
-def apply_effects(base_gear, effects, temperatures=None):
-    """Apply several ``{effect: size}`` one after the other."""
+def apply_effects(base_gear: GearParams, effects: Mapping[str, Any], *,
+                  temperatures: Sequence[float] | None = None) -> GearParams:
+    """
+    Apply several ``{effect: size}`` one after the other.
+
+    Parameters
+    ----------
+    base_gear : GearParams
+        The base gear the effects are added to.
+    effects : dict
+        Effect -> size, as :func:`apply_effect` takes them.
+    temperatures : sequence of float, optional
+        Segment temperatures of the recording (see :func:`apply_effect`).
+
+    Returns
+    -------
+    GearParams
+
+    """
     gear = base_gear
     for effect, size in effects.items():
-        gear = apply_effect(gear, effect, size, temperatures)
+        gear = apply_effect(gear, effect, size=size, temperatures=temperatures)
     return gear
 
 
@@ -392,11 +424,9 @@ def plan_segment(rng, gear_ratio, dt, duration, q0=0.0, cfg=SEGMENT, *, kind='ri
 
 # --------------------------------------------------------------------------- simulation
 
-def simulate_recording(truth_gear, path=None, *, duration=90.0, seed=0, base_gear=None,
-                       n_segments=None, link_torque=True, command=True, compress=False,
-                       cfg=None, kinds=None, gain_scale=1.0, noise_scale=1.0,
-                       current_bandwidth_scale=1.0, temperature_lag_scale=1.0,
-                       encoder_bits=None, warmup=False):
+def simulate_recording(truth_gear: GearParams, path: str | os.PathLike[str] | None, *,
+                       options: RecordingOptions | None = None,
+                       ) -> tuple[dict[str, dict[str, Any]], dict[str, Any]]:
     """
     Run ``truth_gear`` on the simulated test bed under the rich excitation; write a recording.
 
@@ -404,48 +434,12 @@ def simulate_recording(truth_gear, path=None, *, duration=90.0, seed=0, base_gea
     ----------
     truth_gear : GearParams
         The simulated hardware (base + hidden effects).
-    path : str or os.PathLike, optional
+    path : str or os.PathLike or None
         Recording to write (rosbag2 directory, or ``.mcap`` file); must not exist.
         ``None`` writes nothing (the topics are returned).
-    duration : float
-        Total seconds of motion (split over the temperature segments).
-    seed : int
-        Excitation and sensor-noise seed.
-    base_gear : GearParams, optional
-        The model the controller uses for its inertia and gravity feed-forward and
-        whose temperature range sets the segment temperatures; default ``truth_gear``.
-    n_segments : int, optional
-        Temperature segments (default 3).
-    link_torque, command : bool
-        Include ``/link_torque`` and ``/joint_command``.
-    compress : bool
-        Write the rosbag2 directory as the shipped sample is stored: a plain
-        ``.mcap`` with zstd-compressed chunks and CRCs, ``ros_distro: jazzy``
-        (MCAP tools and Foxglove open it as is).  Only for a directory ``path``.
-    cfg : dict, optional
-        Overrides of :data:`SEGMENT` (e.g. ``publish_rate``: /joint_states and the
-        other 1 kHz topics decimated from the 3 kHz plant; ``gap``: s between segments).
-    kinds : sequence of str, optional
-        Run kind per segment (:data:`~friction_joint.experiments.hidden_plant.RUN_KINDS`,
-        cycled); default all ``rich``.
-    gain_scale : float or (float, float)
-        Factor on the PD gains (kp, kd), or one factor for both.
-    noise_scale : float
-        Factor on the sensors' noise (applied torque, effort, link torque, temperature).
-    current_bandwidth_scale : float
-        Factor on the current-loop bandwidth (smaller: more drive-torque lag).
-    temperature_lag_scale : float
-        Factor on the temperature sensor's time constant.
-    encoder_bits : int, optional
-        Resolution of the recorded output encoder (bits per turn; e.g. 10-14 for a
-        coarse encoder of 1 024-16 384 counts): ``/joint_states`` positions are its
-        counts, while the drive's loop runs on its fine (motor-side) encoder, the
-        gear's ``sensors.encoder_bits``, and reports its velocity; default that one.
-    warmup : bool
-        A warm-up recording: the housing starts at the lowest segment temperature and
-        one ambient (a heat input) above it warms it, through the segments and the
-        gaps, to about the highest at the end: the temperature only rises (no
-        segment resets it).  Default: each segment soaked at its own temperature.
+    options : RecordingOptions, optional
+        Duration, seed, base gear, segments, topics and plant variation; default
+        ``RecordingOptions()``.
 
     Returns
     -------
@@ -457,6 +451,9 @@ def simulate_recording(truth_gear, path=None, *, duration=90.0, seed=0, base_gea
         ``duration_s``, ``samples``, ``gains``, ``seed``, ``wall_time_s``, ``kinds``.
 
     """
+    o = RecordingOptions() if options is None else options
+    duration, seed, base_gear, n_segments = o.duration, o.seed, o.base_gear, o.n_segments
+    cfg, gain_scale, encoder_bits, warmup = o.cfg, o.gain_scale, o.encoder_bits, o.warmup
     wall = time.perf_counter()
     conf = dict(SEGMENT)
     if cfg:
@@ -467,9 +464,9 @@ def simulate_recording(truth_gear, path=None, *, duration=90.0, seed=0, base_gea
     if not (math.isfinite(duration) and duration > 0):
         raise ArgumentError(f'duration must be > 0 s, got {duration}')
     base = truth_gear if base_gear is None else base_gear
-    truth_gear = _vary_sensors(truth_gear, noise_scale, current_bandwidth_scale,
-                               temperature_lag_scale)
-    kinds = ['rich'] if kinds is None else [str(k) for k in kinds]
+    truth_gear = _vary_sensors(truth_gear, o.noise_scale, o.current_bandwidth_scale,
+                               o.temperature_lag_scale)
+    kinds = ['rich'] if o.kinds is None else [str(k) for k in o.kinds]
     bad = [k for k in kinds if k not in RUN_KINDS]
     if bad or not kinds:
         raise ArgumentError(f'unknown run kind(s) {bad}; kinds: {", ".join(RUN_KINDS)}')
@@ -478,6 +475,7 @@ def simulate_recording(truth_gear, path=None, *, duration=90.0, seed=0, base_gea
     temps = segment_temperatures(base, nseg, conf)
     temps = temps + rng.uniform(-1, 1, len(temps)) * conf['temperature_jitter']
     sim = truth_gear.section('simulation')
+    assert sim is not None  # a section with defaults
     rate = sim['rate']
     dt = 1.0 / rate
     every = max(1, int(round(rate / conf['publish_rate'])))
@@ -490,14 +488,17 @@ def simulate_recording(truth_gear, path=None, *, duration=90.0, seed=0, base_gea
     if warmup:      # lowest to highest temperature over the motion and the gaps
         ends = temps if nseg > 1 else segment_temperatures(base, 2, conf)
         th = truth_gear.section('thermal')
+        assert th is not None  # a section with defaults
         total = duration + (nseg - 1) * conf['gap']
         xi_warm = float(np.min(ends))
         ambient = xi_warm + (float(np.max(ends)) - xi_warm) / -math.expm1(
             -total / (th['capacity'] * th['resistance']))
 
     keys = ('t', 'q', 'qd', 'effort', 'tau', 'cmd', 'q_d', 'qd_d')
-    out = {k: [] for k in keys}
-    temp_t, temp_xi, segments = [], [], []
+    out: dict[str, list[np.ndarray]] = {k: [] for k in keys}
+    temp_t: list[np.ndarray] = []
+    temp_xi: list[np.ndarray] = []
+    segments: list[dict[str, Any]] = []
     t_off, q_start = 0.0, 0.0
     for b, xi_set in enumerate(temps):
         xi0 = float(xi_set if ambient is None else xi_warm)
@@ -510,7 +511,8 @@ def simulate_recording(truth_gear, path=None, *, duration=90.0, seed=0, base_gea
         plant = Plant(gear, xi0=xi0, seed=int(seed) * 101 + b, q0=float(q_ref[0]))
         ctrl = Controller(base, kp, kd, friction='none', dt=dt)
         n = len(q_ref)
-        record_segment(plant, lambda s, k: ctrl(s.q, s.qd, s.xi, q_ref[k], qd_ref[k], qdd_ref[k]),
+        record_segment(plant, lambda s, k, ctrl=ctrl, q_ref=q_ref, qd_ref=qd_ref, qdd_ref=qdd_ref:
+                       ctrl(s.q, s.qd, s.xi, q_ref[k], qd_ref[k], qdd_ref[k]),
                        q_ref, qd_ref, every, t_off, out=out, temp_t=temp_t, temp_xi=temp_xi)
         segments.append({'temperature': xi0, 't0': t_off, 't1': t_off + n * dt, 'xi_start': xi0,
                          'xi_end': float(plant.thermal.xi), 'kind': kinds[b % len(kinds)]})
@@ -528,13 +530,13 @@ def simulate_recording(truth_gear, path=None, *, duration=90.0, seed=0, base_gea
         cat['q'] = np.round(cat['q'] / count) * count
     name = truth_gear.joint_name
     topics = segment_topics(cat, temp_t, temp_xi, truth_gear)
-    if link_torque:
+    if o.link_torque:
         topics['/link_torque'] = {'t': cat['t'], 'tau': cat['tau']}
-    if command:
+    if o.command:
         topics['/joint_command'] = {'t': cat['t'], 'effort': cat['cmd'], 'q_d': cat['q_d'],
                                     'qd_d': cat['qd_d'], 'name': name}
     if path is not None:
-        if compress:
+        if o.compress:
             _write_compressed(path, topics, name)
         else:
             write_recording(path, topics, joint_name=name)
@@ -577,8 +579,6 @@ def _write_compressed(path, topics, joint_name):
     is; no whole-file compression, which MCAP tools cannot open without unpacking),
     ``ros_distro: jazzy`` in ``metadata.yaml``.
     """
-    import os
-
     from ..bag.checksums import seal_rosbag2
 
     path = os.fspath(path)

@@ -1,16 +1,5 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 
 """
 Plant and run variation for :mod:`~friction_joint.experiments.hidden`.
@@ -41,7 +30,12 @@ default and a benchmark of the diagnosis should vary:
 :func:`relative_size` expresses a drawn effect size relative to the base
 friction level (the Coulomb level F_c).
 """
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+import dataclasses
 import math
+from typing import Any, TYPE_CHECKING
 
 import numpy as np
 
@@ -49,8 +43,12 @@ from ._common import check_steps
 from .excitation import BlockPlan
 from ..exceptions import ArgumentError
 
+if TYPE_CHECKING:
+    from ..gear import GearParams
+
 __all__ = ['RUN_KINDS', 'PLANT_RANGES', 'PLANT_ODDS', 'SWEEP_ONEWAY', 'add_sweep',
-           'speed_bands', 'sweep_oneway', 'plan_kind', 'draw_plant', 'relative_size']
+           'speed_bands', 'sweep_oneway', 'plan_kind', 'draw_plant', 'relative_size',
+           'RecordingOptions']
 
 #: segment run kinds (see the module docstring); ``rich`` is the default plan
 RUN_KINDS = ('rich', 'plateaus', 'sweep', 'oneway', 'sweep_oneway')
@@ -252,7 +250,7 @@ def plan_kind(plan, rng, kind, duration, cfg):
 
 def draw_plant(rng, duration=None, kinds=RUN_KINDS, odds=None):
     """
-    Draw keyword options of ``simulate_recording`` that vary the plant and the runs.
+    Draw :class:`~friction_joint.experiments.hidden.RecordingOptions` that vary the plant, runs.
 
     ``duration``: ``(lo, hi)`` s (log-uniform; default :data:`PLANT_RANGES`).  The
     segments' run kinds are drawn from ``kinds`` with at least one ``rich`` run
@@ -260,7 +258,7 @@ def draw_plant(rng, duration=None, kinds=RUN_KINDS, odds=None):
     overrides them, e.g. ``{'warmup': 1.0}``) are drawn independently: a coarse
     encoder (``encoder_bits``, else the gear's), a wide speed range (the ``cfg``
     entry ``speed_ratio``, see :func:`speed_bands`) and a warm-up recording
-    (``warmup``).  Returns ``(kwargs, cfg)``: keyword arguments and the ``cfg``
+    (``warmup``).  Returns ``(kwargs, cfg)``: ``RecordingOptions`` fields and the ``cfg``
     overrides (publish rate, gap, speed ratio).
     """
     r = PLANT_RANGES
@@ -328,3 +326,72 @@ def relative_size(base, effect, size):
         a, b, d = base.mgl * (1.0 + s['sign'] * s['change']), base.mgl, s['angle']
         return math.sqrt(max(a * a + b * b - 2.0 * a * b * math.cos(d), 0.0)) / fc
     return float('nan')
+
+
+@dataclasses.dataclass(frozen=True)
+class RecordingOptions:
+    """
+    The options of :func:`~friction_joint.experiments.hidden.simulate_recording`: runs, topics.
+
+    Attributes
+    ----------
+    duration : float
+        Total seconds of motion (split over the temperature segments).
+    seed : int
+        Excitation and sensor-noise seed.
+    base_gear : GearParams, optional
+        The model the controller uses for its inertia and gravity feed-forward and
+        whose temperature range sets the segment temperatures; default the truth gear.
+    n_segments : int, optional
+        Temperature segments (default 3).
+    link_torque : bool
+        Include ``/link_torque``.
+    command : bool
+        Include ``/joint_command``.
+    compress : bool
+        Write the rosbag2 directory as the shipped sample is stored: a plain
+        ``.mcap`` with zstd-compressed chunks and CRCs, ``ros_distro: jazzy``
+        (MCAP tools and Foxglove open it as is).  Only for a directory ``path``.
+    cfg : dict, optional
+        Overrides of :data:`~friction_joint.experiments.hidden.SEGMENT` (e.g.
+        ``publish_rate``: /joint_states and the other 1 kHz topics decimated from the 3 kHz
+        plant; ``gap``: s between segments).
+    kinds : sequence of str, optional
+        Run kind per segment (:data:`RUN_KINDS`,
+        cycled); default all ``rich``.
+    gain_scale : float or (float, float)
+        Factor on the PD gains (kp, kd), or one factor for both.
+    noise_scale : float
+        Factor on the sensors' noise (applied torque, effort, link torque, temperature).
+    current_bandwidth_scale : float
+        Factor on the current-loop bandwidth (smaller: more drive-torque lag).
+    temperature_lag_scale : float
+        Factor on the temperature sensor's time constant.
+    encoder_bits : int, optional
+        Resolution of the recorded output encoder (bits per turn; e.g. 10-14 for a
+        coarse encoder of 1 024-16 384 counts): ``/joint_states`` positions are its
+        counts, while the drive's loop runs on its fine (motor-side) encoder, the
+        gear's ``sensors.encoder_bits``, and reports its velocity; default that one.
+    warmup : bool
+        A warm-up recording: the housing starts at the lowest segment temperature and
+        one ambient (a heat input) above it warms it, through the segments and the
+        gaps, to about the highest at the end: the temperature only rises (no
+        segment resets it).  Default: each segment soaked at its own temperature.
+
+    """
+
+    duration: float = 90.0
+    seed: int = 0
+    base_gear: GearParams | None = None
+    n_segments: int | None = None
+    link_torque: bool = True
+    command: bool = True
+    compress: bool = False
+    cfg: Mapping[str, Any] | None = None
+    kinds: Sequence[str] | None = None
+    gain_scale: float | tuple[float, float] = 1.0
+    noise_scale: float = 1.0
+    current_bandwidth_scale: float = 1.0
+    temperature_lag_scale: float = 1.0
+    encoder_bits: int | None = None
+    warmup: bool = False

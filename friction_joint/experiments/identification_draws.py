@@ -1,16 +1,5 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 
 """
 Plants and plateau excitations drawn at random, for checking the identification.
@@ -20,7 +9,8 @@ One truth file is not evidence: :func:`draw_identification_case` draws a joint
 pre-sliding, sensors) from continuous ranges (:data:`JOINT_RANGES`) and a
 plateau excitation (speed set, plateau length and order, recording rate,
 encoder, noise, temperature ramp, load range, with or without a load sensor:
-:data:`EXCITATION_RANGES`); :func:`simulate_case` runs it on the simulated test
+:data:`EXCITATION_RANGES`; plateaus in both directions, or with ``one_direction`` in
+one drawn direction only); :func:`simulate_case` runs it on the simulated test
 bed (:class:`~friction_joint.testbed.plant.Plant`) and returns the contract
 topics of a recording, stamped at a wall-clock epoch as a robot's logger
 stamps them.  ``benchmarks/bench_identify.py --plants N`` and the
@@ -36,6 +26,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+from typing import Any
 
 import numpy as np
 
@@ -81,7 +72,7 @@ EXCITATION_RANGES = {
     'epoch': (1.5e9, 1.9e9),       # s, the stamps' epoch
 }
 
-_BASE = {
+_BASE: dict[str, Any] = {
     'joint_name': 'joint', 'gear_ratio': 100.0,
     'thermal': {'capacity': 450.0, 'resistance': 1.2, 'ambient': 25.0},
     'sensors': {'velocity_cutoff': 250.0, 'current_bandwidth': 800.0, 'torque_noise': 0.01,
@@ -120,6 +111,8 @@ class IdentificationCase:
         Position loop bandwidth (rad/s).
     epoch : float
         Wall-clock time of the first sample (s).
+    direction : int
+        0: plateaus in both directions; +1 or -1: in that direction only.
 
     """
 
@@ -136,19 +129,23 @@ class IdentificationCase:
     link_sensor: bool
     bandwidth: float
     epoch: float
+    direction: int = 0
 
     def describe(self) -> dict:
         """Return the drawn truth and excitation as plain JSON types."""
         f = self.truth.friction
+        sensors = self.truth.section('sensors')
+        # a section with defaults; every drawn truth has a Stribeck curve
+        assert sensors is not None and f.fs is not None and f.vs is not None
         return {'seed': self.seed, 'model': f.model, 'fc': list(f.fc), 'fs': list(f.fs),
                 'fv': list(f.fv), 'vs': list(f.vs), 'delta_v': list(f.delta_v),
                 'delta_s': f.delta_s, 'fc_load': list(f.fc_load), 'fs_load': list(f.fs_load),
                 'inertia': self.truth.inertia, 'mgl': self.truth.mgl,
                 'speeds': sorted({round(abs(v), 6) for v in self.speeds}),
                 'plateau_s': self.plateau, 'rate_hz': self.rate,
-                'encoder_bits': self.truth.section('sensors')['encoder_bits'],
+                'encoder_bits': sensors['encoder_bits'],
                 'xi': [self.xi_start, self.xi_end], 'link_sensor': self.link_sensor,
-                'bandwidth': self.bandwidth, 'epoch': self.epoch}
+                'bandwidth': self.bandwidth, 'epoch': self.epoch, 'direction': self.direction}
 
 
 def _u(rng, lo_hi, log=False):
@@ -164,7 +161,8 @@ def _linear(value, slope, xm):
 
 
 def draw_identification_case(seed: int, *, plant_ranges: dict | None = None,
-                             excitation_ranges: dict | None = None) -> IdentificationCase:
+                             excitation_ranges: dict | None = None,
+                             one_direction: bool = False) -> IdentificationCase:
     """
     Draw a joint and its plateau excitation (see the module docstring).
 
@@ -174,6 +172,11 @@ def draw_identification_case(seed: int, *, plant_ranges: dict | None = None,
         Seed of the draw.
     plant_ranges, excitation_ranges : dict, optional
         Overrides of :data:`JOINT_RANGES` and :data:`EXCITATION_RANGES` entries.
+    one_direction : bool
+        Every plateau in one direction (drawn, positive or negative; each speed run as
+        often as both directions would run it), the moves between them and the slow
+        slide too, and no pre-sliding reversals.  The rest of the draw is the
+        two-direction draw of the same seed.
 
     Returns
     -------
@@ -236,7 +239,10 @@ def draw_identification_case(seed: int, *, plant_ranges: dict | None = None,
     mags = grid * jitter
     mags[0], mags[-1] = v_low, v_high
     reps = int(rng.integers(er['repetitions'][0], er['repetitions'][1] + 1))
-    signed = [s * v for v in mags for s in (1.0, -1.0) for _ in range(reps)]
+    # one direction: drawn aside, so the rest of the draw is the two-direction one
+    direction = int(np.random.default_rng([7919, int(seed), 1]).choice([-1, 1])) \
+        if one_direction else 0
+    signed = [(direction or s) * v for v in mags for s in (1.0, -1.0) for _ in range(reps)]
     order = rng.permutation(len(signed))
     speeds = tuple(float(signed[i]) for i in order)
     centers = tuple(float(rng.uniform(-math.pi, math.pi)) for _ in speeds)
@@ -277,7 +283,20 @@ def draw_identification_case(seed: int, *, plant_ranges: dict | None = None,
         seed=int(seed), truth=truth, structure=structure, speeds=speeds, plateau=plateau,
         ramp=ramp, rate=3000.0 / every, xi_start=xi0, xi_end=xi1, centers=centers,
         link_sensor=bool(rng.uniform() < er['link_sensor']),
-        bandwidth=_u(rng, er['bandwidth']), epoch=_u(rng, er['epoch']))
+        bandwidth=_u(rng, er['bandwidth']), epoch=_u(rng, er['epoch']), direction=direction)
+
+
+def _turns(offset, direction):
+    """
+    Return the whole turns to add to reach an angle ``offset`` behind the plan's end.
+
+    Both directions: the nearest; one direction: the nearest ahead in that direction (the
+    joint never runs the other way, not even between plateaus).
+    """
+    turn = 2.0 * math.pi
+    if not direction:
+        return turn * round(offset / turn)
+    return direction * turn * math.ceil(direction * offset / turn)
 
 
 def plan_case(case: IdentificationCase, dt: float):
@@ -285,18 +304,19 @@ def plan_case(case: IdentificationCase, dt: float):
     Return the reference ``(q, qd, qdd)`` of a case's excitation and its plateau windows.
 
     Each plateau: a move to where the plateau's middle passes the lever angle
-    ``centers[i]``, a half-cosine ramp to the speed, ``plateau`` seconds at it, a ramp
-    to rest, a short hold; then slow pre-sliding sinusoids for step 3.
+    ``centers[i]`` (one ``direction``: forward, by whole turns if need be), a half-cosine
+    ramp to the speed, ``plateau`` seconds at it, a ramp to rest, a short hold; then slow
+    pre-sliding sinusoids for step 3 (not in one direction: no reversal at all).
     """
     from .excitation import BlockPlan
     plan = BlockPlan(dt)
     plan.hold(0.3)
     windows = []
-    for v, c in zip(case.speeds, case.centers):
+    for v, c in zip(case.speeds, case.centers, strict=True):
         accel = max(abs(v) * math.pi / (2.0 * case.ramp), 1e-3)
         travel = abs(v) * (case.plateau + case.ramp)
         start = c - math.copysign(0.5 * travel, v)
-        start += 2.0 * math.pi * round((plan.q_end - start) / (2.0 * math.pi))
+        start += _turns(plan.q_end - start, case.direction)
         plan.move(start, 30.0, 3.0)
         plan.ramp(0.0, v, accel)
         t0 = plan.t_end
@@ -305,12 +325,16 @@ def plan_case(case: IdentificationCase, dt: float):
         plan.ramp(v, 0.0, accel)
         plan.hold(0.1)
     home = 2.0 * math.pi * round(plan.q_end / (2.0 * math.pi))
-    plan.move(home - 5e-3, 30.0, 3.0)
+    if case.direction:                               # the next whole turn ahead
+        d = case.direction
+        home = d * 2.0 * math.pi * math.ceil(d * plan.q_end / (2.0 * math.pi))
+    slide = 5e-3 * (case.direction or 1)             # the slow slide in the plateaus' direction
+    plan.move(home - slide, 30.0, 3.0)
     plan.hold(0.3)
-    plan.ramp(0.0, 5e-3, 1.0)
-    plan.constant(5e-3, 0.9)
-    for amp in (1e-4, 3e-4, 1e-3, 3e-3):
-        plan.sine(amp, 1.0, 2)
+    plan.ramp(0.0, slide, 1.0)
+    plan.constant(slide, 0.9)
+    for amp in (1e-4, 3e-4, 1e-3, 3e-3) if not case.direction else ():
+        plan.sine(amp, 1.0, 2)                       # reversals: not in one direction
     plan.hold(0.3)
     q, qd, qdd = plan.arrays()
     return q, qd, qdd, windows
@@ -331,20 +355,25 @@ def simulate_case(case: IdentificationCase) -> dict:
     from .excitation import record_segment
     from ..testbed.plant import Plant
     truth = case.truth
-    dt = 1.0 / truth.section('simulation')['rate']
-    every = max(1, int(round(truth.section('simulation')['rate'] / case.rate)))
+    sim = truth.section('simulation')
+    assert sim is not None  # a section with defaults
+    dt = 1.0 / sim['rate']
+    every = max(1, int(round(sim['rate'] / case.rate)))
     q_ref, qd_ref, qdd_ref, _ = plan_case(case, dt)
     J, lever = truth.inertia, truth.lever_torque
     w = case.bandwidth
     kp, kd = J * w * w, 2.0 * J * w
     plant = Plant(truth, xi0=case.xi_start, q0=0.0)
-    out = {k: [] for k in ('t', 'q', 'qd', 'effort', 'tau', 'cmd', 'q_d', 'qd_d')}
-    temp_t, temp_xi = [], []
+    out: dict[str, list[np.ndarray]] = {k: [] for k in ('t', 'q', 'qd', 'effort', 'tau', 'cmd',
+                                                        'q_d', 'qd_d')}
+    temp_t: list[np.ndarray] = []
+    temp_xi: list[np.ndarray] = []
     record_segment(plant, lambda s, k: (J * qdd_ref[k] + kp * (q_ref[k] - s.q)
                                         + kd * (qd_ref[k] - s.qd) + lever(s.q)),
                    q_ref, qd_ref, every, case.epoch, out=out, temp_t=temp_t, temp_xi=temp_xi)
     cat = {k: np.concatenate(v) for k, v in out.items()}
     sens = truth.section('sensors')
+    assert sens is not None  # a section with defaults
     topics = {
         '/joint_states': {'t': cat['t'], 'q': cat['q'], 'qd': cat['qd'],
                           'effort': cat['effort'], 'name': truth.joint_name},
@@ -365,7 +394,9 @@ def draw_plateaus(case: IdentificationCase, *, noise: float = 0.002, seed: int =
     No time simulation: each signed speed of the case becomes one plateau per
     repetition, at a temperature rising linearly from ``xi_start`` to ``xi_end`` in the
     order run and a load ``|m g l sin(center)|``; the friction torque is the truth's
-    static curve plus Gaussian noise of ``noise`` x F_c.  For checking the fit itself
+    static curve plus Gaussian noise of ``noise`` x F_c; tau_ext counts as measured
+    (``torque_source`` ``'link_torque'``) when the case has a load sensor.  For checking
+    the fit itself
     (fast); :func:`simulate_case` checks everything from the recording on.
 
     Parameters
@@ -397,4 +428,5 @@ def draw_plateaus(case: IdentificationCase, *, noise: float = 0.002, seed: int =
     t0 = case.epoch + k * (case.plateau + 2 * case.ramp + 2.0)
     return Plateaus.from_arrays(qd, tau, xi, load=load, tau_r_se=np.full(len(qd), sigma),
                                 t0=t0, t1=t0 + case.plateau, n=1000,
-                                sources=(f'drawn plant {case.seed}',))
+                                sources=(f'drawn plant {case.seed}',),
+                                torque_source=('link_torque' if case.link_sensor else 'given',))

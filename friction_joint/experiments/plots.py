@@ -1,20 +1,9 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 
 
 """
-Figures of the test-bed experiments, drawn from their results (:class:`ExperimentData`).
+Figures of the test-bed experiments, drawn from their results (``ExperimentResult``).
 
 The experiment functions compute; this module draws.  :data:`TESTBED_FIGURES`
 maps an experiment name to its figures (file name -> ``(draw(fig, data), (width,
@@ -29,7 +18,7 @@ import math
 
 import numpy as np
 
-from ._common import json_key, MODEL_LABELS, MODELS, reversal_window
+from ._basics import json_key, MODEL_LABELS, MODELS, reversal_window
 from ..paper import PAPER
 
 __all__ = ['STYLES', 'COLORS', 'SETTLING_LABEL', 'grid_on', 'paper_suptitle', 'add_headroom',
@@ -244,7 +233,7 @@ def _compensation_bars(fig, res):
                label=f'{MODEL_LABELS[kind]}: max error')
         ax.bar(pos, rm, w * 0.22, color='k',
                label='RMSE (thin bars)' if i == len(MODELS) - 1 else None)
-        for p_, v_ in zip(pos, mx):
+        for p_, v_ in zip(pos, mx, strict=True):
             ax.annotate(f'{v_:.1f}', (p_, v_), xytext=(0, 3), textcoords='offset points',
                         ha='center', va='bottom', fontsize='small',
                         bbox={'facecolor': 'white', 'edgecolor': 'none', 'alpha': 0.7,
@@ -330,7 +319,7 @@ def _gain_sweep(fig, res):
     lo, hi = PAPER['uncompensated_band'].value
     ax.axhspan(lo, hi, color='0.85', label=f'paper, no compensation: {lo:g}-{hi:g} %')
     for kind in models:
-        for xi, mark in zip(temps, ('o', 's')):
+        for xi, mark in zip(temps, ('o', 's'), strict=False):
             style = dict(STYLES[kind])
             style['linestyle'] = '-' if xi == temps[0] else '--'
             ax.plot(grid, table[kind][json_key(xi)], marker=mark, ms=4,
@@ -366,7 +355,7 @@ def experiment_figures(data):
 
     Parameters
     ----------
-    data : ExperimentData
+    data : ExperimentResult
         The run; its ``name`` selects the figures in :data:`TESTBED_FIGURES` (none
         for a name without an entry).
 

@@ -1,16 +1,5 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 
 """
 The paper's evaluation experiments on the simulated test bed (seed Section V B-D).
@@ -37,9 +26,9 @@ the paper runs its test bed and its model:
 
 Every experiment function takes ``(model, truth, duration_scale=1.0)`` (two
 :class:`~friction_joint.gear.GearParams`) and returns an
-:class:`~friction_joint.experiments._common.ExperimentData`: ``summary``
-(plain numbers for ``summary.json``) and ``series`` (the signals its figures
-are drawn from); the figures are drawn by :mod:`~friction_joint.experiments.plots`.
+:class:`~friction_joint.results.ExperimentResult`: ``summary``
+(plain numbers for ``summary.json``), ``series`` (the signals its figures
+are drawn from) and ``figures``, drawn by :mod:`~friction_joint.experiments.plots`.
 :data:`EXPERIMENTS` maps the command-line names to them; adding an
 experiment is adding an entry (and its figures to ``plots.TESTBED_FIGURES``).
 
@@ -60,12 +49,12 @@ existing recording as a whole).
 import math
 
 from ._common import check_scale, Experiment
+from .catalogue import EXPERIMENT_HELP
 from .chirp import chirp
 from .compensation import compensation
 from .estimation import estimation
 from .gain_sweep import gain_sweep
 from ..exceptions import ExperimentError
-from ..paper import PAPER
 
 __all__ = ['check_gains', 'EXPERIMENTS', 'CLOSED_LOOP', 'identification']
 
@@ -91,7 +80,8 @@ def identification(model, truth, duration_scale=1.0, progress=None):
 
     """
     from .excitation import simulate_identification
-    return simulate_identification(truth, check_scale(duration_scale), progress=progress)
+    return simulate_identification(truth, duration_scale=check_scale(duration_scale),
+                                   progress=progress)
 
 
 #: experiments whose closed loop takes a gain design (``gains=``)
@@ -99,21 +89,11 @@ CLOSED_LOOP = ('compensation', 'estimation')
 
 #: command-line name -> experiment
 EXPERIMENTS = {
-    'chirp': Experiment(chirp, 'open-loop chirp torques, measured vs LuGre/GMS simulation '
-                               '(Fig. 5)'),
-    'compensation': Experiment(compensation, 'sine tracking with friction feed-forward '
-                                             'none/LuGre/GMS at 27, 31 and 35 degC reached by '
-                                             'self-heating (Fig. 6-7)'),
-    'estimation': Experiment(estimation, 'external torque estimation with the disturbance '
-                                         'observer, with and without friction model (Fig. 8)'),
-    'gain_sweep': Experiment(gain_sweep, 'maximum tracking error without and with LuGre '
-                                         "feed-forward against the gains' design inertia: "
-                                         "where the paper's {:g}-{:g} % regime lies".format(
-                                             *PAPER['uncompensated_band'].value)),
-    'identification': Experiment(identification, 'constant-velocity plateaus at several '
-                                                 'temperatures and loads plus pre-sliding '
-                                                 'sinusoids, written as a recording (--out BAG) '
-                                                 'for "friction_joint identify" (Section V-A)',
+    'chirp': Experiment(chirp, EXPERIMENT_HELP['chirp']),
+    'compensation': Experiment(compensation, EXPERIMENT_HELP['compensation']),
+    'estimation': Experiment(estimation, EXPERIMENT_HELP['estimation']),
+    'gain_sweep': Experiment(gain_sweep, EXPERIMENT_HELP['gain_sweep']),
+    'identification': Experiment(identification, EXPERIMENT_HELP['identification'],
                                  'recording', False),
 }
 

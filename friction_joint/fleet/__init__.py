@@ -1,16 +1,5 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 
 """
 Fleet friction monitoring: which joints wear, since when, how fast (docs/fleet.md).
@@ -23,22 +12,21 @@ Fleet friction monitoring: which joints wear, since when, how fast (docs/fleet.m
 * :mod:`~friction_joint.fleet.assess`: reference point, trends, verdict;
 * :mod:`~friction_joint.fleet.cluster`: the tasks on Dask distributed (the only
   module that imports Dask, lazily);
-* :mod:`~friction_joint.fleet.monitor`: :class:`FleetRun`, the result of a
-  run (:meth:`FleetRun.plot`: the trend plots in memory);
 * :mod:`~friction_joint.fleet.plots`, :mod:`~friction_joint.fleet.report`: the
   trend plots and the output files' content.
 
 The ``fleet`` command's load, compute, write (manifest, cache, Dask tasks,
-DIR) is :func:`friction_joint.jobs.fleet.run_fleet`.
+DIR) is :func:`friction_joint.jobs.fleet.run_fleet`; its result, a
+:class:`~friction_joint.jobs.runs.FleetRun`
+(:meth:`~friction_joint.jobs.runs.FleetRun.plot`: the trend plots in memory).
 """
 from .assess import assess_fleet, FleetAssessment, reference_point
 from .cluster import default_workers, local_cluster, map_recordings
 from .manifest import ManifestEntry, read_manifest
-from .monitor import FleetRun
-from .recording import analyse_recording, reference_friction
+from .recording import analyse_recording, recording_task, RecordingResult, reference_friction
 from .trend import extra_variance, trend_test, TrendResult
 
-__all__ = ['FleetRun', 'read_manifest', 'ManifestEntry',
-           'analyse_recording', 'reference_friction', 'assess_fleet', 'FleetAssessment',
+__all__ = ['read_manifest', 'ManifestEntry', 'analyse_recording', 'recording_task',
+           'RecordingResult', 'reference_friction', 'assess_fleet', 'FleetAssessment',
            'reference_point', 'trend_test', 'TrendResult', 'extra_variance', 'map_recordings',
            'default_workers', 'local_cluster']

@@ -1,16 +1,5 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 
 """
 From per-recording results to the fleet's verdict: reference point, trends, wear.
@@ -37,14 +26,23 @@ results (:func:`~friction_joint.fleet.recording.analyse_recording`) and
 Travel: the manifest's ``travel`` column when every recording of the joint
 has it, else the running sum of the recordings' own travel.
 """
+from __future__ import annotations
+
+from collections.abc import Sequence
 import dataclasses
 import datetime
 import statistics
+from typing import Any, cast, TYPE_CHECKING
 
 import numpy as np
 
 from .recording import reference_friction
 from .trend import BOOTSTRAP, extra_variance, trend_test, WEAR_ALPHA
+
+if TYPE_CHECKING:
+    from .manifest import ManifestEntry
+    from .recording import RecordingResult
+    from ..gear import GearParams
 
 __all__ = ['TREND_QUANTITIES', 'FleetAssessment', 'assess_fleet', 'reference_point']
 
@@ -74,12 +72,12 @@ class FleetAssessment:
     """
 
     xi_ref: float
-    v_ref: float
+    v_ref: float | None
     joints: dict
     recordings: list
     extra_sd: dict
 
-    def to_dict(self):
+    def to_dict(self) -> dict[str, Any]:
         """Return plain JSON types (``fleet.json``)."""
         return {'reference_point': {'xi_ref': self.xi_ref, 'v_ref': self.v_ref, 'tau_l': 0.0},
                 'extra_sd': dict(self.extra_sd),
@@ -88,25 +86,43 @@ class FleetAssessment:
                 'recordings': list(self.recordings)}
 
 
-def reference_point(results, gear):
-    """Return ``(xi_ref, v_ref)`` of the analysed recordings (module docstring)."""
-    ok = [r for r in results if r and r.get('status') == 'ok']
+def reference_point(results: Sequence[RecordingResult | None],
+                    gear: GearParams) -> tuple[float, float | None]:
+    """
+    Return ``(xi_ref, v_ref)`` of the analysed recordings (module docstring).
+
+    Parameters
+    ----------
+    results : list of RecordingResult or None
+        Per recording, :func:`~friction_joint.fleet.recording.analyse_recording`'s result.
+    gear : GearParams
+        The model gear file (its temperature range bounds xi_ref).
+
+    Returns
+    -------
+    xi_ref : float
+        Reference temperature (degC).
+    v_ref : float or None
+        Reference speed (rad/s); None when no recording could be analysed.
+
+    """
+    ok = [r for r in results if r and r.ok]
     lo, hi = gear.friction.temperature_range
     if not ok:
         return 0.5 * (lo + hi), None
-    xi = statistics.median(r['xi_mean'] for r in ok)
-    return float(min(max(xi, lo), hi)), float(statistics.median(r['speed'] for r in ok))
+    # an ok result has plateaus, hence its mean temperature and speed
+    xi = statistics.median(cast(float, r.xi_mean) for r in ok)
+    return float(min(max(xi, lo), hi)), float(statistics.median(cast(float, r.speed) for r in ok))
 
 
 def _row(entry, res, ref):
     row = {'joint': entry.joint, 'time': entry.time.isoformat(), 'recording': entry.recording,
-           'status': res.get('status', 'failed'), 'reason': res.get('reason', ''),
-           'cached': bool(res.get('cached', False))}
+           'status': res.status, 'reason': res.reason, 'cached': res.cached}
     for key in ('raw_friction', 'raw_friction_se', 'travel', 'plateaus', 'xi_mean', 'speed'):
-        row[key] = res.get(key)
-    row['xi_range'] = res.get('xi_range')
-    row['load_range'] = res.get('load_range')
-    row['terms'] = ['%s[%d]' % (n, i) for n, i in res.get('terms', [])]
+        row[key] = getattr(res, key)
+    row['xi_range'] = None if res.xi_range is None else list(res.xi_range)
+    row['load_range'] = None if res.load_range is None else list(res.load_range)
+    row['terms'] = ['%s[%d]' % (n, i) for n, i in res.terms]
     if ref:
         row.update({'reference_friction': ref['torque'], 'reference_friction_se': ref['torque_se'],
                     'fc_ref': ref['fc'], 'fc_ref_se': ref['fc_se']})
@@ -121,7 +137,7 @@ def _row(entry, res, ref):
 def _series(entries, rows):
     """Per joint: the analysed recordings in time order with days and travel."""
     by_joint = {}
-    for e, r in zip(entries, rows):
+    for e, r in zip(entries, rows, strict=True):
         by_joint.setdefault(e.joint, []).append((e, r))
     out = {}
     for joint, items in by_joint.items():
@@ -163,7 +179,9 @@ def _verdict(s, q, se, extra, alpha, n_boot, seed):
                       alpha=alpha, n_boot=n_boot, seed=seed)
 
 
-def assess_fleet(entries, results, gear, *, alpha=WEAR_ALPHA, n_boot=BOOTSTRAP, seed=0):
+def assess_fleet(entries: Sequence[ManifestEntry], results: Sequence[RecordingResult],
+                 gear: GearParams, *, alpha: float = WEAR_ALPHA, n_boot: int = BOOTSTRAP,
+                 seed: int = 0) -> FleetAssessment:
     """
     Assess a fleet (module docstring).
 
@@ -171,7 +189,7 @@ def assess_fleet(entries, results, gear, *, alpha=WEAR_ALPHA, n_boot=BOOTSTRAP, 
     ----------
     entries : list of ManifestEntry
         The manifest.
-    results : list of dict
+    results : list of RecordingResult
         Per entry, :func:`~friction_joint.fleet.recording.analyse_recording`'s result.
     gear : GearParams
         The model gear file.
@@ -185,8 +203,9 @@ def assess_fleet(entries, results, gear, *, alpha=WEAR_ALPHA, n_boot=BOOTSTRAP, 
     """
     xi_ref, v_ref = reference_point(results, gear)
     rows = []
-    for e, res in zip(entries, results):
-        ref = reference_friction(res, gear, xi_ref, v_ref) if res.get('status') == 'ok' else None
+    for e, res in zip(entries, results, strict=True):
+        ref = (reference_friction(res, gear, xi_ref, v_ref)
+               if res.ok and v_ref is not None else None)       # v_ref: one is ok
         rows.append(_row(e, res, ref))
     series = _series(entries, rows)
     extra, ses = {}, {}

@@ -1,16 +1,5 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 
 """
 Running per-recording tasks on Dask distributed (the only module that imports Dask).
@@ -43,20 +32,40 @@ workers per core.  Connecting to a scheduler is bounded by
 :data:`CONNECT_TIMEOUT` whatever the other end does (answers garbage,
 accepts and stays silent), and a scheduler without workers is waited for
 :data:`WORKER_WAIT` s, then refused.
+
+A stuck cluster (a worker stopped, hung or busy elsewhere) does not hang the run:
+when no task has finished for the *stall guard* the tasks still pending are
+reported failed (``stalled`` in the result counts them) and the run goes on.
+The guard is :data:`STALL_TIMEOUT` s until the first task has finished (the
+workers start, numba compiles); then it scales with the work: :data:`STALL_FACTOR`
+x the median task time measured on the workers, at least :data:`STALL_MIN` s, or
+the ``stall_timeout`` given.  The embedded cluster's worker processes end with
+the command, even killed with SIGKILL (:func:`dask_setup`, a parent-death signal:
+a worker that is stopped or hung would otherwise stay).
 """
+from __future__ import annotations
+
+from collections.abc import Callable, Iterator, Mapping, Sequence
+from concurrent.futures import Executor
 import contextlib
 import ipaddress
 import logging
 import os
 import re
+import signal
+import statistics
+import sys
 import threading
+import time
+from typing import Any
 import uuid
 
+from .._process import end_with_parent
 from ..exceptions import ArgumentError
 
-__all__ = ['MEMORY_LIMIT', 'CONNECT_TIMEOUT', 'CLOSE_TIMEOUT', 'STALL_TIMEOUT', 'WORKER_WAIT',
-           'WORKERS_PER_CORE', 'map_recordings', 'default_workers', 'local_cluster',
-           'check_scheduler', 'check_workers']
+__all__ = ['MEMORY_LIMIT', 'CONNECT_TIMEOUT', 'CLOSE_TIMEOUT', 'STALL_TIMEOUT', 'STALL_FACTOR',
+           'STALL_MIN', 'WORKER_WAIT', 'WORKERS_PER_CORE', 'map_recordings', 'default_workers',
+           'local_cluster', 'check_scheduler', 'check_workers', 'stall_guard', 'dask_setup']
 
 #: memory limit per worker of the embedded cluster
 MEMORY_LIMIT = '2GiB'
@@ -64,10 +73,15 @@ MEMORY_LIMIT = '2GiB'
 CONNECT_TIMEOUT = 20
 #: seconds to wait for the client and an embedded cluster to close
 CLOSE_TIMEOUT = 30
-#: seconds without any task finishing after which the tasks still pending are reported
-#: failed and the run goes on (a recording's task takes well under a second; a stuck
-#: worker or scheduler must not hang the command)
+#: seconds without any task finishing, before the first has finished, after which the tasks
+#: still pending are reported failed and the run goes on (the workers' start-up and numba's
+#: compilation; a stuck worker or scheduler must not hang the command)
 STALL_TIMEOUT = 600
+#: once tasks have finished: no task finishing for this many times the median task time is a
+#: stall (a recording's task takes well under a second) ...
+STALL_FACTOR = 20
+#: ... and never less than this many seconds
+STALL_MIN = 60
 #: seconds to wait for a worker when the scheduler given by address has none
 WORKER_WAIT = 30
 #: most embedded worker processes per core (the analysis is CPU-bound: more only queue)
@@ -77,7 +91,7 @@ _HOST = re.compile(r'(?=.{1,253}\Z)[A-Za-z0-9](?:[A-Za-z0-9_-]{0,62})?'
                    r'(?:\.[A-Za-z0-9](?:[A-Za-z0-9_-]{0,62})?)*\.?', re.ASCII)
 
 
-def default_workers():
+def default_workers() -> int:
     """Return the number of cores this process may use."""
     try:
         return max(1, len(os.sched_getaffinity(0)))
@@ -215,15 +229,77 @@ def _wait_for_workers(client, address):
     return len(client.scheduler_info().get('workers', {}))
 
 
+def dask_setup(worker):
+    """
+    Preload of the embedded cluster's workers: each ends (SIGKILL) when the command does.
+
+    Distributed ends a worker whose parent has gone, from a thread of the worker: a
+    worker stopped (SIGSTOP) or hung outside Python runs none, and stayed behind a killed
+    command.  The parent-death signal is the kernel's (Linux).
+    """
+    end_with_parent(signal.SIGKILL)
+
+
+def stall_guard(durations, stall_timeout=None):
+    """
+    Return the seconds without a finished task that make the cluster stuck.
+
+    Parameters
+    ----------
+    durations : sequence of float
+        Seconds the finished tasks took on their workers (none yet: the start-up guard).
+    stall_timeout : float, optional
+        The guard once a task has finished (default: :data:`STALL_FACTOR` x the median
+        of ``durations``, at least :data:`STALL_MIN`).
+
+    Returns
+    -------
+    float
+        :data:`STALL_TIMEOUT` (or ``stall_timeout`` if larger) until a task has finished.
+
+    """
+    if not durations:
+        return float(max(STALL_TIMEOUT, stall_timeout or 0))
+    if stall_timeout is not None:
+        return float(stall_timeout)
+    return float(max(STALL_MIN, STALL_FACTOR * statistics.median(durations)))
+
+
+def _quiet_resource_tracker():
+    """
+    Start multiprocessing's resource tracker with its stderr on /dev/null.
+
+    The embedded cluster's processes share it; when the command ends on Ctrl-C (at once,
+    ``os._exit``), it wrote a ``leaked semaphore objects`` warning after the command's
+    one line.  It has nothing else to say.
+    """
+    from multiprocessing import resource_tracker
+    try:
+        sys.stderr.flush()
+        devnull, saved = os.open(os.devnull, os.O_WRONLY), os.dup(2)
+    except (OSError, AttributeError, ValueError):    # no stderr to replace: start it as it is
+        resource_tracker.ensure_running()
+        return
+    try:
+        os.dup2(devnull, 2)
+        resource_tracker.ensure_running()
+    finally:
+        os.dup2(saved, 2)
+        os.close(saved)
+        os.close(devnull)
+
+
 def _connect(scheduler, workers, memory_limit):
     from distributed import Client, LocalCluster
     if scheduler is not None:
         address = check_scheduler(scheduler)
         return _client(address), None
     n = check_workers(int(workers or default_workers()))
+    _quiet_resource_tracker()
     cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
                            memory_limit=memory_limit, silence_logs=logging.CRITICAL,
-                           dashboard_address=':0')    # its HTTP endpoint on a free port
+                           dashboard_address=':0',    # its HTTP endpoint on a free port
+                           preload=[__name__])        # dask_setup: end with the command
     try:
         return Client(cluster), cluster
     except BaseException:
@@ -232,9 +308,17 @@ def _connect(scheduler, workers, memory_limit):
 
 
 @contextlib.contextmanager
-def local_cluster(workers=None, memory_limit=MEMORY_LIMIT):
+def local_cluster(*, workers: int | None = None, memory_limit: str | int = MEMORY_LIMIT,
+                  ) -> Iterator[tuple[str, Executor]]:
     """
     Start an embedded LocalCluster for several runs (benchmarks, tests).
+
+    Parameters
+    ----------
+    workers : int, optional
+        Worker processes (default the cores).
+    memory_limit : str or int
+        Per worker.
 
     Yields
     ------
@@ -243,7 +327,7 @@ def local_cluster(workers=None, memory_limit=MEMORY_LIMIT):
         :func:`~friction_joint.jobs.fleet.run_fleet`.
     executor : concurrent.futures.Executor
         Runs functions on the cluster's workers (e.g. ``executor=`` of
-        :func:`~friction_joint.experiments.fleet.simulate_fleet`).
+        :func:`~friction_joint.jobs.fleet_simulation.run_fleet_simulation`).
 
     """
     client, cluster = _connect(None, workers, memory_limit)
@@ -251,43 +335,55 @@ def local_cluster(workers=None, memory_limit=MEMORY_LIMIT):
         yield cluster.scheduler_address, client.get_executor()
     finally:
         client.close(timeout=CLOSE_TIMEOUT)
-        cluster.close(timeout=CLOSE_TIMEOUT)
+        _close_cluster(cluster)
 
 
 class _Stalled(Exception):
-    """No task finished for STALL_TIMEOUT seconds."""
+    """No task finished for the stall guard's seconds (``args[0]``)."""
 
 
 class _StalledFuture:
     """A pending future given up on: its ``result()`` raises :class:`_Stalled`."""
 
-    def __init__(self, fut):
+    def __init__(self, fut, guard):
         self.key = fut.key
         self._fut = fut
+        self.guard = guard
 
     def result(self):
-        raise _Stalled
+        raise _Stalled(self.guard)
 
     def release(self):
         self._fut.release()
 
 
-def _completed(futures):
-    """Yield the futures as they finish; after STALL_TIMEOUT s with none, the rest as stalled."""
+def _timed(func, *args, **kwargs):
+    """Run a task on its worker; return (seconds it took, its result)."""
+    t0 = time.perf_counter()
+    result = func(*args, **kwargs)
+    return time.perf_counter() - t0, result
+
+
+def _completed(futures, guard):
+    """Yield the futures as they finish; after ``guard()`` s with none, the rest as stalled."""
     from distributed import wait
     pending = list(futures)
     while pending:
+        timeout = guard()
         try:
-            done, rest = wait(pending, timeout=STALL_TIMEOUT, return_when='FIRST_COMPLETED')
+            done, rest = wait(pending, timeout=timeout, return_when='FIRST_COMPLETED')
         except TimeoutError:
-            yield from (_StalledFuture(fut) for fut in pending)
+            yield from (_StalledFuture(fut, timeout) for fut in pending)
             return
         pending = list(rest)
         yield from done
 
 
-def map_recordings(func, paths, *, args=(), kwargs=None, scheduler=None, workers=None,
-                   memory_limit=MEMORY_LIMIT, on_result=None):
+def map_recordings(func: Callable[..., Any], paths: Sequence[str], *, args: Sequence[Any] = (),
+                   kwargs: Mapping[str, Any] | None = None, scheduler: str | None = None,
+                   workers: int | None = None, memory_limit: str | int = MEMORY_LIMIT,
+                   on_result: Callable[[int, Any], None] | None = None,
+                   stall_timeout: float | None = None) -> dict[str, Any]:
     """
     Run ``func(path, *args, **kwargs)`` for every path on a Dask cluster.
 
@@ -307,39 +403,47 @@ def map_recordings(func, paths, *, args=(), kwargs=None, scheduler=None, workers
         Per worker of the embedded cluster.
     on_result : callable, optional
         ``on_result(index, result)`` as each task completes (in completion order).
+    stall_timeout : float, optional
+        Seconds without a finished task, once one has finished, that make the cluster
+        stuck (default: scaled with the task times, :func:`stall_guard`).
 
     Returns
     -------
     dict
         ``results`` (list in ``paths`` order), ``workers`` (how many the cluster had),
-        ``scheduler`` (its address), ``tasks`` (submitted).  A task that raised, or
-        whose worker died, gives ``{'status': 'failed', 'reason': ...}``; so do the
-        tasks still pending when no task has finished for :data:`STALL_TIMEOUT` s.
+        ``scheduler`` (its address), ``tasks`` (submitted), ``stalled`` (how many were
+        given up on) and ``stall_guard`` (the guard that fired, or None).  A task that
+        raised, or whose worker died, gives ``{'status': 'failed', 'reason': ...}``; so
+        do the tasks still pending when no task has finished for the stall guard.
 
     """
     import distributed
 
     results = [None] * len(paths)
+    durations: list[float] = []
+    stalled: list[str] = []
     client, cluster = _connect(scheduler, workers, memory_limit)
     futures = []
     try:
         nworkers = (len(client.scheduler_info().get('workers', {})) if cluster is not None
-                    else _wait_for_workers(client, check_scheduler(scheduler)))
+                    else _wait_for_workers(client, check_scheduler(str(scheduler))))
         tag = uuid.uuid4().hex[:8]
         index = {}
         for i, path in enumerate(paths):
-            fut = client.submit(func, path, *args, key=f'fleet-{tag}-{i}', pure=False,
-                                retries=0, **(kwargs or {}))
+            fut = client.submit(_timed, func, path, *args, key=f'fleet-{tag}-{i}',
+                                pure=False, retries=0, **(kwargs or {}))
             index[fut.key] = i
             futures.append(fut)
-        for fut in _completed(futures):
+        for fut in _completed(futures, lambda: stall_guard(durations, stall_timeout)):
             i = index[fut.key]
             try:
-                res = fut.result()
-            except _Stalled:
+                seconds, res = fut.result()
+                durations.append(seconds)
+            except _Stalled as exc:
+                stalled.append(exc.args[0])
                 res = {'path': paths[i], 'status': 'failed',
-                       'reason': f'no task of the run finished for {STALL_TIMEOUT} s: the '
-                                 'cluster is stuck (its workers busy elsewhere, or hung)'}
+                       'reason': f'no task of the run finished for {exc.args[0]:g} s: the '
+                                 'cluster is stuck (a worker stopped, hung or busy elsewhere)'}
             except distributed.KilledWorker:
                 res = {'path': paths[i], 'status': 'failed',
                        'reason': 'its worker died (over the memory limit, or killed)'}
@@ -351,13 +455,40 @@ def map_recordings(func, paths, *, args=(), kwargs=None, scheduler=None, workers
                 on_result(i, res)
             fut.release()
         return {'results': results, 'workers': nworkers, 'tasks': len(paths),
+                'stalled': len(stalled), 'stall_guard': stalled[0] if stalled else None,
                 'scheduler': ('embedded LocalCluster' if cluster is not None
-                              else check_scheduler(scheduler))}
+                              else check_scheduler(str(scheduler)))}
     finally:
         try:
             if futures:
                 client.cancel([f for f in futures if not f.done()])
         finally:
+            if stalled and cluster is not None:
+                _kill_workers(cluster)
             client.close(timeout=CLOSE_TIMEOUT)
             if cluster is not None:
-                cluster.close(timeout=CLOSE_TIMEOUT)
+                _close_cluster(cluster)
+
+
+def _kill_workers(cluster):
+    """
+    End the embedded cluster's worker processes at once (SIGKILL), not to be restarted.
+
+    After a stall one of them may be stopped (SIGSTOP) or hung: asked to close, it never
+    answers, and closing the cluster waited on it for longer than the stall guard.
+    """
+    for nanny in list(getattr(cluster, 'workers', {}).values()):
+        with contextlib.suppress(AttributeError):
+            nanny.close_gracefully(reason='stalled')       # not restarted once killed
+        pid = getattr(nanny, 'pid', None)
+        if pid:
+            with contextlib.suppress(OSError):
+                os.kill(pid, signal.SIGKILL)
+
+
+def _close_cluster(cluster):
+    """Close the embedded cluster within :data:`CLOSE_TIMEOUT`; past it, kill its workers."""
+    try:
+        cluster.close(timeout=CLOSE_TIMEOUT)
+    except TimeoutError:
+        _kill_workers(cluster)

@@ -1,16 +1,5 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 
 """
 The fleet manifest: which recording belongs to which joint, and when (docs/fleet.md).
@@ -40,6 +29,8 @@ row (header = row 1); the recordings themselves are not opened here (a
 missing or broken recording is reported per recording by the run, which goes
 on).
 """
+from __future__ import annotations
+
 import csv
 import dataclasses
 import datetime
@@ -47,6 +38,7 @@ import io
 import math
 import os
 import re
+from typing import Any
 
 from ..exceptions import InputFileError
 from ..inputs import open_input
@@ -81,6 +73,7 @@ class ManifestEntry:
     path : str
         The recording's absolute path.
     joint : str
+        The joint's id.
     time : datetime.datetime
         Timezone-aware (UTC when the manifest gives no zone).
     travel : float or None
@@ -95,10 +88,10 @@ class ManifestEntry:
     path: str
     joint: str
     time: datetime.datetime
-    travel: float = None
+    travel: float | None = None
     metadata: dict = dataclasses.field(default_factory=dict)
 
-    def to_dict(self):
+    def to_dict(self) -> dict[str, Any]:
         """Return plain JSON types."""
         return {'row': self.row, 'recording': self.recording, 'path': self.path,
                 'joint': self.joint, 'time': self.time.isoformat(), 'travel': self.travel,
@@ -127,9 +120,14 @@ def _rows(reader, path):
         yield row
 
 
-def read_manifest(path):
+def read_manifest(path: str | os.PathLike[str]) -> list[ManifestEntry]:
     """
     Read and check a fleet manifest.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The manifest (CSV).
 
     Returns
     -------
@@ -172,7 +170,9 @@ def read_manifest(path):
     if dup:
         raise InputFileError(f'{path}: row 1 (header): column {", ".join(dup)} appears twice')
     base = os.path.dirname(os.path.abspath(path))
-    entries, seen, last_travel = [], {}, {}
+    entries: list[ManifestEntry] = []
+    seen: dict[str, int] = {}
+    last_travel: dict[str, tuple[float, int]] = {}
     for k, row in enumerate(_rows(reader, path), start=2):
         if not any(cell.strip() for cell in row):
             continue                                          # blank line
@@ -183,7 +183,7 @@ def read_manifest(path):
         if len(row) != len(header):
             raise InputFileError(f'{path}: row {k}: {len(row)} fields, the header has '
                                  f'{len(header)}')
-        rec = dict(zip(header, (c.strip() for c in row)))
+        rec = dict(zip(header, (c.strip() for c in row), strict=True))
         for col, value in rec.items():
             if '\0' in value:
                 raise InputFileError(f'{path}: row {k}: column {col!r} holds a NUL byte (not '
@@ -207,7 +207,7 @@ def read_manifest(path):
         if not inside:
             raise InputFileError(f'{path}: row {k}: time {rec["time"]!r} is outside '
                                  f'{TIME_RANGE[0].year}..{TIME_RANGE[1].year - 1} (UTC)')
-        travel = None
+        travel: float | None = None
         if 'travel' in rec:
             text = rec['travel']
             travel = float(text) if _DECIMAL.fullmatch(text) else math.nan
@@ -217,10 +217,10 @@ def read_manifest(path):
         full = os.path.normpath(os.path.join(base, rec['recording']))
         same = os.path.realpath(full)
         if full in seen or same in seen:
-            first = seen.get(full, seen.get(same))
+            earlier = seen.get(full, seen.get(same))
             how = '' if full in seen else ' (the same file through a symlink)'
             raise InputFileError(f'{path}: row {k}: recording {rec["recording"]} is already '
-                                 f'listed in row {first}{how}')
+                                 f'listed in row {earlier}{how}')
         seen[full] = seen[same] = k
         meta = {h: v for h, v in rec.items() if h not in REQUIRED_COLUMNS + ('travel',)}
         entries.append(ManifestEntry(k, rec['recording'], full, rec['joint'], when, travel,
@@ -230,6 +230,8 @@ def read_manifest(path):
     if any(e.travel is not None for e in entries):
         for e in sorted(entries, key=lambda e: (e.joint, e.time)):
             prev = last_travel.get(e.joint)
+            if e.travel is None:            # the travel column is in every row or in none
+                continue
             if prev is not None and e.travel < prev[0]:
                 raise InputFileError(f'{path}: row {e.row}: travel {e.travel:g} rad of joint '
                                      f'{e.joint} is less than {prev[0]:g} rad at an earlier '

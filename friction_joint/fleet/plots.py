@@ -1,23 +1,12 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 
 """
 Figures of the fleet report (drawn from a :class:`~friction_joint.fleet.assess.FleetAssessment`).
 
 :func:`trend_figure` returns ``draw(fig)`` for one joint, :func:`trend_figures`
 ``{joint: (draw, size)}`` for all of them (the report's figures, and
-:meth:`FleetRun.plot <friction_joint.fleet.monitor.FleetRun.plot>`): the reference
+:meth:`FleetRun.plot <friction_joint.jobs.runs.FleetRun.plot>`): the reference
 friction with its standard errors (left axis) beside the raw mean friction
 of the plateaus (same axis, what an uncompensated monitor sees), the
 recording's temperature on a second axis, the fitted hinge and the onset

@@ -1,16 +1,5 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 
 """
 One recording of a fleet: its static curve, and the friction at a reference point.
@@ -37,14 +26,21 @@ F_v coefficients, so the fit is a weighted linear least-squares problem
 (weights from the plateaus' standard errors, the covariance scaled by the
 residual variance): exact, fast, no start values.  A recording that cannot
 be analysed (unreadable, corrupt, too little motion) gives ``status:
-failed`` and a one-line ``reason``; nothing is raised.
+failed`` and a one-line ``reason``; nothing is raised.  The result is a
+:class:`RecordingResult`; its :meth:`~RecordingResult.to_dict` (what
+:func:`recording_task` sends back from a Dask worker, and what the cache
+holds) and :meth:`~RecordingResult.from_dict` are its plain-JSON form.
 
 :func:`reference_friction` evaluates a fit at the fleet's reference operating
 point: F_c at (xi_ref, tau_L = 0) and the friction torque at the reference
 speed (the mean of +v_ref and -v_ref), each with its standard error.
 """
+from __future__ import annotations
+
+import dataclasses
 import math
 import time
+from typing import Any, TYPE_CHECKING
 import warnings
 
 import numpy as np
@@ -55,8 +51,11 @@ from ..gear import parse_gear
 from ..identification import check_excitation, find_plateaus, StaticStructure
 from ..models.static import pack_static, PackedStatic, StaticFriction
 
-__all__ = ['FIT_VERSION', 'analyse_recording', 'reference_friction', 'fitted_terms',
-           'result_problem']
+if TYPE_CHECKING:
+    from ..gear import GearParams
+
+__all__ = ['FIT_VERSION', 'RecordingResult', 'analyse_recording', 'recording_task',
+           'reference_friction', 'fitted_terms', 'result_problem']
 
 #: bumped when the per-recording analysis changes (old cached results are recomputed)
 FIT_VERSION = 1
@@ -127,14 +126,143 @@ def _batch(gear, terms):
         rep(base.t_hi), offset=rep(base.offset)))
 
 
-def _failed(path, reason, started, **extra):
-    out = {'path': path, 'status': 'failed', 'reason': ' '.join(str(reason).split()),
-           'version': FIT_VERSION, 'time_s': time.perf_counter() - started}
-    out.update(extra)
-    return out
+#: the keys of a result (``ok``: all of them, in this order; ``failed``: the first five of
+#: ``_KEYS_FAILED``; a failure outside the analysis -- a missing file, a dead worker --: the
+#: first three)
+_KEYS_FAILED = ('path', 'status', 'reason', 'version', 'time_s')
+_KEYS_OK = _KEYS_FAILED + ('terms', 'delta', 'cov', 'rms', 'plateaus', 'speed',
+                           'raw_friction', 'raw_friction_se', 'xi_range', 'xi_mean',
+                           'load_range', 'travel', 'duration')
+_ORDER_OK = ('plateaus', 'speed', 'raw_friction', 'raw_friction_se', 'xi_range', 'xi_mean',
+             'load_range', 'travel', 'duration', 'path', 'status', 'reason', 'version',
+             'terms', 'delta', 'cov', 'rms', 'time_s')
 
 
-def analyse_recording(path, gear_text, *, gear_name='the model gear file', joint_name=None):
+def _plain(value):
+    return [_plain(v) for v in value] if isinstance(value, tuple) else value
+
+
+def _frozen(value):
+    return tuple(_frozen(v) for v in value) if isinstance(value, list) else value
+
+
+@dataclasses.dataclass(frozen=True)
+class RecordingResult:
+    """
+    One recording's analysis: the fleet's per-recording result.
+
+    Attributes
+    ----------
+    path : str
+        The recording.
+    status : str
+        ``ok`` or ``failed``.
+    reason : str
+        Why it failed (one line); empty when ok.
+    version : int or None
+        :data:`FIT_VERSION` of the analysis; None for a failure outside it (a
+        missing recording, a task whose worker died): never cached.
+    time_s : float or None
+        Seconds the analysis took.
+    terms : tuple of (str, int)
+        The coefficients fitted (name, index).
+    delta : tuple of float
+        Change of those coefficients from the gear file's.
+    cov : tuple of tuple of float
+        Their covariance.
+    rms : float or None
+        RMS residual of the fit (N m).
+    plateaus : int or None
+        Constant-velocity plateaus found.
+    speed : float or None
+        Median plateau speed (rad/s).
+    raw_friction, raw_friction_se : float or None
+        Mean |tau_r| over the plateaus and its standard error (N m).
+    xi_range : tuple of float or None
+        Temperatures recorded, (lowest, highest) degC.
+    xi_mean : float or None
+        Mean plateau temperature (degC).
+    load_range : tuple of float or None
+        Loads over the plateaus, (lowest, highest) N m.
+    travel : float or None
+        Rad moved.
+    duration : float or None
+        Seconds recorded.
+    cached : bool
+        Taken from the cache, not computed in this run (not part of :meth:`to_dict`).
+
+    """
+
+    path: str
+    status: str
+    reason: str = ''
+    version: int | None = None
+    time_s: float | None = None
+    terms: tuple[tuple[str, int], ...] = ()
+    delta: tuple[float, ...] = ()
+    cov: tuple[tuple[float, ...], ...] = ()
+    rms: float | None = None
+    plateaus: int | None = None
+    speed: float | None = None
+    raw_friction: float | None = None
+    raw_friction_se: float | None = None
+    xi_range: tuple[float, float] | None = None
+    xi_mean: float | None = None
+    load_range: tuple[float, float] | None = None
+    travel: float | None = None
+    duration: float | None = None
+    cached: bool = False
+
+    @property
+    def ok(self) -> bool:
+        """Whether the recording was analysed."""
+        return self.status == 'ok'
+
+    def to_dict(self) -> dict[str, Any]:
+        """
+        Return the result as plain JSON types: what a Dask task sends back and the cache holds.
+
+        Returns
+        -------
+        dict
+            ``ok``: every field but ``cached``; ``failed``: ``path``, ``status``,
+            ``reason``, ``version``, ``time_s`` (the first three when ``version`` is None).
+
+        """
+        keys = _ORDER_OK if self.ok else _KEYS_FAILED if self.version is not None \
+            else _KEYS_FAILED[:3]
+        return {k: _plain(getattr(self, k)) for k in keys}
+
+    @classmethod
+    def from_dict(cls, doc: dict[str, Any], **changes: object) -> RecordingResult:
+        """
+        Return the result from its plain form (:meth:`to_dict`).
+
+        Parameters
+        ----------
+        doc : dict
+            The plain form (a task's result, a cache entry that passed
+            :func:`result_problem`, a failure ``{'path', 'status', 'reason'}``).
+        **changes
+            Fields to set instead (e.g. ``path``, ``cached``).
+
+        Returns
+        -------
+        RecordingResult
+
+        """
+        fields = {k: _frozen(v) for k, v in doc.items()}
+        fields.update(changes)
+        return cls(**fields)
+
+
+def _failed(path, reason, started):
+    return RecordingResult(path, 'failed', ' '.join(str(reason).split()), FIT_VERSION,
+                           time.perf_counter() - started)
+
+
+def analyse_recording(path: str, gear_text: str, *, gear_name: str = 'the model gear file',
+                      joint_name: str | None = None) -> RecordingResult:
     """
     Analyse one recording (the fleet's per-recording task; module docstring).
 
@@ -151,15 +279,40 @@ def analyse_recording(path, gear_text, *, gear_name='the model gear file', joint
 
     Returns
     -------
-    dict
-        Plain JSON types: ``status`` (``ok``/``failed``), ``reason``; when ok:
-        ``terms`` (``[name, index]`` fitted), ``delta`` (change of those coefficients
-        from the gear file's), ``cov``, ``rms``, ``plateaus``, ``speed`` (median plateau
-        speed, rad/s), ``raw_friction``/``raw_friction_se`` (mean |tau_r| over the
-        plateaus), ``xi_range``, ``load_range``, ``xi_mean``, ``travel`` (rad moved),
-        ``duration``, ``time_s``.
+    RecordingResult
+        ``status`` ``ok`` with the fit and the recording's ranges, or ``failed``
+        with its ``reason``.
 
     """
+    return _analyse(path, gear_text, gear_name, joint_name)
+
+
+def recording_task(path: str, gear_text: str, *, gear_name: str = 'the model gear file',
+                   joint_name: str | None = None) -> dict[str, Any]:
+    """
+    Return :func:`analyse_recording`'s result as plain data (a Dask task's result).
+
+    Parameters
+    ----------
+    path : str
+        The recording, read by the worker.
+    gear_text : str
+        The model gear file's text.
+    gear_name : str
+        Its name in messages.
+    joint_name : str, optional
+        Joint to read (default the recording's first).
+
+    Returns
+    -------
+    dict
+        :meth:`RecordingResult.to_dict`.
+
+    """
+    return _analyse(path, gear_text, gear_name, joint_name).to_dict()
+
+
+def _analyse(path, gear_text, gear_name, joint_name):
     started = time.perf_counter()
     path = str(path)
     try:
@@ -190,12 +343,10 @@ def analyse_recording(path, gear_text, *, gear_name='the model gear file', joint
     except np.linalg.LinAlgError:
         return _failed(path, 'the plateaus cannot separate F_c from F_v (singular fit): '
                        'record plateaus at more distinct speeds', started)
-    info.update({
-        'path': path, 'status': 'ok', 'reason': '', 'version': FIT_VERSION,
-        'terms': [[n, int(i)] for n, i in terms], 'delta': delta.tolist(),
-        'cov': cov.tolist(), 'rms': float(math.sqrt(np.mean(r * r))),
-        'time_s': time.perf_counter() - started})
-    return info
+    return RecordingResult(
+        path, 'ok', '', FIT_VERSION, time.perf_counter() - started,
+        tuple((n, int(i)) for n, i in terms), tuple(delta.tolist()),
+        tuple(tuple(row) for row in cov.tolist()), float(math.sqrt(np.mean(r * r))), **info)
 
 
 def _recording_info(rec, plat):
@@ -207,20 +358,21 @@ def _recording_info(rec, plat):
         'plateaus': n, 'speed': float(np.median(np.abs(plat.qd))) if n else None,
         'raw_friction': float(tau.mean()) if n else None,
         'raw_friction_se': float(tau.std(ddof=1) / math.sqrt(n)) if n > 1 else None,
-        'xi_range': [float(np.min(xi)), float(np.max(xi))] if len(xi) else None,
+        'xi_range': (float(np.min(xi)), float(np.max(xi))) if len(xi) else None,
         'xi_mean': float(np.mean(plat.xi)) if n else None,
-        'load_range': [float(plat.load.min()), float(plat.load.max())] if n else None,
+        'load_range': (float(plat.load.min()), float(plat.load.max())) if n else None,
         'travel': float(np.abs(np.diff(js.q)).sum()) if len(js.q) > 1 else 0.0,
         'duration': float(rec.duration)}
 
 
-def reference_friction(fit, gear, xi_ref, v_ref):
+def reference_friction(fit: RecordingResult, gear: GearParams, xi_ref: float,
+                       v_ref: float) -> dict[str, float]:
     """
     Return the fitted friction at the reference point with standard errors.
 
     Parameters
     ----------
-    fit : dict
+    fit : RecordingResult
         An ``ok`` result of :func:`analyse_recording`.
     gear : GearParams
         The model gear file the fit was made around.
@@ -234,10 +386,10 @@ def reference_friction(fit, gear, xi_ref, v_ref):
         torque at +-v_ref, mean of both directions, N m).
 
     """
-    terms = [(n, int(i)) for n, i in fit['terms']]
+    terms = [(n, int(i)) for n, i in fit.terms]
     model = _batch(gear, terms)
-    delta = np.asarray(fit['delta'], dtype=float)
-    cov = np.asarray(fit['cov'], dtype=float)
+    delta = np.asarray(fit.delta, dtype=float)
+    cov = np.asarray(fit.cov, dtype=float)
     fc = model.parameters(xi_ref, 0.0)['fc'][:, 0]
     g_fc = fc[1:] - fc[0]
     tq = model.torque(np.array([v_ref, -v_ref]), xi_ref, 0.0)
@@ -249,11 +401,6 @@ def reference_friction(fit, gear, xi_ref, v_ref):
             'torque_se': float(math.sqrt(max(g_tq @ cov @ g_tq, 0.0)))}
 
 
-#: the keys of a result (``ok``: all of them; ``failed``: the first five)
-_KEYS_FAILED = ('path', 'status', 'reason', 'version', 'time_s')
-_KEYS_OK = _KEYS_FAILED + ('terms', 'delta', 'cov', 'rms', 'plateaus', 'speed',
-                           'raw_friction', 'raw_friction_se', 'xi_range', 'xi_mean',
-                           'load_range', 'travel', 'duration')
 #: bounds of a result's numbers (physical, generous): key -> (low, high)
 _BOUNDS = {'time_s': (0.0, 1e9), 'rms': (0.0, 1e9), 'speed': (1e-12, 1e4),
            'raw_friction': (0.0, 1e9), 'raw_friction_se': (0.0, 1e9),
@@ -339,7 +486,7 @@ def result_problem(result, gear):
     Return what is wrong with a per-recording result read from outside, None if it is sound.
 
     The fleet's cache is data, not trust: before a cached result is used it is
-    checked against the schema of :func:`analyse_recording`'s results -- the
+    checked against the schema of :meth:`RecordingResult.to_dict` -- the
     keys of its status (no more, no fewer), their types, finite numbers within
     physical bounds, ranges in order, ``terms`` coefficients of ``gear``
     (each once, the constant F_c and F_v among them), ``delta`` one number per

@@ -1,16 +1,5 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 
 """
 The per-joint wear test: no wear against a hinge, over time and over travel.
@@ -46,10 +35,15 @@ for that onset, scaled by the residual scatter when it exceeds the assumed
 variances).  ``onset_range`` are the onsets whose chi^2 is within one
 residual variance of the best (a profile interval).
 """
+from __future__ import annotations
+
+from collections.abc import Iterable
 import dataclasses
 import math
+from typing import Any
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 __all__ = ['WEAR_ALPHA', 'BOOTSTRAP', 'MIN_AFTER', 'TrendResult', 'extra_variance', 'trend_test']
 
@@ -110,13 +104,13 @@ class TrendResult:
     n: int
     gain: dict
 
-    def to_dict(self):
+    def to_dict(self) -> dict[str, Any]:
         """Return plain JSON types."""
         return {k: (list(v) if isinstance(v, tuple) else v)
                 for k, v in dataclasses.asdict(self).items()}
 
 
-def extra_variance(series):
+def extra_variance(series: Iterable[tuple[ArrayLike, ArrayLike, ArrayLike]]) -> float:
     """
     Return the fleet's extra variance sigma^2 from local linear residuals.
 
@@ -188,7 +182,9 @@ def _flat(y, w):
     return a, math.sqrt(1.0 / w.sum())
 
 
-def trend_test(days, travel, y, se, *, extra_var=0.0, alpha=WEAR_ALPHA, n_boot=BOOTSTRAP, seed=0):
+def trend_test(days: ArrayLike, travel: ArrayLike, y: ArrayLike, se: ArrayLike, *,
+               extra_var: float = 0.0, alpha: float = WEAR_ALPHA, n_boot: int = BOOTSTRAP,
+               seed: int = 0) -> TrendResult | None:
     """
     Test one joint for wear (module docstring).
 
@@ -222,13 +218,13 @@ def trend_test(days, travel, y, se, *, extra_var=0.0, alpha=WEAR_ALPHA, n_boot=B
     grids = {k: _grid(v) for k, v in x_axes.items()}
     fits = {k: _scan(x_axes[k], y[None, :], w, grids[k]) for k in x_axes}
     gain = {k: float(f[0][0].max()) for k, f in fits.items()}
-    axis = max(gain, key=gain.get)
+    axis = max(gain, key=lambda k: gain[k])
     stat = float(max(_studentized(f[0], f[3], n).max() for f in fits.values()))
     a0, _ = _flat(y, w)
     rng = np.random.default_rng(seed)
     ys = a0 + rng.standard_normal((n_boot, n)) / np.sqrt(w)
-    boot = np.max([_studentized(*_scan(x_axes[k], ys, w, grids[k])[::3], n).max(axis=1)
-                   for k in x_axes], axis=0)
+    scans = [_scan(x_axes[k], ys, w, grids[k]) for k in x_axes]
+    boot = np.max([_studentized(f[0], f[3], n).max(axis=1) for f in scans], axis=0)
     p = float((1 + np.sum(boot >= stat * (1.0 - 1e-12))) / (n_boot + 1))
     threshold = float(np.quantile(boot, 1.0 - alpha))
 

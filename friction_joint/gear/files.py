@@ -1,16 +1,5 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 
 """
 Gear files and ROS 2 parameter files: the one reader of the command line and the nodes.
@@ -31,6 +20,7 @@ import json
 import os
 import re
 import secrets
+from typing import Any
 import warnings
 
 import yaml
@@ -48,7 +38,7 @@ _REQUIRED = required_keys()
 _PLAIN_KEY = re.compile(r'[A-Za-z0-9_/][A-Za-z0-9_./*~-]*')
 
 
-def load_gear(path: str | os.PathLike) -> GearParams:
+def load_gear(path: str | os.PathLike[str]) -> GearParams:
     """
     Load and validate a gear parameter file.
 
@@ -96,7 +86,7 @@ def parse_gear(text: str, where: str) -> GearParams:
     return _gear_from_document(parse_yaml_text(text, where), where)
 
 
-def _gear_from_document(doc, path):
+def _gear_from_document(doc: object, path: str) -> GearParams:
     if not isinstance(doc, dict) or '/**' not in doc:
         raise GearConfigError(f'{path}: not a gear parameter file: expected a top-level '
                               '"/**:" key with "ros__parameters:" below it')
@@ -146,7 +136,8 @@ def format_gear(gear: GearParams, *, header: str | None = None) -> str:
     return text
 
 
-def save_gear(gear: GearParams, path: str | os.PathLike, *, header: str | None = None) -> None:
+def save_gear(gear: GearParams, path: str | os.PathLike[str], *,
+              header: str | None = None) -> None:
     """
     Write ``gear`` as a ROS 2 parameter file (atomically), with an optional comment header.
 
@@ -176,7 +167,7 @@ def save_gear(gear: GearParams, path: str | os.PathLike, *, header: str | None =
         raise
 
 
-def read_ros_params_file(path):
+def read_ros_params_file(path: str | os.PathLike[str]) -> dict[str, Any]:
     """
     Read a ROS 2 parameter file (``--params-file``) with the gear reader; return it normalized.
 
@@ -212,8 +203,8 @@ def read_ros_params_file(path):
         raise GearConfigError(f'{path}: {exc}') from None
 
 
-def _nodes(doc, trail):
-    out = {}
+def _nodes(doc: dict[Any, Any], trail: str) -> dict[str, Any]:
+    out: dict[str, Any] = {}
     for key, val in doc.items():
         if key == 'ros__parameters':
             if not isinstance(val, dict):
@@ -232,8 +223,8 @@ def _nodes(doc, trail):
     return out
 
 
-def _parameters(params, prefix):
-    out = {}
+def _parameters(params: dict[str, Any], prefix: str) -> dict[str, Any]:
+    out: dict[str, Any] = {}
     for key, val in params.items():
         name = prefix + key
         spec = _SPECS.get(name)
@@ -256,7 +247,7 @@ def _parameters(params, prefix):
     return out
 
 
-def _unknown_gear_key(name, spec):
+def _unknown_gear_key(name: str, spec: object) -> None:
     """Raise for a dotted name below a gear section that the schema does not know."""
     head = name.rpartition('.')[0]
     if spec is not None or not head or head.split('.')[0] not in SCHEMA:
@@ -267,7 +258,7 @@ def _unknown_gear_key(name, spec):
     raise GearConfigError(f'unknown key {name}{known}')
 
 
-def _other(value, name):
+def _other(value: object, name: str) -> object:
     """Return a parameter that is not a gear key as rcl takes it (lists of one type)."""
     if not isinstance(value, list):
         return value
@@ -282,8 +273,8 @@ def _other(value, name):
     return list(value)
 
 
-def _flatten(tree, prefix=''):
-    out = {}
+def _flatten(tree: dict[str, Any], prefix: str = '') -> dict[str, Any]:
+    out: dict[str, Any] = {}
     for key, val in tree.items():
         if isinstance(val, dict):
             out.update(_flatten(val, f'{prefix}{key}.'))
@@ -292,7 +283,7 @@ def _flatten(tree, prefix=''):
     return out
 
 
-def _check_whole_gear(params):
+def _check_whole_gear(params: dict[str, Any]) -> None:
     """Validate a ros__parameters mapping that holds a whole gear, as load_gear would."""
     flat = {k: v for k, v in _flatten(params).items() if k in _SPECS}
     if all(k in flat for k in _REQUIRED):
@@ -301,16 +292,16 @@ def _check_whole_gear(params):
             gear_from_flat(flat)
 
 
-def _key(key):
+def _key(key: str) -> str:
     return key if _PLAIN_KEY.fullmatch(key) else _string(key)
 
 
-def _string(text):
+def _string(text: str) -> str:
     return (json.dumps(text, ensure_ascii=False)
             .replace('\u2028', '\\L').replace('\u2029', '\\P').replace('\x85', '\\N'))
 
 
-def _value(value):
+def _value(value: Any) -> str:
     if isinstance(value, bool):
         return 'true' if value else 'false'
     if isinstance(value, int):
@@ -322,7 +313,7 @@ def _value(value):
     return '[' + ', '.join(_value(v) for v in value) + ']'
 
 
-def format_ros_params(tree):
+def format_ros_params(tree: dict[str, Any]) -> str:
     """
     Return the text of a ROS 2 parameter file holding ``tree`` (from :func:`read_ros_params_file`).
 
@@ -339,9 +330,9 @@ def format_ros_params(tree):
     str
 
     """
-    lines = []
+    lines: list[str] = []
 
-    def emit(d, indent):
+    def emit(d: dict[str, Any], indent: int) -> None:
         for key, val in d.items():
             if isinstance(val, dict):
                 lines.append(f'{" " * indent}{_key(key)}:')

@@ -1,16 +1,5 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 
 """
 Validated gear parameters: the typed views, the consistency and physical checks.
@@ -25,132 +14,20 @@ from __future__ import annotations
 import copy
 import dataclasses
 import os
+from typing import Any, overload
 import warnings
 
 import numpy as np
-from numpy.typing import ArrayLike
+from numpy.typing import ArrayLike, NDArray
 
 from .polynomial import polynomial_violation
 from .schema import (DEFAULT_SECTIONS, MIN_CUTOFF_FRACTION, REQUIRED, SCHEMA, Section,
                      validate_fields)
 from ..exceptions import GearConfigError, GearConfigWarning
+from ..models.params import FrictionParams, GMSParams, LuGreParams, RippleParams
 
 __all__ = ['LuGreParams', 'GMSParams', 'RippleParams', 'FrictionParams', 'GearParams',
            'gear_from_dict', 'gear_from_flat', 'expand_dotted', 'passivity_bound']
-
-
-@dataclasses.dataclass(frozen=True)
-class LuGreParams:
-    """
-    LuGre pre-sliding parameters (seed eq. 10), ``friction.lugre``.
-
-    Attributes
-    ----------
-    sigma0 : float
-        Bristle stiffness (Nm/rad).
-    sigma1 : float
-        Micro-damping (Nm s/rad).
-
-    """
-
-    sigma0: float
-    sigma1: float = 0.0
-
-
-@dataclasses.dataclass(frozen=True)
-class GMSParams:
-    """
-    GMS parameters (seed eq. 11-13), ``friction.gms``.
-
-    Attributes
-    ----------
-    k : tuple of float
-        Element stiffnesses k_i (Nm/rad).
-    alpha : tuple of float
-        Torque fractions alpha_i (sum 1).
-    c : float
-        Attraction C (Nm/s).
-
-    """
-
-    k: tuple[float, ...]
-    alpha: tuple[float, ...]
-    c: float
-
-
-@dataclasses.dataclass(frozen=True)
-class RippleParams:
-    """
-    Position ripple sum_n A_n sin(n c q + phi_n), ``friction.position_ripple``.
-
-    Attributes
-    ----------
-    cycles_per_rev : float
-        c, the fundamental's cycles per output revolution.
-    amplitude : tuple of float
-        A_n (Nm).
-    phase : tuple of float
-        phi_n (rad).
-
-    """
-
-    cycles_per_rev: float
-    amplitude: tuple[float, ...]
-    phase: tuple[float, ...]
-
-
-@dataclasses.dataclass(frozen=True)
-class FrictionParams:
-    """
-    Friction parameters of one gear (seed eq. 1, 5-13), the ``friction`` section.
-
-    Attributes
-    ----------
-    model : {'static', 'lugre', 'gms'}
-        The friction model.
-    fc, fv : tuple of float
-        Temperature polynomials (powers 0..n) of F_c and F_v (eq. 7).
-    fs, vs : tuple of float or None
-        Those of F_s and v_s; None: no Stribeck effect.
-    delta_v : tuple of float
-        That of the viscous exponent (eq. 5).
-    delta_s : float
-        Stribeck exponent (eq. 1).
-    fc_load, fv_load, fs_load, vs_load, delta_v_load : tuple of float
-        Load polynomials (powers 1..m) of the same parameters.
-    velocity_scale : float
-        kappa: the curve is evaluated at ``kappa * qd``.
-    temperature_range : tuple of float
-        ``(lo, hi)`` degC: xi is clipped to it.
-    lugre : LuGreParams or None
-        ``friction.lugre``.
-    gms : GMSParams or None
-        ``friction.gms``.
-    position_ripple : RippleParams or None
-        ``friction.position_ripple``.
-    offset : float
-        Constant torque added to the friction torque (Nm).
-
-    """
-
-    model: str
-    fc: tuple[float, ...]
-    fv: tuple[float, ...]
-    fs: tuple[float, ...] | None = None
-    vs: tuple[float, ...] | None = None
-    delta_v: tuple[float, ...] = (1.0,)
-    delta_s: float = 2.0
-    fc_load: tuple[float, ...] = ()
-    fv_load: tuple[float, ...] = ()
-    fs_load: tuple[float, ...] = ()
-    vs_load: tuple[float, ...] = ()
-    delta_v_load: tuple[float, ...] = ()
-    velocity_scale: float = 1.0
-    temperature_range: tuple[float, float] = (0.0, 100.0)
-    lugre: LuGreParams | None = None
-    gms: GMSParams | None = None
-    position_ripple: RippleParams | None = None
-    offset: float = 0.0
 
 
 @dataclasses.dataclass(frozen=True)
@@ -184,11 +61,11 @@ class GearParams:
     gear_ratio: float
     inertia: float
     friction: FrictionParams
-    data: dict = dataclasses.field(repr=False, compare=False)
+    data: dict[str, Any] = dataclasses.field(repr=False, compare=False)
     source: str | None = None
     given: frozenset[str] = dataclasses.field(default=frozenset(), repr=False, compare=False)
 
-    def section(self, name: str) -> dict | None:
+    def section(self, name: str) -> dict[str, Any] | None:
         """
         Return a validated simulator section with defaults (``'lever'``, ``'thermal'``, ...).
 
@@ -205,23 +82,28 @@ class GearParams:
         """
         sec = self.data.get(name)
         if sec is None and name in DEFAULT_SECTIONS:
-            sec = validate_fields(SCHEMA[name].fields, {}, name)
+            sec = _defaults(name)
         return copy.deepcopy(sec)
 
     @property
-    def mgl(self):
+    def mgl(self) -> float:
         """Lever gravity amplitude m g l, in Nm."""
-        lever = self.section('lever')
-        return lever['mass'] * lever['gravity'] * lever['length']
+        lever = _section(self.data, 'lever')
+        return float(lever['mass'] * lever['gravity'] * lever['length'])
 
     @property
-    def lever_offset(self):
+    def lever_offset(self) -> float:
         """Angle (rad) at which the lever hangs down: gravity is m g l sin(q - offset)."""
-        return self.section('lever')['angle_offset']
+        return float(_section(self.data, 'lever')['angle_offset'])
 
-    def lever_torque(self, q: ArrayLike) -> float | np.ndarray:
+    def lever_torque(self, q: ArrayLike) -> float | NDArray[np.float64]:
         """
-        Return the lever's gravity torque m g l sin(q - angle_offset) at ``q``.
+        Return the lever's torque m g l sin(q - angle_offset) (+ its pose torque) at ``q``.
+
+        ``lever.pose_torque`` (Nm per power of rad, default none) adds the polynomial
+        ``sum_k c_k (q - lever.pose_center)^k``: a pose-dependent load a diagnosis
+        found over a stroke too short to tell a lever's sine (the simulated plant and
+        the controller's feed-forward use the lever's sine only).
 
         Parameters
         ----------
@@ -234,12 +116,16 @@ class GearParams:
             Torque (Nm), a float for a scalar ``q``, else an array of ``q``'s shape.
 
         """
-        lever = self.section('lever')
+        lever = _section(self.data, 'lever')
         mgl = lever['mass'] * lever['gravity'] * lever['length']
-        out = mgl * np.sin(np.asarray(q, float) - lever['angle_offset'])
+        qa = np.asarray(q, float)
+        out: NDArray[np.float64] = mgl * np.sin(qa - lever['angle_offset'])
+        pose = lever.get('pose_torque') or []
+        if len(pose):
+            out = out + np.polynomial.polynomial.polyval(qa - lever['pose_center'], pose)
         return float(out) if out.ndim == 0 else out
 
-    def replace(self, changes: dict) -> GearParams:
+    def replace(self, changes: dict[str, Any]) -> GearParams:
         """
         Return a new GearParams with ``changes`` merged in and validated.
 
@@ -257,7 +143,7 @@ class GearParams:
         _merge(data, changes)
         return gear_from_dict(data, source=self.source, given=self.given | _given_keys(changes))
 
-    def to_dict(self) -> dict:
+    def to_dict(self) -> dict[str, Any]:
         """
         Return the gear file's content: ``{'/**': {'ros__parameters': ...}}``.
 
@@ -268,7 +154,7 @@ class GearParams:
         return {'/**': {'ros__parameters': _prune(copy.deepcopy(self.data), SCHEMA, self.given)}}
 
 
-def _merge(dst, src):
+def _merge(dst: dict[Any, Any], src: dict[Any, Any]) -> None:
     for key, val in src.items():
         if isinstance(val, dict) and isinstance(dst.get(key), dict):
             _merge(dst[key], val)
@@ -276,8 +162,8 @@ def _merge(dst, src):
             dst[key] = val
 
 
-def _given_keys(d, prefix=''):
-    out = set()
+def _given_keys(d: dict[Any, Any], prefix: str = '') -> frozenset[str]:
+    out: set[str] = set()
     for k, v in d.items():
         name = prefix + str(k)
         out.add(name)
@@ -286,9 +172,10 @@ def _given_keys(d, prefix=''):
     return frozenset(out)
 
 
-def _prune(d, fields, given, prefix=''):
+def _prune(d: dict[str, Any], fields: dict[str, Any], given: frozenset[str],
+           prefix: str = '') -> dict[str, Any]:
     """Drop absent optional keys, and defaults that were not given, for writing."""
-    out = {}
+    out: dict[str, Any] = {}
     for k, v in d.items():
         name = prefix + k
         spec = fields.get(k)
@@ -301,11 +188,19 @@ def _prune(d, fields, given, prefix=''):
     return out
 
 
-def _tup(x):
+@overload
+def _tup(x: None) -> None: ...
+
+
+@overload
+def _tup(x: list[float]) -> tuple[float, ...]: ...
+
+
+def _tup(x: list[float] | None) -> tuple[float, ...] | None:
     return None if x is None else tuple(x)
 
 
-def gear_from_dict(params: dict, *, source: str | os.PathLike | None = None,
+def gear_from_dict(params: dict[str, Any], *, source: str | os.PathLike[str] | None = None,
                    given: frozenset[str] | None = None) -> GearParams:
     """
     Validate a ``ros__parameters`` mapping and return :class:`GearParams`.
@@ -337,18 +232,24 @@ def gear_from_dict(params: dict, *, source: str | os.PathLike | None = None,
     except GearConfigError as exc:
         raise GearConfigError(where + str(exc)) from None
     gear = GearParams(data['joint_name'], data['gear_ratio'], data['inertia'],
-                      friction, data, source,
+                      friction, data, None if source is None else os.fspath(source),
                       _given_keys(params) if given is None else frozenset(given))
     _warn_passivity(gear, where)
     return gear
 
 
-def _section(data, name):
-    sec = data.get(name)
-    return validate_fields(SCHEMA[name].fields, {}, name) if sec is None else sec
+def _defaults(name: str) -> dict[str, Any]:
+    spec = SCHEMA[name]
+    assert isinstance(spec, Section)                   # a simulator section
+    return validate_fields(spec.fields, {}, name)
 
 
-def _check_sections(data):
+def _section(data: dict[str, Any], name: str) -> dict[str, Any]:
+    sec: dict[str, Any] | None = data.get(name)
+    return _defaults(name) if sec is None else sec
+
+
+def _check_sections(data: dict[str, Any]) -> None:
     """
     Check the values of the simulator sections against each other (defaults filled in).
 
@@ -378,7 +279,7 @@ def _check_sections(data):
                               f'{lever["length"]:g})')
 
 
-def _friction_from(fr):
+def _friction_from(fr: dict[str, Any]) -> FrictionParams:
     if fr['fs'] is not None and fr['vs'] is None:
         raise GearConfigError('friction.fs is given but friction.vs is missing: '
                               'the Stribeck term needs both')
@@ -390,7 +291,8 @@ def _friction_from(fr):
     lo, hi = fr['temperature_range']
     if not lo < hi:
         raise GearConfigError(f'friction.temperature_range: need lo < hi, got [{lo}, {hi}]')
-    lugre = gms = None
+    lugre: LuGreParams | None = None
+    gms: GMSParams | None = None
     if fr['lugre'] is not None:
         lugre = LuGreParams(fr['lugre']['sigma0'], fr['lugre']['sigma1'])
     if fr['gms'] is not None:
@@ -426,16 +328,16 @@ def _friction_from(fr):
         position_ripple=ripple, offset=fr['offset'])
 
 
-def _temperature_polynomials(friction):
+def _temperature_polynomials(friction: FrictionParams) -> dict[str, tuple[float, ...]]:
     """Coefficients of the temperature polynomials the curve is made of (at zero load)."""
     out = {'fc': friction.fc, 'fv': friction.fv, 'delta_v': friction.delta_v}
-    if friction.fs is not None:
+    if friction.fs is not None and friction.vs is not None:    # both or none (_friction_from)
         out['fs'] = friction.fs
         out['vs'] = friction.vs
     return out
 
 
-def _check_physics(friction):
+def _check_physics(friction: FrictionParams) -> None:
     """
     Check F_c, F_v, F_s >= 0 and v_s, delta_v > 0 on the whole temperature range, at zero load.
 
@@ -458,7 +360,7 @@ def _check_physics(friction):
                 'narrow the range to where the polynomial was identified or fix the coefficients')
 
 
-def passivity_bound(friction: FrictionParams, xi: ArrayLike) -> np.ndarray:
+def passivity_bound(friction: FrictionParams, xi: ArrayLike) -> NDArray[np.float64]:
     """
     Return the upper bound on sigma1 for a passive LuGre model (Astrom & Canudas de Wit 2008).
 
@@ -489,7 +391,7 @@ def passivity_bound(friction: FrictionParams, xi: ArrayLike) -> np.ndarray:
         return np.where(dif > 0, sigma2 * p['fc'] / np.where(dif > 0, dif, 1.0), np.inf)
 
 
-def _warn_passivity(gear, where):
+def _warn_passivity(gear: GearParams, where: str) -> None:
     f = gear.friction
     if f.lugre is None or f.fs is None:
         return
@@ -504,7 +406,7 @@ def _warn_passivity(gear, where):
             GearConfigWarning, stacklevel=3)
 
 
-def _combine(dst, src, prefix):
+def _combine(dst: dict[str, Any], src: dict[str, Any], prefix: str) -> None:
     """Merge ``src`` into ``dst``; a key given by both is an error (dotted and nested)."""
     for key, val in src.items():
         if key not in dst:
@@ -518,7 +420,7 @@ def _combine(dst, src, prefix):
                                   'within its section)')
 
 
-def expand_dotted(params, prefix=''):
+def expand_dotted(params: dict[Any, Any], prefix: str = '') -> dict[str, Any]:
     """
     Return ``params`` with dotted names (``friction.fc``) turned into nested sections.
 
@@ -536,7 +438,7 @@ def expand_dotted(params, prefix=''):
         is both a value and a section.
 
     """
-    out = {}
+    out: dict[str, Any] = {}
     for key, val in params.items():
         parts = str(key).split('.')
         if isinstance(val, dict):
@@ -547,7 +449,7 @@ def expand_dotted(params, prefix=''):
     return out
 
 
-def gear_from_flat(params: dict, *, source: str | None = None) -> GearParams:
+def gear_from_flat(params: dict[str, Any], *, source: str | None = None) -> GearParams:
     """
     Build GearParams from ROS-style dotted names (``friction.fc`` ...).
 

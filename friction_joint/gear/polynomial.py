@@ -1,16 +1,5 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 
 """
 Exact bounds of a polynomial on an interval (the physical-range check of a gear).
@@ -24,11 +13,13 @@ report the first stretch, from ``lo`` up, where p has the wrong sign.
 """
 import numpy as np
 from numpy.polynomial import polynomial as _poly
+import numpy.typing as npt
 
 __all__ = ['interval_minimum', 'polynomial_violation']
 
 
-def _roots_in(coef, lo, hi, *, real_only=False):
+def _roots_in(coef: npt.ArrayLike, lo: float, hi: float, *,
+              real_only: bool = False) -> npt.NDArray[np.float64]:
     """Real parts of the roots of ``coef`` in [lo, hi] (``real_only``: nearly real roots)."""
     coef = np.trim_zeros(np.asarray(coef, dtype=float), 'b')
     if len(coef) < 2:
@@ -41,7 +32,7 @@ def _roots_in(coef, lo, hi, *, real_only=False):
     return np.sort(x[(x >= lo) & (x <= hi)])
 
 
-def interval_minimum(coef, lo, hi):
+def interval_minimum(coef: npt.ArrayLike, lo: float, hi: float) -> tuple[float, float]:
     """
     Return ``(value, x)``: the minimum of the polynomial on [lo, hi] and where it is taken.
 
@@ -69,7 +60,8 @@ def interval_minimum(coef, lo, hi):
     return float(v[i]), float(x[i])
 
 
-def polynomial_violation(coef, lo, hi, strict=False):
+def polynomial_violation(coef: npt.ArrayLike, lo: float, hi: float,
+                         strict: bool = False) -> tuple[float, float] | None:
     """
     Return ``(value, x)`` where the polynomial leaves p >= 0 (p > 0) on [lo, hi], else None.
 
@@ -89,15 +81,16 @@ def polynomial_violation(coef, lo, hi, strict=False):
         where p has the wrong sign, and where it is taken; None if there is none.
 
     """
-    def bad(v):
+    def bad(v: float) -> bool:
         return not (v > 0.0 if strict else v >= 0.0)
 
+    coef = np.asarray(coef, dtype=float)
     value, x = interval_minimum(coef, lo, hi)
     if not bad(value):
         return None
     roots = _roots_in(coef, lo, hi, real_only=True)
     edges = np.unique(np.concatenate([[lo, hi], roots]))
-    for a, b in zip(edges[:-1], edges[1:]):
+    for a, b in zip(edges[:-1], edges[1:], strict=True):
         with np.errstate(all='ignore'):
             mid = float(_poly.polyval(0.5 * (a + b), coef))
         if bad(mid):

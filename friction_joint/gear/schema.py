@@ -1,16 +1,5 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 
 """
 The gear file schema: every key, its type, default, bounds and length limits.
@@ -44,6 +33,7 @@ from __future__ import annotations
 import copy
 import math
 import reprlib
+from typing import Any
 
 from ..exceptions import GearConfigError
 
@@ -51,6 +41,7 @@ __all__ = ['REQUIRED', 'FRICTION_MODELS', 'MAX_POLYNOMIAL_ORDER', 'MAX_GMS_ELEME
            'MAX_RIPPLE_HARMONICS', 'INT64_RANGE', 'ABSOLUTE_ZERO', 'TEMPERATURE_BOUNDS',
            'RATE_BOUNDS', 'ENCODER_BITS_BOUNDS', 'RIPPLE_CYCLES_BOUNDS', 'MIN_CUTOFF_FRACTION',
            'TEMPERATURE_RESOLUTION_BOUNDS', 'VELOCITY_SCALE_BOUNDS', 'STRIBECK_EXPONENT_BOUNDS',
+           'ANGLE_OFFSET_BOUNDS',
            'Float', 'Int', 'Str', 'FloatList', 'Section',
            'FRICTION_SCHEMA', 'SCHEMA', 'DEFAULT_SECTIONS', 'validate_fields', 'key_specs',
            'required_keys']
@@ -92,6 +83,11 @@ VELOCITY_SCALE_BOUNDS = (1.0e-6, 1.0e6, 'it maps the output velocity to the one 
 STRIBECK_EXPONENT_BOUNDS = (0.01, 100.0, 'Stribeck exponents of gears are 0.5-2; outside '
                             '[0.01, 100] the Stribeck curve is flat or a step in double '
                             'precision')
+#: lever angle offset, rad: refused beyond one turn either way, never reduced (a value
+#: beyond 2 pi is almost always in degrees, which reducing it would hide)
+ANGLE_OFFSET_BOUNDS = (-2.0 * math.pi, 2.0 * math.pi, 'an angle of the lever within one '
+                       'turn either way, in rad; a larger one is most likely in degrees '
+                       '(90 deg = 1.5708 rad)')
 
 _REPR = reprlib.Repr()
 _REPR.maxstring = 60
@@ -99,15 +95,19 @@ _REPR.maxother = 60
 _REPR.maxlist = _REPR.maxtuple = _REPR.maxdict = 6
 
 
-def _short(value):
+def _short(value: object) -> str:
     """repr() cut to a readable length: error messages stay one short line."""
     return _REPR.repr(value)
 
 
-class _Spec:
-    default = REQUIRED
+#: ``(lo, hi, why)`` of a value's physical range (``lo``, ``hi`` may be None)
+_Bounds = tuple[float | None, float | None, str]
 
-    def check(self, value, path):  # pragma: no cover - interface
+
+class _Spec:
+    default: object = REQUIRED
+
+    def check(self, value: object, path: str) -> Any:  # pragma: no cover - interface
         raise NotImplementedError
 
 
@@ -119,20 +119,21 @@ class Float(_Spec):
     may be None) and the reason, named in the error.
     """
 
-    def __init__(self, default=REQUIRED, positive=False, nonnegative=False, doc='', *,
-                 bounds=None):
+    def __init__(self, default: object = REQUIRED, positive: bool = False,
+                 nonnegative: bool = False, doc: str = '', *,
+                 bounds: _Bounds | None = None) -> None:
         self.default, self.positive, self.nonnegative, self.doc = (
             default, positive, nonnegative, doc)
         self.bounds = bounds
 
-    def check(self, value, path):
+    def check(self, value: object, path: str) -> float:
         """Return ``value`` as a float or raise GearConfigError naming ``path``."""
         value = _number(value, path, self.positive, self.nonnegative)
         _check_bounds(value, path, self.bounds)
         return value
 
 
-def _check_bounds(value, path, bounds):
+def _check_bounds(value: float, path: str, bounds: _Bounds | None) -> None:
     """Raise GearConfigError naming ``path`` if ``value`` is outside ``bounds`` (lo, hi, why)."""
     if bounds is None:
         return
@@ -144,14 +145,15 @@ def _check_bounds(value, path, bounds):
         raise GearConfigError(f'{path}: must be {rng} ({why}), got {got}')
 
 
-def _number(value, path, positive=False, nonnegative=False):
+def _number(value: object, path: str, positive: bool = False,
+            nonnegative: bool = False) -> float:
     if isinstance(value, bool) or not isinstance(value, (int, float)):
         raise GearConfigError(f'{path}: expected a number, got {_short(value)}')
     try:
         value = float(value)
     except OverflowError:
         raise GearConfigError(f'{path}: must be finite, got an integer of '
-                              f'{value.bit_length()} bits') from None
+                              f'{int(value).bit_length()} bits') from None
     if not math.isfinite(value):
         raise GearConfigError(f'{path}: must be finite, got {value}')
     if positive and value <= 0.0:
@@ -164,11 +166,12 @@ def _number(value, path, positive=False, nonnegative=False):
 class Int(_Spec):
     """An integer in the ROS 2 (64-bit) range."""
 
-    def __init__(self, default=REQUIRED, minimum=None, doc='', *, bounds=None):
+    def __init__(self, default: object = REQUIRED, minimum: int | None = None, doc: str = '',
+                 *, bounds: _Bounds | None = None) -> None:
         self.default, self.minimum, self.doc = default, minimum, doc
         self.bounds = bounds
 
-    def check(self, value, path):
+    def check(self, value: object, path: str) -> int:
         """Return ``value`` or raise GearConfigError naming ``path``."""
         if isinstance(value, bool) or not isinstance(value, int):
             raise GearConfigError(f'{path}: expected an integer, got {_short(value)}')
@@ -184,10 +187,11 @@ class Int(_Spec):
 class Str(_Spec):
     """A non-empty string, optionally one of ``choices``."""
 
-    def __init__(self, default=REQUIRED, choices=None, doc=''):
+    def __init__(self, default: object = REQUIRED, choices: tuple[str, ...] | None = None,
+                 doc: str = '') -> None:
         self.default, self.choices, self.doc = default, choices, doc
 
-    def check(self, value, path):
+    def check(self, value: object, path: str) -> str:
         """Return ``value`` or raise GearConfigError naming ``path``."""
         if not isinstance(value, str) or not value:
             raise GearConfigError(f'{path}: expected a non-empty string, got {_short(value)}')
@@ -200,15 +204,16 @@ class Str(_Spec):
 class FloatList(_Spec):
     """A list of finite numbers (integers become floats), its length bounded."""
 
-    def __init__(self, default=REQUIRED, min_len=0, length=None, positive=False, doc='', *,
-                 max_len=None, limit='', bounds=None):
+    def __init__(self, default: object = REQUIRED, min_len: int = 0, length: int | None = None,
+                 positive: bool = False, doc: str = '', *, max_len: int | None = None,
+                 limit: str = '', bounds: _Bounds | None = None) -> None:
         self.default, self.min_len, self.length, self.positive, self.doc = (
             default, min_len, length, positive, doc)
         self.max_len = length if max_len is None else max_len
         self.limit = limit
         self.bounds = bounds
 
-    def check(self, value, path):
+    def check(self, value: object, path: str) -> list[float]:
         """Return ``value`` as a list of floats or raise GearConfigError naming ``path``."""
         if not isinstance(value, (list, tuple)):
             raise GearConfigError(f'{path}: expected a list of numbers, got {_short(value)}')
@@ -246,7 +251,7 @@ class Section(_Spec):
         self.fields, self.doc = fields, doc
         self.default = None if optional else REQUIRED
 
-    def check(self, value: object, path: str) -> dict:
+    def check(self, value: object, path: str) -> dict[str, Any]:
         """
         Return the validated mapping (defaults filled in) or raise GearConfigError.
 
@@ -267,7 +272,8 @@ class Section(_Spec):
         return validate_fields(self.fields, value, path)
 
 
-def validate_fields(fields, data, path):
+def validate_fields(fields: dict[str, _Spec], data: dict[Any, Any],
+                    path: str) -> dict[str, Any]:
     """
     Validate mapping ``data`` against ``fields`` (key -> spec); return it with defaults.
 
@@ -297,7 +303,7 @@ def validate_fields(fields, data, path):
         raise GearConfigError(f'unknown key {prefix}{_short(unknown[0])[1:-1]}'
                               + (f' (and {len(unknown) - 1} more)' if len(unknown) > 1 else '')
                               + f'; known keys here: {", ".join(sorted(fields))}')
-    out = {}
+    out: dict[str, Any] = {}
     for key, spec in fields.items():
         if key in data and data[key] is not None:
             out[key] = spec.check(data[key], prefix + key)
@@ -308,28 +314,28 @@ def validate_fields(fields, data, path):
     return out
 
 
-def _temperature(doc, required=False):
+def _temperature(doc: str, required: bool = False) -> FloatList:
     return FloatList(REQUIRED if required else None, min_len=1, doc=doc,
                      max_len=MAX_POLYNOMIAL_ORDER + 1,
                      limit=f'temperature polynomial order <= {MAX_POLYNOMIAL_ORDER}')
 
 
-def _load(doc):
+def _load(doc: str) -> FloatList:
     return FloatList([], doc=doc, max_len=MAX_POLYNOMIAL_ORDER,
                      limit=f'load polynomial order <= {MAX_POLYNOMIAL_ORDER}')
 
 
-def _elements(default, doc, positive=True):
+def _elements(default: object, doc: str, positive: bool = True) -> FloatList:
     return FloatList(default, min_len=1, positive=positive, doc=doc, max_len=MAX_GMS_ELEMENTS,
                      limit=f'GMS elements <= {MAX_GMS_ELEMENTS}')
 
 
-def _harmonics(default, doc):
+def _harmonics(default: object, doc: str) -> FloatList:
     return FloatList(default, min_len=1, doc=doc, max_len=MAX_RIPPLE_HARMONICS,
                      limit=f'ripple harmonics <= {MAX_RIPPLE_HARMONICS}')
 
 
-FRICTION_SCHEMA = {
+FRICTION_SCHEMA: dict[str, _Spec] = {
     'model': Str('static', choices=FRICTION_MODELS, doc='friction model used by default'),
     'fc': _temperature('F_c temperature coefficients, powers 0..n (Nm)', required=True),
     'fv': _temperature('F_v temperature coefficients (Nm / (rad/s)^delta_v)', required=True),
@@ -370,7 +376,7 @@ FRICTION_SCHEMA = {
 }
 
 #: The full schema of the ``ros__parameters`` mapping of a gear file.
-SCHEMA = {
+SCHEMA: dict[str, _Spec] = {
     'joint_name': Str('joint', doc='joint name in JointState messages'),
     'gear_ratio': Float(positive=True, doc='gear ratio N'),
     'inertia': Float(positive=True, doc='output-side inertia J, kg m^2'),
@@ -380,9 +386,16 @@ SCHEMA = {
         'length': Float(0.0, nonnegative=True, doc='distance of the mass from the axis, m'),
         'gravity': Float(9.81, positive=True, doc='m/s^2'),
         'angle_offset': Float(0.0, doc='rad: the gravity torque is m g l sin(q - angle_offset), '
-                              'q = angle_offset hangs down'),
-    }, doc='lever whose gravity m g l sin(q - angle_offset) loads the joint '
-           '(q = angle_offset hanging down)'),
+                              'q = angle_offset hangs down', bounds=ANGLE_OFFSET_BOUNDS),
+        'pose_center': Float(0.0, doc='rad: the position pose_torque is a polynomial about'),
+        'pose_torque': FloatList([], doc='Nm, Nm/rad, Nm/rad^2: a direction-independent torque '
+                                 'sum_k c_k (q - pose_center)^k added to the lever torque (a '
+                                 'pose-dependent load error found over a short stroke: '
+                                 'gravity, payload, cable; [] none)',
+                                 max_len=MAX_POLYNOMIAL_ORDER + 1,
+                                 limit=f'pose polynomial order <= {MAX_POLYNOMIAL_ORDER}'),
+    }, doc='lever whose gravity m g l sin(q - angle_offset) (plus pose_torque) loads the '
+           'joint (q = angle_offset hanging down)'),
     'thermal': Section({
         'capacity': Float(450.0, positive=True, doc='heat capacity of gear and housing, J/K'),
         'resistance': Float(1.2, positive=True, doc='thermal resistance housing-ambient, K/W'),
@@ -418,9 +431,9 @@ SCHEMA = {
 DEFAULT_SECTIONS = ('lever', 'thermal', 'sensors', 'simulation')
 
 
-def key_specs(schema=None, prefix=''):
+def key_specs(schema: dict[str, _Spec] | None = None, prefix: str = '') -> dict[str, _Spec]:
     """Return {dotted name: spec} of every key and section of ``schema`` (:data:`SCHEMA`)."""
-    out = {}
+    out: dict[str, _Spec] = {}
     for key, spec in (SCHEMA if schema is None else schema).items():
         out[prefix + key] = spec
         if isinstance(spec, Section):
@@ -428,9 +441,9 @@ def key_specs(schema=None, prefix=''):
     return out
 
 
-def required_keys(schema=None, prefix=''):
+def required_keys(schema: dict[str, _Spec] | None = None, prefix: str = '') -> list[str]:
     """Return the dotted names of the keys every gear must give (``gear_ratio``, ...)."""
-    out = []
+    out: list[str] = []
     for key, spec in (SCHEMA if schema is None else schema).items():
         if spec.default is not REQUIRED:
             continue

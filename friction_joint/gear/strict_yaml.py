@@ -1,16 +1,5 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 
 """
 The YAML reader of gear and ROS 2 parameter files: strict, bounded, one-line errors.
@@ -39,12 +28,15 @@ What it reads differently from ``yaml.safe_load`` (PyYAML implements YAML 1.1):
 Errors are :class:`~friction_joint.exceptions.GearConfigError` with a
 one-line message naming the file and, where known, the line.
 """
+import os
 import re
 import sys
+from typing import Any
 
 import yaml
 from yaml.constructor import SafeConstructor
-from yaml.nodes import MappingNode, ScalarNode, SequenceNode
+from yaml.events import Event
+from yaml.nodes import MappingNode, Node, ScalarNode, SequenceNode
 from yaml.resolver import BaseResolver
 
 from .schema import INT64_RANGE
@@ -88,23 +80,23 @@ _ALIASES = 'YAML aliases (*name) are not supported in ROS 2 parameter files; wri
 class _Refused(Exception):
     """Content the reader refuses; carries the YAML node (or event) for its line."""
 
-    def __init__(self, message, node):
+    def __init__(self, message: str, node: Node | Event) -> None:
         super().__init__(message)
         self.node = node
 
 
-def _head(text, n=24):
+def _head(text: str, n: int = 24) -> str:
     return text if len(text) <= n else text[:n] + f'... ({len(text)} characters)'
 
 
 class _StrictConstructor(SafeConstructor):
     """SafeConstructor with YAML 1.2 numbers, duplicate/alias checks and bounds."""
 
-    def __init__(self):
+    def __init__(self) -> None:
         super().__init__()
-        self._visited = set()
+        self._visited: set[int] = set()
 
-    def construct_object(self, node, deep=False):
+    def construct_object(self, node: Node, deep: bool = False) -> Any:
         if id(node) in self._visited:
             raise _Refused(_ALIASES, node)
         self._visited.add(id(node))
@@ -113,7 +105,7 @@ class _StrictConstructor(SafeConstructor):
                            node)
         return super().construct_object(node, deep)
 
-    def construct_yaml_int(self, node):
+    def construct_yaml_int(self, node: Node) -> int:
         match = _INT.fullmatch(node.value) if isinstance(node, ScalarNode) else None
         if match is None:
             raise _Refused(f'{_head(str(node.value))} is not an integer', node)
@@ -128,7 +120,7 @@ class _StrictConstructor(SafeConstructor):
                            'parameters', node)
         return value
 
-    def construct_yaml_float(self, node):
+    def construct_yaml_float(self, node: Node) -> float:
         text = node.value.lower() if isinstance(node, ScalarNode) else ''
         try:
             value = float(text.replace('.inf', 'inf').replace('.nan', 'nan'))
@@ -140,15 +132,17 @@ class _StrictConstructor(SafeConstructor):
                            'write 0.0', node)
         return value
 
-    def construct_sequence(self, node, deep=False):
+    def construct_sequence(self, node: SequenceNode, deep: bool = False) -> list[Any]:
         if isinstance(node, SequenceNode) and len(node.value) > MAX_SEQUENCE:
             raise _Refused(f'a list of {len(node.value)} items (at most {MAX_SEQUENCE})', node)
         return super().construct_sequence(node, deep=deep)
 
-    def construct_mapping(self, node, deep=False):
+    def construct_mapping(self, node: MappingNode,
+                          deep: bool = False) -> dict[Any, Any]:
         if not isinstance(node, MappingNode):
             raise _Refused('expected a mapping', node)
-        out, lines = {}, {}
+        out: dict[Any, Any] = {}
+        lines: dict[str, int] = {}
         for key_node, value_node in node.value:
             if not isinstance(key_node, ScalarNode):
                 raise _Refused('a key must be a name, not a list or mapping', key_node)
@@ -169,10 +163,10 @@ for _tag, _method in (('int', 'construct_yaml_int'), ('float', 'construct_yaml_f
 
 
 if getattr(yaml, '__with_libyaml__', False):
-    from yaml.cyaml import CParser
+    from yaml._yaml import CParser
 
     class _Loader(CParser, _StrictConstructor, Yaml12Resolver):
-        def __init__(self, stream):
+        def __init__(self, stream: str) -> None:
             CParser.__init__(self, stream)
             _StrictConstructor.__init__(self)
             Yaml12Resolver.__init__(self)
@@ -182,8 +176,10 @@ else:                                                   # pragma: no cover - wit
     from yaml.reader import Reader
     from yaml.scanner import Scanner
 
-    class _Loader(Reader, Scanner, Parser, Composer, _StrictConstructor, Yaml12Resolver):
-        def __init__(self, stream):
+    # one of the two definitions, by whether PyYAML was built with libyaml
+    class _Loader(Reader, Scanner, Parser, Composer,  # type: ignore[no-redef]
+                  _StrictConstructor, Yaml12Resolver):
+        def __init__(self, stream: str) -> None:
             Reader.__init__(self, stream)
             Scanner.__init__(self)
             Parser.__init__(self)
@@ -192,23 +188,25 @@ else:                                                   # pragma: no cover - wit
             Yaml12Resolver.__init__(self)
 
 
-def _one_line(exc, text):
+def _one_line(exc: yaml.YAMLError, text: str) -> str:
     """Return a YAML error as 'line N, column M: problem' on one line."""
     mark = getattr(exc, 'problem_mark', None)
     problem = getattr(exc, 'problem', None)
-    if mark is None and getattr(exc, 'position', None) is not None:    # ReaderError
-        line = text.count('\n', 0, exc.position) + 1
-        return f'line {line}: unacceptable character #x{int(exc.character):04x}' \
-            if isinstance(exc.character, int) else f'line {line}: ' + ' '.join(str(exc).split())
+    position = getattr(exc, 'position', None)
+    character = getattr(exc, 'character', None)
+    if mark is None and position is not None:                          # ReaderError
+        line = text.count('\n', 0, position) + 1
+        return f'line {line}: unacceptable character #x{int(character):04x}' \
+            if isinstance(character, int) else f'line {line}: ' + ' '.join(str(exc).split())
     where = f'line {mark.line + 1}, column {mark.column + 1}: ' if mark is not None else ''
     what = ' '.join(str(problem if problem else exc).split())
     context = getattr(exc, 'context', None)
     return where + what + (f' ({" ".join(str(context).split())})' if context else '')
 
 
-def _check_shape(events):
+def _check_shape(events: _Loader) -> None:
     """Walk the parser's events (no tree, no recursion): refuse deep nesting and long lists."""
-    open_seqs = []                                  # item counts of the open lists, or None
+    open_seqs: list[int | None] = []            # item counts of the open lists, or None
     try:
         while events.check_event():
             event = events.get_event()
@@ -228,7 +226,7 @@ def _check_shape(events):
         events.dispose()
 
 
-def parse_yaml_text(text, where):
+def parse_yaml_text(text: str, where: str) -> Any:
     """
     Parse one YAML document with the strict reader; errors name ``where``.
 
@@ -255,7 +253,9 @@ def parse_yaml_text(text, where):
         _check_shape(_Loader(text))
         return loader.get_single_data()
     except _Refused as exc:
-        line = exc.node.start_mark.line + 1
+        mark = exc.node.start_mark
+        assert mark is not None                 # the parser marks every node and event
+        line = mark.line + 1
         msg = str(exc) if str(exc).startswith('duplicate key') else f'line {line}: {exc}'
         raise GearConfigError(f'{where}: {msg}') from None
     except yaml.YAMLError as exc:
@@ -266,7 +266,7 @@ def parse_yaml_text(text, where):
         loader.dispose()
 
 
-def read_yaml_document(path):
+def read_yaml_document(path: str | os.PathLike[str]) -> Any:
     """
     Read a YAML file with the strict reader, after checking its size and encoding.
 

@@ -1,16 +1,5 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 
 """
 Identification of the friction model from recordings (seed Section V-A, three steps).
@@ -35,12 +24,13 @@ from .pattern_search import pattern_search, PatternSearchResult
 from .pipeline import IdentificationRun, identify_recordings
 from .plateaus import DETECTION, find_plateaus, Plateaus, plateaus_from_arrays
 from .presliding import fit_presliding, presliding_rmse, PreslidingFit
-from .presliding_data import EXPERIMENT_ADVICE, presliding_segments, Segment
+from .presliding_data import EXPERIMENT_ADVICE, presliding_segments, PreslidingOptions, Segment
 from .static_fit import cross_validate_orders, select_orders, StaticIdentifier
 from .static_structure import check_excitation, StaticStructure
 
 __all__ = ['Plateaus', 'find_plateaus', 'plateaus_from_arrays', 'DETECTION', 'StaticStructure',
            'check_excitation', 'StaticIdentifier', 'cross_validate_orders', 'select_orders',
            'PatternSearchResult', 'pattern_search', 'Segment', 'presliding_segments',
-           'EXPERIMENT_ADVICE', 'PreslidingFit', 'fit_presliding', 'presliding_rmse',
+           'EXPERIMENT_ADVICE', 'PreslidingFit', 'PreslidingOptions', 'fit_presliding',
+           'presliding_rmse',
            'IdentificationRun', 'identify_recordings', 'held_out_sse', 'random_folds']

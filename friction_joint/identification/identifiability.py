@@ -1,16 +1,5 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 
 """
 What the data pin, how well, and how far the identified curve can be trusted.
@@ -31,11 +20,17 @@ What the data pin, how well, and how far the identified curve can be trusted.
 from __future__ import annotations
 
 import math
+from typing import Any, Protocol, TYPE_CHECKING
 
 import numpy as np
 
+from ._arrays import FloatArray
 from .physical_problem import lever_torque, PhysicalProblem, solve_bounded
 from ..models.static import PARAMETERS
+
+if TYPE_CHECKING:
+    from .physical_fit import PhysicalFit
+    from .plateaus import Plateaus
 
 __all__ = ['WEAK', 'SPEED_BANDS', 'HELD_OUT_TOLERANCE', 'curve_uncertainty', 'identifiability',
            'held_out_validation', 'model_adequacy']
@@ -51,7 +46,19 @@ HELD_OUT_TOLERANCE = 0.02
 _IDX = {p: i for i, p in enumerate(PARAMETERS)}
 
 
-def _value_se(fit, name, xi, load):
+class _Identified(Protocol):
+    """What :func:`identifiability` reads of a fitted ``StaticIdentifier``."""
+
+    @property
+    def plateaus(self) -> Plateaus:
+        """Return the plateaus fitted."""
+
+    @property
+    def info(self) -> dict[str, Any]:
+        """Return the fit's information (``temperature_range``)."""
+
+
+def _value_se(fit: PhysicalFit, name: str, xi: float, load: float) -> tuple[float, float]:
     """Value of a curve parameter at (xi, load) and its standard error (delta method)."""
     layout, theta = fit.layout, fit.theta
     x, lo = np.array([xi]), np.array([load])
@@ -63,14 +70,16 @@ def _value_se(fit, name, xi, load):
     return v0, math.sqrt(max(var, 0.0))
 
 
-def _change_se(fit, name, xa, xb, load):
+def _change_se(fit: PhysicalFit, name: str, xa: float, xb: float, load: float
+               ) -> tuple[float, float]:
     """Change of a curve parameter from xa to xb at ``load`` and its standard error."""
     layout, theta = fit.layout, fit.theta
     x, lo = np.array([xa, xb]), np.array([load, load])
 
-    def change(th):
+    def change(th: FloatArray) -> FloatArray:
         v = layout.physics(th, x, lo)[:, _IDX[name]]
-        return v[:, 1] - v[:, 0]
+        d: FloatArray = v[:, 1] - v[:, 0]
+        return d
 
     c0 = float(change(theta[None, :])[0])
     h = 1e-6 * np.maximum(np.abs(theta), 1e-3)
@@ -78,7 +87,7 @@ def _change_se(fit, name, xa, xb, load):
     return c0, math.sqrt(max(float(g @ fit.cov @ g), 0.0))
 
 
-def model_adequacy(validation, n, p):
+def model_adequacy(validation: dict[str, Any], n: int, p: int) -> float:
     """
     Return the factor (>= 1) by which the held-out error says the covariance is too small.
 
@@ -105,7 +114,8 @@ def model_adequacy(validation, n, p):
     return float(max(1.0, ratio * (n - p) / (n + p)))
 
 
-def curve_uncertainty(fit, plateaus, xi_lo, xi_hi, *, speeds=12):
+def curve_uncertainty(fit: PhysicalFit, plateaus: Plateaus, xi_lo: float, xi_hi: float, *,
+                      speeds: int = 12) -> dict[str, float]:
     """
     Return the largest relative +-2 standard-error band of the fitted curve in the ranges.
 
@@ -146,7 +156,8 @@ def curve_uncertainty(fit, plateaus, xi_lo, xi_hi, *, speeds=12):
             'load': float(load[k])}
 
 
-def identifiability(ident, fit, notes, *, validation=None):
+def identifiability(ident: _Identified, fit: PhysicalFit, notes: dict[str, dict[str, str]],
+                    *, validation: dict[str, Any] | None = None) -> dict[str, Any]:
     """
     Say per parameter whether and how well the data pin it.
 
@@ -177,13 +188,14 @@ def identifiability(ident, fit, notes, *, validation=None):
     xm = 0.5 * sum(ident.info['temperature_range'])
     load = float(np.mean(p.load)) if len(p) else 0.0
     kappa = fit.structure.velocity_scale
-    missing = {}
+    missing: dict[str, dict[str, str]] = {}
     for name, k in fit.kept.items():
         missing[name] = {'why': k['why'], 'kept': f'{k["value"]} ({k["source"]})'
                          if not isinstance(k['value'], float) else
                          f'{k["value"]:.4g} ({k["source"]})', 'advice': k['advice']}
     missing.update(notes)
-    params, weak = {}, {}
+    params: dict[str, dict[str, Any]] = {}
+    weak: dict[str, dict[str, Any]] = {}
     fitted = {n for n, k, _ in fit.layout.blocks if k == 'temp'}
     for name in PARAMETERS:
         if name not in fitted:
@@ -285,6 +297,10 @@ def identifiability(ident, fit, notes, *, validation=None):
     speed = np.abs(p.qd)
     where = (f'|qd| {speed.min():.3g}..{speed.max():.3g} rad/s, xi {lo_t:.1f}..{hi_t:.1f} degC, '
              f'tau_L {p.load.min():.2f}..{p.load.max():.2f} Nm')
+    side = [k.split()[0] for k in missing if k in ('positive direction', 'negative direction')]
+    if side:                                      # one direction measured, the other assumed
+        have = 'negative' if side[0] == 'positive' else 'positive'
+        where = f'{have} velocities only (the {side[0]} direction assumed symmetric), ' + where
     if any(w.get('held_out') for w in weak.values()):
         lines.insert(0, f'the static curve is NOT pinned everywhere in the recorded ranges '
                         f'({where}): see the speed bands below')
@@ -297,7 +313,7 @@ def identifiability(ident, fit, notes, *, validation=None):
                      f'standard errors at most {100 * WEAK:.0f} %)')
     loose = [k for k, w in weak.items() if w.get('held_out')]
     unchecked = validation is not None and not validation.get('blocks')
-    if unchecked:
+    if unchecked and validation is not None:
         lines.insert(0, f'the static curve is NOT checked: {validation["note"]}; record more '
                         'plateaus')
     return {'curve_identified': not loose and not unchecked, 'not_identified': missing,
@@ -306,7 +322,8 @@ def identifiability(ident, fit, notes, *, validation=None):
             'lines': lines}
 
 
-def held_out_validation(fit, plateaus, t_range, load_ref, *, blocks=10):
+def held_out_validation(fit: PhysicalFit, plateaus: Plateaus, t_range: tuple[float, float],
+                        load_ref: float, *, blocks: int = 10) -> dict[str, Any]:
     """
     Predict each block of plateaus (a random subset, seeded) from a fit without it.
 
@@ -363,7 +380,7 @@ def held_out_validation(fit, plateaus, t_range, load_ref, *, blocks=10):
     speed = np.abs(plateaus.qd)
     edges = np.geomspace(speed.min(), speed.max() * (1 + 1e-9), SPEED_BANDS + 1)
     bands = []
-    for a, b in zip(edges[:-1], edges[1:]):
+    for a, b in zip(edges[:-1], edges[1:], strict=True):
         m = (speed >= a) & (speed < b)
         if not m.any():
             continue

@@ -1,16 +1,5 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 
 """
 Bounded generalized pattern search in log space, evaluating a batch of points per poll.
@@ -24,10 +13,12 @@ from __future__ import annotations
 
 from collections.abc import Callable
 import dataclasses
+from typing import Any, cast
 
 import numpy as np
 from numpy.typing import ArrayLike
 
+from ._arrays import FloatArray
 from ..results import json_clean
 
 __all__ = ['PatternSearchResult', 'pattern_search']
@@ -59,7 +50,7 @@ class PatternSearchResult:
 
     """
 
-    x: np.ndarray
+    x: FloatArray
     fun: float
     nit: int
     nfev: int
@@ -68,15 +59,15 @@ class PatternSearchResult:
     success: bool
     message: str
 
-    def to_dict(self) -> dict:
+    def to_dict(self) -> dict[str, Any]:
         """Return the result as plain JSON types."""
-        return json_clean(dataclasses.asdict(self))
+        return cast('dict[str, Any]', json_clean(dataclasses.asdict(self)))
 
 
-def pattern_search(fun: Callable[[np.ndarray], np.ndarray], x0: ArrayLike, lower: ArrayLike,
-                   upper: ArrayLike, *, step: float = 0.5, min_step: float = 1e-3,
-                   max_step: float | None = None, expand: float = 2.0, contract: float = 0.5,
-                   scale: ArrayLike | None = None, max_iter: int = 1000,
+def pattern_search(fun: Callable[[FloatArray], ArrayLike], x0: ArrayLike,
+                   lower: ArrayLike, upper: ArrayLike, *, step: float = 0.5,
+                   min_step: float = 1e-3, max_step: float | None = None, expand: float = 2.0,
+                   contract: float = 0.5, scale: ArrayLike | None = None, max_iter: int = 1000,
                    max_evals: int = 20000) -> PatternSearchResult:
     """
     Minimise ``fun`` over a box by generalized (compass) pattern search.
@@ -130,12 +121,12 @@ def pattern_search(fun: Callable[[np.ndarray], np.ndarray], x0: ArrayLike, lower
     x = np.clip(x, lo, hi)
     directions = np.vstack([np.eye(n), -np.eye(n)])
 
-    def poll_points(center, delta):
+    def poll_points(center: FloatArray, delta: float) -> FloatArray:
         pts = np.clip(center + delta * sc * directions, lo, hi)
         keep = np.any(pts != center, axis=1)
         return pts[keep]
 
-    def evaluate(points):
+    def evaluate(points: FloatArray) -> FloatArray:
         vals = np.asarray(fun(points), dtype=float).reshape(-1)
         if vals.shape[0] != points.shape[0]:
             raise ValueError(f'objective returned {vals.shape[0]} values '

@@ -1,16 +1,5 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 
 """
 A static-curve fit that stays physical, starts from many points and says what it cannot pin.
@@ -44,14 +33,23 @@ StaticIdentifier`) run here:
 """
 from __future__ import annotations
 
+from collections.abc import Callable
+import dataclasses
 import math
+from typing import Any, TYPE_CHECKING
 
 import numpy as np
 
+from ._arrays import BoolArray, FloatArray, IntArray
 from .physical_problem import (DELTA_S_BOUNDS, feasible_theta, FS_RATIO_MAX, grid_profile,
                                lever_torque, PhysicalLayout, PhysicalProblem, profile_interval,
                                project_theta, solve_bounded, vs_band)
 from ..models.static import PARAMETERS
+
+if TYPE_CHECKING:
+    from .plateaus import Plateaus
+    from .static_structure import StaticStructure
+    from ..gear import FrictionParams
 
 __all__ = ['PROFILE_SPAN', 'CONDITION_LIMIT', 'BOOTSTRAP_RESAMPLES', 'PhysicalFit',
            'fit_physical', 'sensor_lag_bound']
@@ -62,6 +60,7 @@ PROFILE_SPAN = 3.0
 _IDX = {p: i for i, p in enumerate(PARAMETERS)}
 
 
+@dataclasses.dataclass
 class PhysicalFit:
     """
     The result of :func:`fit_physical`.
@@ -72,9 +71,11 @@ class PhysicalFit:
         The structure finally fitted: parameters the data do not pin are in its
         ``fixed`` (kept values), delta_s is the fitted or kept value.
     layout : PhysicalLayout
+        Its layout (the fitted parameter vector's blocks).
     theta : ndarray
         Fitted parameter vector.
     problem : PhysicalProblem
+        The problem fitted.
     cov : ndarray
         Covariance of ``theta``; ``cov_method`` says how it was obtained.
     s2 : float
@@ -90,21 +91,44 @@ class PhysicalFit:
     steps : list of dict
         Fit passes (cost, evaluations, time).
     nfev : int
+        Residual evaluations.
+    cov_method : dict
+        How ``cov`` was obtained (``method``, ``condition``, factors applied).
+    fs_ratio : float or None
+        F_s / F_c where F_s is tied to F_c, else None.
+    at_bound : list of str
+        Parameters that ended on a bound of their search range.
+    time_s : float
+        Wall time of the fit (s).
 
     """
 
-    def __init__(self, **kw):
-        self.__dict__.update(kw)
+    structure: StaticStructure
+    layout: PhysicalLayout
+    theta: FloatArray
+    problem: PhysicalProblem
+    cov: FloatArray
+    s2: float
+    residuals: FloatArray
+    kept: dict[str, dict[str, Any]]
+    intervals: dict[str, dict[str, Any]]
+    starts: list[dict[str, Any]]
+    steps: list[dict[str, Any]]
+    nfev: int
+    cov_method: dict[str, Any]
+    fs_ratio: float | None
+    at_bound: list[str]
+    time_s: float
 
 
-def _prior_value(prior, name, xi):
+def _prior_value(prior: FrictionParams, name: str, xi: float) -> float | None:
     coef = getattr(prior, name)
     if coef is None or not len(coef):
         return None
     return float(np.polynomial.polynomial.polyval(xi, coef))
 
 
-def sensor_lag_bound(plateaus):
+def sensor_lag_bound(plateaus: Plateaus) -> float | None:
     """
     Return the longest temperature-sensor lag worth fitting (s), or None.
 
@@ -119,14 +143,16 @@ def sensor_lag_bound(plateaus):
     return 0.5 * span / float(rate.max())
 
 
-def _best_at(sse, thetas, index):
+def _best_at(sse: FloatArray, thetas: FloatArray, index: int) -> FloatArray:
     """Return the grid point of least residual with the first axis at ``index``."""
     sub = sse[index]
     j = np.unravel_index(int(np.argmin(sub)), sub.shape)
-    return thetas[index][j]
+    theta: FloatArray = thetas[index][j]
+    return theta
 
 
-def _profile(problem, sse, thetas, block, grid):
+def _profile(problem: PhysicalProblem, sse: FloatArray, thetas: FloatArray, block: slice,
+             grid: FloatArray) -> tuple[FloatArray, list[FloatArray]]:
     """
     Residual with one nonlinear parameter held at each grid value, the rest refitted.
 
@@ -137,10 +163,12 @@ def _profile(problem, sse, thetas, block, grid):
     free = np.ones(p, dtype=bool)
     free[block] = False
     prof = np.full(len(grid), np.inf)
-    sols = [None] * len(grid)
+    sols: list[FloatArray | None] = [None] * len(grid)
 
-    def attempt(i, th0):
-        th0 = th0.copy()
+    def attempt(i: int, start: FloatArray | None) -> None:
+        if start is None:                   # no fit at that grid value to start from
+            return
+        th0 = start.copy()
         th0[block] = grid[i]
         th, e, _ = solve_bounded(problem, th0, free, tol=1e-8, max_nfev=60)
         if e < prof[i]:
@@ -153,10 +181,11 @@ def _profile(problem, sse, thetas, block, grid):
     for i in range(1, len(grid)):
         if prof[i - 1] < prof[i]:
             attempt(i, sols[i - 1])
-    return prof, sols
+    return prof, [th if th is not None else _best_at(sse, thetas, i)
+                  for i, th in enumerate(sols)]
 
 
-def _local_minima(profile, limit=4):
+def _local_minima(profile: FloatArray, limit: int = 4) -> list[int]:
     """Return the indices of the local minima of a profile, best first."""
     out = []
     for i in range(len(profile)):
@@ -167,7 +196,10 @@ def _local_minima(profile, limit=4):
     return sorted(out, key=lambda i: profile[i])[:limit]
 
 
-def fit_physical(structure, plateaus, t_range, load_ref, *, prior, progress=None, cv_folds=5):
+def fit_physical(structure: StaticStructure, plateaus: Plateaus, t_range: tuple[float, float],
+                 load_ref: float, *, prior: FrictionParams,
+                 progress: Callable[[str], None] | None = None, cv_folds: int = 5
+                 ) -> PhysicalFit:
     """
     Fit a static structure physically, from many starts, keeping what the data cannot pin.
 
@@ -194,7 +226,6 @@ def fit_physical(structure, plateaus, t_range, load_ref, *, prior, progress=None
     PhysicalFit
 
     """
-    import dataclasses
     import time
     t_start = time.perf_counter()
     n = len(plateaus)
@@ -217,7 +248,11 @@ def fit_physical(structure, plateaus, t_range, load_ref, *, prior, progress=None
     problem = PhysicalProblem(layout, plateaus)
     p = layout.size
     factor = 1.0 + 4.0 / max(n - p, 1)
-    kept, intervals, starts, steps = {}, {}, [], []
+    kept: dict[str, dict[str, Any]] = {}
+    intervals: dict[str, dict[str, Any]] = {}
+    starts: list[dict[str, Any]] = []
+    steps: list[dict[str, Any]] = []
+    results: list[tuple[float, FloatArray]]
     blocks = {name: sl for name, _, sl in layout.blocks}
     if stribeck:
         # profiles: v_s (resp. delta_s) held at each grid value, everything else refitted
@@ -239,7 +274,7 @@ def fit_physical(structure, plateaus, t_range, load_ref, *, prior, progress=None
         intervals['vs'] = {'low': vlo / kappa, 'high': vhi / kappa,
                            'band': [band[0] / kappa, band[1] / kappa], 'at_slow_end': at_lo,
                            'profile': [[float(v / kappa), float(e)]
-                                       for v, e in zip(vs_grid, prof_vs)]}
+                                       for v, e in zip(vs_grid, prof_vs, strict=True)]}
         intervals['delta_s'] = {'low': dlo, 'high': dhi,
                                 'band': [float(ds_grid[0]), float(ds_grid[-1])]}
         vmin = float(np.min(np.abs(plateaus.qd)))
@@ -260,7 +295,7 @@ def fit_physical(structure, plateaus, t_range, load_ref, *, prior, progress=None
             start = th_vs[int(np.argmin(np.abs(np.log(vs_grid / v_keep))))]
             # the kept values must still agree with the data: the structure's ratio, else a
             # fitted ratio, at the kept v_s; else slide v_s down until they do
-            tries = [(v_keep, ratio), (v_keep, 'free')]
+            tries: list[tuple[float, float | str]] = [(v_keep, ratio), (v_keep, 'free')]
             tries += [(float(v), ratio) for v in vs_grid[::-1] if v < v_keep]
             done = []
             for v_try, tie in tries:
@@ -340,15 +375,16 @@ def fit_physical(structure, plateaus, t_range, load_ref, *, prior, progress=None
         steps.append({'step': 'joint', 'cost': e, 'nfev': int(res.nfev),
                       'time_s': time.perf_counter() - t0})
         results = [(e, th)]
-    results.sort(key=lambda r: r[0])
-    e_best = results[0][0]
-    close = [r for r in results if r[0] <= e_best * factor]
-    chosen = close[0]
+    # the fits by residual (stable); several close ones come from the starts, in their order
+    ranked = sorted(range(len(results)), key=lambda i: results[i][0])
+    e_best = results[ranked[0]][0]
+    close = [i for i in ranked if results[i][0] <= e_best * factor]
+    chosen = results[close[0]]
     if len(close) > 1 and n >= 2 * cv_folds:
-        scores = [_held_out(layout, plateaus, th, cv_folds) for _, th in close]
-        chosen = close[int(np.argmin(scores))]
-        for st, (e, _), sc in zip(starts, close, scores):
-            st['held_out_mse'] = sc
+        scores = [_held_out(layout, plateaus, results[i][1], cv_folds) for i in close]
+        chosen = results[close[int(np.argmin(scores))]]
+        for i, sc in zip(close, scores, strict=True):
+            starts[i]['held_out_mse'] = sc
     e, theta = chosen
     theta = feasible_theta(layout, theta)
     fs_terms = structure.orders.get('fs', -1) + 1 + structure.load_orders.get('fs', 0)
@@ -363,19 +399,19 @@ def fit_physical(structure, plateaus, t_range, load_ref, *, prior, progress=None
     if any(name == 'delta_s' for name, _, _ in layout.blocks):
         sl = [s for name, _, s in layout.blocks if name == 'delta_s'][0]
         structure = dataclasses.replace(structure, delta_s=float(theta[sl][0]))
-    fs_ratio = None
+    fs_ratio: float | None = None
     if 'fs' in layout.ties:                       # the tie, as the values it gives
-        fs_ratio = layout.ties['fs']
-        if fs_ratio == 'free':
-            fs_ratio = float(theta[[s_ for n_, _, s_ in layout.blocks if n_ == 'fs_ratio'][0]][0])
+        tie = layout.ties['fs']
+        fs_ratio = float(theta[[s_ for n_, _, s_ in layout.blocks if n_ == 'fs_ratio'][0]][0]) \
+            if tie == 'free' else float(tie)
         fc = layout.coefficients(theta)['fc']
         structure = dataclasses.replace(structure, fixed=dict(
             structure.fixed, fs=[float(fs_ratio * c) for c in fc]))
     r = problem.data_residuals(theta)[0]
     dof = max(n - layout.size, 1)
-    s2 = float(r @ r) / dof
+    resid_var = float(r @ r) / dof
     jac = problem.data_jacobian(theta, np.ones(layout.size, dtype=bool))
-    cov, method = _covariance(jac, s2, problem, layout, plateaus, theta)
+    cov, method = _covariance(jac, resid_var, problem, layout, plateaus, theta)
     # few plateaus per coefficient: +-2 standard errors should still cover 95 %, so the
     # covariance carries the Student-t factor of the residual degrees of freedom
     from scipy.stats import t as t_dist
@@ -388,21 +424,23 @@ def fit_physical(structure, plateaus, t_range, load_ref, *, prior, progress=None
               | (hi_b - theta <= 1e-6 * np.maximum(np.abs(hi_b), 1e-9)))
     at_bound = [name for name, kind, sl in layout.blocks if kind != 'load' and on[sl].any()]
     return PhysicalFit(structure=structure, layout=layout, theta=theta, problem=problem,
-                       cov=cov, s2=s2, cov_method=method, residuals=r, kept=kept,
+                       cov=cov, s2=resid_var, cov_method=method, residuals=r, kept=kept,
                        intervals=intervals, starts=starts, steps=steps, nfev=problem.nfev,
                        fs_ratio=fs_ratio, at_bound=at_bound,
                        time_s=time.perf_counter() - t_start)
 
 
-def _try_ratio(e, theta, layout, problem, structure, plateaus, t_range, load_ref, band,
-               load_max, kept, fs_terms, xm):
+def _try_ratio(e: float, theta: FloatArray, layout: PhysicalLayout, problem: PhysicalProblem,
+               structure: StaticStructure, plateaus: Plateaus, t_range: tuple[float, float],
+               load_ref: float, band: tuple[float, float], load_max: float,
+               kept: dict[str, dict[str, Any]], fs_terms: int, xm: float
+               ) -> tuple[float, FloatArray, PhysicalLayout, PhysicalProblem, StaticStructure]:
     """
     F_s as a fitted ratio of F_c when the data do not carry F_s's own dependencies.
 
     The nested model F_s = r F_c (one coefficient instead of ``fs_terms``) is kept when
     an F-test at 95 % finds the full model no better.
     """
-    import dataclasses
     from scipy.stats import f as f_dist
     n = len(plateaus)
     orders = {k: v for k, v in structure.orders.items() if k != 'fs'}
@@ -435,17 +473,19 @@ def _try_ratio(e, theta, layout, problem, structure, plateaus, t_range, load_ref
     return e_t, th_t, lay_t, prob_t, s_t
 
 
-def _held_out(layout, plateaus, theta, folds):
+def _held_out(layout: PhysicalLayout, plateaus: Plateaus, theta: FloatArray, folds: int
+              ) -> float:
     """Held-out mean squared error of a layout started from ``theta`` (random folds)."""
     from .folds import held_out_sse, random_folds
     n = len(plateaus)
 
-    def fit_predict(fold, train, test):
+    def fit_predict(fold: int, train: BoolArray, test: IntArray) -> FloatArray:
         sub = PhysicalProblem(layout, plateaus.select(train))
         tt, _, _ = solve_bounded(sub, theta, tol=1e-8, max_nfev=100)
         held = plateaus.select(test)
-        return (layout.torque(tt, held.qd, held.xi, held.load, lever_torque(held),
-                              held.xi_rate)[0] - held.tau_r)
+        r: FloatArray = (layout.torque(tt, held.qd, held.xi, held.load, lever_torque(held),
+                                       held.xi_rate)[0] - held.tau_r)
+        return r
 
     sse, count = held_out_sse(random_folds(n, folds, seed=0), n, fit_predict)
     return float(np.sum(sse)) / max(int(count.sum()), 1)
@@ -457,7 +497,8 @@ CONDITION_LIMIT = 1e8
 BOOTSTRAP_RESAMPLES = 30
 
 
-def _covariance(jac, s2, problem, layout, plateaus, theta):
+def _covariance(jac: FloatArray, s2: float, problem: PhysicalProblem, layout: PhysicalLayout,
+                plateaus: Plateaus, theta: FloatArray) -> tuple[FloatArray, dict[str, Any]]:
     """Covariance of theta: analytic when well conditioned, else a bootstrap over plateaus."""
     norms = np.linalg.norm(jac, axis=0)
     norms[norms == 0] = 1.0

@@ -1,16 +1,5 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 
 """
 The building blocks of the physical static fit: its layout, its problem, its solver.
@@ -22,13 +11,26 @@ grid of the nonlinear parameters), :func:`solve_bounded` and the small helpers
 :func:`feasible_theta`, :func:`project_theta`; the fit itself is
 :func:`friction_joint.identification.physical_fit.fit_physical`.
 """
+from __future__ import annotations
+
+from collections.abc import Mapping
 import math
+from typing import TYPE_CHECKING
 
 import numpy as np
+from numpy.typing import ArrayLike
 from scipy.optimize import lsq_linear
 
+from ._arrays import BoolArray, FloatArray
 from .static_problem import CoefficientLayout, Problem
 from ..models.static import PackedStatic, PARAMETERS, StaticFriction
+
+if TYPE_CHECKING:
+    from scipy.optimize import OptimizeResult
+
+    from .plateaus import Plateaus
+    from .static_structure import StaticStructure
+    from ..gear import FrictionParams
 
 __all__ = ['PENALTY', 'DELTA_S_BOUNDS', 'VS_BAND', 'FS_RATIO_MAX', 'vs_band', 'PhysicalLayout',
            'PhysicalProblem', 'lever_torque', 'grid_profile', 'profile_interval',
@@ -46,7 +48,7 @@ FS_RATIO_MAX = 4.0
 _IDX = {p: i for i, p in enumerate(PARAMETERS)}
 
 
-def vs_band(plateaus, velocity_scale=1.0):
+def vs_band(plateaus: Plateaus, velocity_scale: float = 1.0) -> tuple[float, float]:
     """Return the v_s band (curve units: velocity_scale x rad/s) the data can speak to."""
     speed = velocity_scale * np.abs(plateaus.qd)
     return float(VS_BAND[0] * speed.min()), float(VS_BAND[1] * speed.max())
@@ -82,8 +84,11 @@ class PhysicalLayout(CoefficientLayout):
 
     """
 
-    def __init__(self, structure, t_range, load_ref, *, ties=None, free_delta_s=False,
-                 band=None, load_max=0.0, lever=False, lag_max=None):
+    def __init__(self, structure: StaticStructure, t_range: tuple[float, float],
+                 load_ref: float, *, ties: Mapping[str, float | str] | None = None,
+                 free_delta_s: bool = False, band: tuple[float, float] | None = None,
+                 load_max: float = 0.0, lever: bool = False,
+                 lag_max: float | None = None) -> None:
         super().__init__(structure, t_range, load_ref)
         self.ties = dict(ties or {})
         self.band = band
@@ -102,7 +107,7 @@ class PhysicalLayout(CoefficientLayout):
                 self.maps[name] = np.eye(1)
                 self.size += 1
 
-    def bounds(self):
+    def bounds(self) -> tuple[FloatArray, FloatArray]:
         lo, hi = super().bounds()                     # node values of the temperature blocks
         for name, kind, sl in self.blocks:
             if name == 'vs' and self.band is not None:
@@ -111,7 +116,7 @@ class PhysicalLayout(CoefficientLayout):
                 lo[sl], hi[sl] = self.scalar_bounds[name][0]
         return lo, hi
 
-    def packed(self, thetas):
+    def packed(self, thetas: ArrayLike) -> PackedStatic:
         thetas = np.atleast_2d(thetas)
         b = thetas.shape[0]
         temp = np.zeros((b, 5, self.nt))
@@ -142,22 +147,24 @@ class PhysicalLayout(CoefficientLayout):
         return PackedStatic(temp, load, ds, self.s.velocity_scale * ones, -1e9 * ones,
                             1e9 * ones)
 
-    def torque(self, thetas, qd, xi, load, tau_ext=None, xi_rate=None):
+    def torque(self, thetas: ArrayLike, qd: ArrayLike, xi: ArrayLike, load: ArrayLike,
+               tau_ext: ArrayLike | None = None, xi_rate: ArrayLike | None = None
+               ) -> FloatArray:
         """(B, N) friction torque as measured: the curve, plus e tau_ext (lever model)."""
         thetas = np.atleast_2d(thetas)
         lag = [s_ for n_, _, s_ in self.blocks if n_ == 'sensor_lag']
         if lag and xi_rate is not None:
             xi = np.asarray(xi, dtype=float)[None, :] + thetas[:, lag[0]] * np.asarray(
                 xi_rate, dtype=float)[None, :]
-            qd = np.broadcast_to(np.asarray(qd, dtype=float), xi.shape)
-            load = np.broadcast_to(np.asarray(load, dtype=float), xi.shape)
+            qd = np.broadcast_to(np.asarray(qd, dtype=float), np.shape(xi))
+            load = np.broadcast_to(np.asarray(load, dtype=float), np.shape(xi))
         out = super().torque(thetas, qd, xi, load)
         sl = [s_ for n_, _, s_ in self.blocks if n_ == 'lever_error']
         if sl and tau_ext is not None:
             out = out + np.atleast_2d(thetas)[:, sl[0]] * np.asarray(tau_ext)[None, :]
         return out
 
-    def physics(self, thetas, xi, load):
+    def physics(self, thetas: ArrayLike, xi: FloatArray, load: FloatArray) -> FloatArray:
         """
         Raw parameter values (not clipped) at the (xi, load) points: (B, 5, K).
 
@@ -174,7 +181,7 @@ class PhysicalLayout(CoefficientLayout):
         lp = np.vstack([load ** (j + 1) for j in range(pk.load.shape[2])])
         return pk.temp @ xp + pk.load @ lp
 
-    def corners(self, n=5):
+    def corners(self, n: int = 5) -> tuple[FloatArray, FloatArray]:
         """Temperature and load points where the physics conditions are checked."""
         # the written file's range is the recorded one rounded outwards to 0.1 degC
         xi = np.linspace(self.t_range[0] - 0.1, self.t_range[1] + 0.1, n)
@@ -186,7 +193,10 @@ class PhysicalLayout(CoefficientLayout):
 class PhysicalProblem(Problem):
     """Plateau residuals plus one-sided physics penalties (:data:`PENALTY`)."""
 
-    def __init__(self, layout, plateaus, *, penalty=PENALTY):
+    layout: PhysicalLayout
+
+    def __init__(self, layout: PhysicalLayout, plateaus: Plateaus, *,
+                 penalty: float = PENALTY) -> None:
         super().__init__(layout, plateaus)
         self.lever = lever_torque(plateaus)
         self.rate = plateaus.xi_rate.astype(float)
@@ -194,12 +204,12 @@ class PhysicalProblem(Problem):
         self.cx, self.cl = layout.corners()
         self.stribeck = layout.s.stribeck and 'fs' not in layout.ties
 
-    def data_residuals(self, thetas):
+    def data_residuals(self, thetas: ArrayLike) -> FloatArray:
         """(B, n) model minus measured friction torque."""
         return self.layout.torque(thetas, self.qd, self.xi, self.load, self.lever,
                                   self.rate) - self.y
 
-    def penalties(self, thetas):
+    def penalties(self, thetas: ArrayLike) -> FloatArray:
         v = self.layout.physics(np.atleast_2d(thetas), self.cx, self.cl)
         parts = [np.maximum(0.0, -v[:, _IDX['fc']]), np.maximum(0.0, -v[:, _IDX['fv']])]
         if self.stribeck:
@@ -207,24 +217,24 @@ class PhysicalProblem(Problem):
             parts.append(np.maximum(0.0, v[:, _IDX['fs']] - FS_RATIO_MAX * v[:, _IDX['fc']]))
         return self.weight * np.concatenate(parts, axis=1)
 
-    def residual_batch(self, thetas):
+    def residual_batch(self, thetas: ArrayLike) -> FloatArray:
         thetas = np.atleast_2d(thetas)
         self.nfev += len(thetas)
         return np.concatenate([self.data_residuals(thetas), self.penalties(thetas)], axis=1)
 
-    def data_jacobian(self, theta, free):
+    def data_jacobian(self, theta: FloatArray, free: BoolArray) -> FloatArray:
         """Jacobian of the plateau residuals only (covariance)."""
         return self.jacobian(theta, free, residuals=self.data_residuals)
 
 
-def lever_torque(plateaus):
+def lever_torque(plateaus: Plateaus) -> FloatArray:
     """Per plateau: its mean tau_ext where it came from the lever model, else 0."""
     model = np.array([src == 'lever_model' for src in plateaus.torque_source] or [False])
     src = np.clip(plateaus.source, 0, len(model) - 1)
     return np.where(model[src], plateaus.tau_ext, 0.0)
 
 
-def _linear_mask(layout):
+def _linear_mask(layout: CoefficientLayout) -> BoolArray:
     """Entries of theta the curve is linear in: F_c, F_s, F_v nodes and their load terms."""
     m = np.zeros(layout.size, dtype=bool)
     for name, kind, sl in layout.blocks:
@@ -234,7 +244,8 @@ def _linear_mask(layout):
     return m
 
 
-def grid_profile(layout, plateaus, *, vs_grid, dv_grid, ds_grid):
+def grid_profile(layout: PhysicalLayout, plateaus: Plateaus, *, vs_grid: FloatArray,
+                 dv_grid: FloatArray, ds_grid: FloatArray) -> tuple[FloatArray, FloatArray]:
     """
     Residual over a grid of (v_s, delta_v, delta_s), the linear part solved exactly.
 
@@ -253,8 +264,8 @@ def grid_profile(layout, plateaus, *, vs_grid, dv_grid, ds_grid):
     # (else a dip far below the data trades a huge F_s against a huge negative load term)
     cap = FS_RATIO_MAX * float(np.max(np.abs(y))) if len(y) else np.inf
     for name, kind, sl in layout.blocks:
-        base = name[:-5] if kind == 'load' else name
-        if base in ('fc', 'fs'):
+        param = name[:-5] if kind == 'load' else name
+        if param in ('fc', 'fs'):
             lo[sl] = np.maximum(lo[sl], -cap)
             hi[sl] = np.minimum(hi[sl], cap)
         elif kind == 'load':
@@ -291,7 +302,8 @@ def grid_profile(layout, plateaus, *, vs_grid, dv_grid, ds_grid):
     return sse, thetas
 
 
-def profile_interval(grid, profile, best, n, p):
+def profile_interval(grid: FloatArray, profile: FloatArray, best: float, n: int, p: int
+                     ) -> tuple[float, float, bool, bool]:
     """
     Grid values whose profile residual is within the likelihood-ratio bound of ``best``.
 
@@ -307,7 +319,8 @@ def profile_interval(grid, profile, best, n, p):
             bool(ok.max() == len(grid) - 1))
 
 
-def parameter_values(gear_friction, xi, load=0.0):
+def parameter_values(gear_friction: FrictionParams, xi: float, load: float = 0.0
+                     ) -> dict[str, float]:
     """Return (F_c, F_s, F_v, v_s, delta_v) of a friction section at xi (dict of floats)."""
     v = StaticFriction(gear_friction).parameters(np.atleast_1d(float(xi)), float(load))
     return {k: float(np.asarray(x).ravel()[0]) for k, x in v.items()}
@@ -315,7 +328,9 @@ def parameter_values(gear_friction, xi, load=0.0):
 
 # ------------------------------------------------------------------ the fit ---
 
-def solve_bounded(problem, theta0, free=None, *, tol=1e-10, max_nfev=200):
+def solve_bounded(problem: PhysicalProblem, theta0: FloatArray, free: BoolArray | None = None,
+                  *, tol: float = 1e-10, max_nfev: int = 200
+                  ) -> tuple[FloatArray, float, OptimizeResult]:
     """Minimise a problem over the ``free`` entries; returns (theta, plateau SSE, result)."""
     free = np.ones(problem.layout.size, dtype=bool) if free is None else free
     theta, res = problem.solve(theta0, free, max_nfev=max_nfev, tol=tol)
@@ -323,7 +338,7 @@ def solve_bounded(problem, theta0, free=None, *, tol=1e-10, max_nfev=200):
     return theta, sse, res
 
 
-def feasible_theta(layout, theta):
+def feasible_theta(layout: PhysicalLayout, theta: FloatArray) -> FloatArray:
     """
     Lift what the stiff penalties left a hair below physics (F_c, F_v >= 0, F_s >= F_c).
 
@@ -345,7 +360,8 @@ def feasible_theta(layout, theta):
     return theta
 
 
-def project_theta(src, dst, theta):
+def project_theta(src: CoefficientLayout, dst: CoefficientLayout, theta: FloatArray
+                  ) -> FloatArray:
     """Carry a parameter vector of layout ``src`` over to layout ``dst`` (blocks by name)."""
     out = np.zeros(dst.size)
     have = {name: sl for name, _, sl in src.blocks}

@@ -1,16 +1,5 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 
 """
 The ``identify`` command: recordings -> identified gear file + report (seed Section V-A).
@@ -26,6 +15,10 @@ The ``identify`` command: recordings -> identified gear file + report (seed Sect
 2. Steps 1 and 2: the static curve's temperature and load coefficients
    (:class:`~friction_joint.identification.static_fit.StaticIdentifier`), in the structure of
    STRUCTURE.yaml (or with orders chosen by held-out error, ``--orders auto``).
+   Plateaus in one direction only are fitted when every recording measured tau_ext
+   (``/link_torque``): the curve in that direction, the other one assumed symmetric
+   and said so; without the load sensor they are refused, naming what to record
+   (docs/identification.md: plateaus in one direction only).
 3. Step 3: the pre-sliding parameters of every dynamic model the structure
    has a section for (``friction.lugre``, ``friction.gms``), by pattern search
    on the recordings' slow reversals (:mod:`friction_joint.identification.presliding`).
@@ -63,25 +56,30 @@ without a ``delta_v`` key means linear viscous friction: delta_v stays 1.
 """
 from __future__ import annotations
 
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Mapping, Sequence
+import dataclasses
 import importlib.util
 import os
-import re
 import time
-from typing import TYPE_CHECKING
+from typing import Any, cast, TYPE_CHECKING
 import warnings
 
 import numpy as np
+from numpy.typing import NDArray
 
-from .plateaus import DETECTION, find_plateaus, Plateaus
+from ._arrays import FloatArray
+from .plateaus import DETECTION, Detection, find_plateaus, Plateaus
 from .report import identification_figures
+from .scales import scale_lines
 from .static_fit import StaticIdentifier
+from .step3 import PreslidingStep
 from .stick_slip import stick_slip_summary
 from .._filters import zero_phase_derivatives
 from ..bag import read_recording, Recording
 from ..bag.stamps import BRIDGE_MARGIN, gap_summary, piece_on_grid, split_pieces
 from ..exceptions import (ArgumentError, ExcitationError, FrictionJointError, GearConfigError,
-                          GearConfigWarning, RecordingError)
+                          GearConfigWarning, MissingTopicError, RecordingError,
+                          UnitsWarning)
 from ..gear import GearParams, load_gear
 from ..gear.strict_yaml import read_yaml_document
 from ..results import draw_figures, json_clean
@@ -111,7 +109,7 @@ class IdentificationRun:
         The identified gear (steps 1-2, plus step 3 when it ran).
     recordings : list of Recording
     plateaus : Plateaus
-    presliding : dict
+    presliding : PreslidingStep
         Step 3: ``status`` (``'done'``, ``'skipped'``, ``'failed'``), ``reason``,
         per model ``params``, ``stderr``, ``rel_stderr``, ``report``.
     timings : dict
@@ -124,8 +122,8 @@ class IdentificationRun:
     """
 
     def __init__(self, identifier: StaticIdentifier, gear: GearParams, recordings: list[Recording],
-                 plateaus: Plateaus, presliding: dict, timings: dict[str, float], *,
-                 gaps: dict | None = None) -> None:
+                 plateaus: Plateaus, presliding: PreslidingStep, timings: dict[str, float], *,
+                 gaps: dict[str, Any] | None = None) -> None:
         self.identifier = identifier
         self.gear = gear
         self.recordings = recordings
@@ -134,9 +132,9 @@ class IdentificationRun:
         self.timings = timings
         self.gaps = gaps
 
-    def to_dict(self) -> dict:
+    def to_dict(self) -> dict[str, Any]:
         """Return :meth:`report` (plain JSON types)."""
-        return json_clean(self.report())
+        return cast('dict[str, Any]', json_clean(self.report()))
 
     def plot(self) -> dict[str, Figure]:
         """
@@ -154,7 +152,7 @@ class IdentificationRun:
         return draw_figures(identification_figures(self.identifier, self.recordings,
                                                    self.presliding))
 
-    def report(self) -> dict:
+    def report(self) -> dict[str, Any]:
         """Return the ``identification.json`` content."""
         rep = self.identifier.report()
         rep['recordings'] = [{'path': r.path, 'duration_s': r.duration,
@@ -162,14 +160,14 @@ class IdentificationRun:
                               'link_torque': r.link_torque is not None}
                              for r in self.recordings]
         rep['plateaus'] = self.plateaus.to_dict()
-        rep['presliding'] = self.presliding
+        rep['presliding'] = self.presliding.to_dict()
         if self.gaps is not None:
             rep['gaps'] = self.gaps
         rep['timings'].update(self.timings)
         return rep
 
 
-def _declared_friction_keys(path):
+def _declared_friction_keys(path: str) -> set[str] | None:
     """Keys under ``friction`` as written in a gear file (defaults not filled in)."""
     try:
         doc = read_yaml_document(path)        # through the input gate, as load_gear read it
@@ -186,21 +184,26 @@ def _declared_friction_keys(path):
     return keys
 
 
-def _read(path, joint_name):
+def _read(path: str | os.PathLike[str], joint_name: str, velocity_from_position: bool = False
+          ) -> Recording:
     try:
-        return read_recording(path, joint_name=joint_name)
-    except RecordingError as exc:
-        msg = str(exc)
-        if re.search(r'no /joint_temperature|/joint_temperature (topic|has no)', msg):
+        return read_recording(path, joint_name=joint_name,
+                              velocity_from_position=velocity_from_position)
+    except MissingTopicError as exc:
+        if exc.topic == '/joint_temperature':
             # the topic is absent: say why it is needed (a bad value is named as it is)
             raise RecordingError(
-                f'{msg}: the identification needs the gear housing temperature during the '
+                f'{exc}: the identification needs the gear housing temperature during the '
                 'plateaus (sensor_msgs/Temperature on /joint_temperature); record it with the '
                 'joint states') from None
         raise
 
 
-def _presliding_pieces(recording, gear):
+#: a contiguous piece of a recording as step 3's input arrays (``bridged``: a bool mask)
+_Piece = dict[str, NDArray[Any]]
+
+
+def _presliding_pieces(recording: Recording, gear: GearParams) -> list[_Piece]:
     """
     Contiguous pieces of a recording, on their uniform grids, as pre-sliding input arrays.
 
@@ -235,29 +238,31 @@ def _presliding_pieces(recording, gear):
     return out
 
 
-def _step3(gear, recordings, mode, progress):
-    """Pre-sliding parameters (step 3); returns (gear, result dict)."""
+def _step3(gear: GearParams, recordings: Sequence[Recording], mode: str,
+           progress: Callable[[str], None] | None) -> tuple[GearParams, PreslidingStep]:
+    """Pre-sliding parameters (step 3); returns (gear, result)."""
     if mode == 'skip':
-        return gear, {'status': 'skipped', 'reason': '--presliding skip'}
+        return gear, PreslidingStep('skipped', reason='--presliding skip')
     models = [m for m in ('lugre', 'gms') if getattr(gear.friction, m) is not None]
     if not models:
-        return gear, {'status': 'skipped', 'reason': 'the structure has no friction.lugre or '
-                                                     'friction.gms section'}
+        return gear, PreslidingStep('skipped', reason='the structure has no friction.lugre or '
+                                                      'friction.gms section')
     if importlib.util.find_spec('friction_joint.identification.presliding') is None:
         reason = ('friction_joint.identification.presliding is not available: the pre-sliding '
                   'parameters are kept from the structure file')
         if mode == 'require':
             raise ArgumentError(f'step 3: {reason}')
-        return gear, {'status': 'skipped', 'reason': reason}
+        return gear, PreslidingStep('skipped', reason=reason)
     from .presliding import fit_presliding
-    from .presliding_data import EXPERIMENT_ADVICE, presliding_segments
-    result = {'status': 'done', 'models': {}}
-    pieces = []
+    from .presliding_data import EXPERIMENT_ADVICE, presliding_segments, PreslidingOptions
+    fits: dict[str, dict[str, Any]] = {}
+    pieces: list[_Piece] = []
     try:
         pieces = [p for r in recordings for p in _presliding_pieces(r, gear)]
         for model in models:
-            cols = {k: [] for k in ('t', 'q', 'qd', 'tau_r', 'xi', 'tau_l')}
-            errors = []
+            cols: dict[str, list[FloatArray]] = {k: [] for k in ('t', 'q', 'qd', 'tau_r', 'xi',
+                                                                 'tau_l')}
+            errors: list[str] = []
             dropped = 0
             for piece in pieces:
                 try:
@@ -285,11 +290,12 @@ def _step3(gear, recordings, mode, progress):
             with warnings.catch_warnings():          # kept in fit.report['warnings']
                 warnings.simplefilter('ignore', GearConfigWarning)
                 fit = fit_presliding(cols['t'], cols['qd'], cols['tau_r'], cols['xi'],
-                                     cols['tau_l'], gear, model=model, q=cols['q'])
+                                     cols['tau_l'], gear, q=cols['q'],
+                                     options=PreslidingOptions(model=model))
             scale = float(np.sqrt(np.mean(np.concatenate(cols['tau_r']) ** 2)))
             rel = fit.report['objective_final'] / max(scale, 1e-12)
             if rel > MAX_PRESLIDING_ERROR:
-                result['models'][model] = {
+                fits[model] = {
                     'status': 'rejected', 'params': fit.params, 'report': fit.report,
                     'reason': f'the fitted {model} model misses the measured friction torque by '
                               f'{fit.report["objective_final"]:.3g} Nm RMS, {100 * rel:.0f} % of '
@@ -297,12 +303,12 @@ def _step3(gear, recordings, mode, progress):
                               f'{100 * MAX_PRESLIDING_ERROR:.0f} %): kept from the structure',
                     'time_s': time.perf_counter() - t0}
                 if mode == 'require':
-                    why = _explain(result, pieces, recordings, gear, models)
-                    raise ExcitationError(f'step 3: {result["models"][model]["reason"]}; '
-                                          + (f'why: {why["why"]}; to fit it, {why["advice"]}'
+                    why = _explain(fits, pieces, recordings, gear, models)
+                    raise ExcitationError(f'step 3: {fits[model]["reason"]}; '
+                                          + (f'why: {why.why}; to fit it, {why.advice}'
                                              if why else EXPERIMENT_ADVICE))
                 if progress:
-                    progress(f'step 3 ({model}): {result["models"][model]["reason"]}')
+                    progress(f'step 3 ({model}): {fits[model]["reason"]}')
                 continue
             kept = list(fit.report.get('undetermined', []))
             old = getattr(gear.friction, model)
@@ -317,7 +323,7 @@ def _step3(gear, recordings, mode, progress):
                     'c': old.c if 'c' in kept else sec.c}}})
             structure_values = ({'sigma0': old.sigma0, 'sigma1': old.sigma1} if model == 'lugre'
                                 else {'k_total': float(sum(old.k)), 'c': old.c})
-            result['models'][model] = {
+            fits[model] = {
                 'status': 'done', 'params': fit.params, 'initial': fit.initial,
                 'kept_values': {k: structure_values[k] for k in kept if k in structure_values},
                 'stderr': fit.stderr, 'rel_stderr': fit.rel_stderr, 'segments': len(cols['t']),
@@ -336,26 +342,42 @@ def _step3(gear, recordings, mode, progress):
     except FrictionJointError as exc:
         if mode == 'require':
             raise
-        failed = {'status': 'failed', 'reason': str(exc),
-                  'note': 'the pre-sliding parameters are kept from the structure file',
-                  'models': result['models']}
-        _explain(failed, pieces, recordings, gear, models)
-        return gear, failed
-    if any(r['status'] == 'rejected' for r in result['models'].values()):
-        _explain(result, pieces, recordings, gear, models)
-        if progress and result.get('why'):
-            progress(f'step 3: why: {result["why"]}')
-            progress(f'step 3: to fit it, {result["advice"]}')
+        failed = PreslidingStep(
+            'failed', reason=str(exc),
+            note='the pre-sliding parameters are kept from the structure file', models=fits)
+        why = _explain(fits, pieces, recordings, gear, models)
+        return gear, (dataclasses.replace(failed, excitation=why.excitation, why=why.why,
+                                          advice=why.advice) if why else failed)
+    result = PreslidingStep('done', models=fits)
+    if any(r['status'] == 'rejected' for r in fits.values()):
+        why = _explain(fits, pieces, recordings, gear, models)
+        if why:
+            result = dataclasses.replace(result, excitation=why.excitation, why=why.why,
+                                         advice=why.advice)
+        if progress and result.why:
+            progress(f'step 3: why: {result.why}')
+            progress(f'step 3: to fit it, {result.advice}')
     return gear, result
 
 
-def _explain(result, pieces, recordings, gear, models):
-    """
-    Add to a failed or rejected step 3 why, in plain words, and what to record.
+@dataclasses.dataclass(frozen=True)
+class _Explanation:
+    """Why a failed or rejected step 3 did not fit, and what to record."""
 
-    Sets ``result['excitation']`` (:func:`~friction_joint.identification.presliding.
-    presliding_excitation`), ``result['why']`` and ``result['advice']``; returns
-    ``{'why', 'advice'}`` or None when there is nothing to say (no data).
+    excitation: dict[str, Any]
+    why: str
+    advice: str
+
+
+def _explain(fits: Mapping[str, Mapping[str, Any]],
+             pieces: Sequence[Mapping[str, NDArray[Any]]], recordings: Sequence[Recording],
+             gear: GearParams, models: Sequence[str]) -> _Explanation | None:
+    """
+    Say why a failed or rejected step 3 did not fit, in plain words, and what to record.
+
+    ``fits`` are the per-model results so far; returns the excitation
+    (:func:`~friction_joint.identification.presliding.presliding_excitation`), the why
+    and the advice, or None when there is nothing to say (no data).
     """
     from .presliding import presliding_excitation
     if not pieces:
@@ -365,8 +387,7 @@ def _explain(result, pieces, recordings, gear, models):
     note = presliding_excitation(pieces, gear, models, commands=commands)
     why = note['why']
     if why is None:
-        rejected = {m: r for m, r in result.get('models', {}).items()
-                    if r.get('status') == 'rejected'}
+        rejected = {m: r for m, r in fits.items() if r.get('status') == 'rejected'}
         bound = sorted({p for r in rejected.values() for p in r['report'].get('at_bound', [])})
         why = (f'the recordings hold {note["small_reversals"]} reversals within the '
                'pre-sliding range, yet the model does not describe the torque there')
@@ -375,14 +396,14 @@ def _explain(result, pieces, recordings, gear, models):
                     "10 or more around the structure's values, where the fit ended): the "
                     "structure's pre-sliding values may be far off, or the gear's behaviour "
                     'lies outside the model')
-    result.update(excitation=note, why=why, advice=note['advice'])
-    return {'why': why, 'advice': note['advice']}
+    return _Explanation(excitation=note, why=why, advice=note['advice'])
 
 
-def identify_recordings(paths: Sequence[str | os.PathLike], structure: str | GearParams, *,
+def identify_recordings(paths: Sequence[str | os.PathLike[str]], structure: str | GearParams, *,
                         orders: str | dict[str, int] | None = None, joint_name: str | None = None,
-                        detection: dict | None = None, presliding: str = 'auto',
-                        progress: Callable[[str], None] | None = None) -> IdentificationRun:
+                        detection: Detection | None = None, presliding: str = 'auto',
+                        progress: Callable[[str], None] | None = None,
+                        velocity_from_position: bool = False) -> IdentificationRun:
     """
     Identify a gear from recordings (steps 1-3); the engine of the command.
 
@@ -398,12 +419,16 @@ def identify_recordings(paths: Sequence[str | os.PathLike], structure: str | Gea
         Joint to pick from the recordings (default: the structure's ``joint_name``); a
         recording without it is a :class:`~friction_joint.exceptions.RecordingError`.
         The identified gear is named for it.
-    detection : dict, optional
-        Plateau detection options (:data:`friction_joint.identification.plateaus.DETECTION`).
+    detection : Detection, optional
+        Plateau detection thresholds (default
+        :data:`friction_joint.identification.plateaus.DETECTION`).
     presliding : {'auto', 'skip', 'require'}
         Step 3 policy (see the module docstring).
     progress : callable, optional
         Called with progress messages.
+    velocity_from_position : bool
+        Replace the recorded velocity by the position's centred difference
+        (:func:`~friction_joint.bag.read_recording`).
 
     Returns
     -------
@@ -412,12 +437,12 @@ def identify_recordings(paths: Sequence[str | os.PathLike], structure: str | Gea
     """
     if presliding not in ('auto', 'skip', 'require'):
         raise ArgumentError(f'presliding must be auto, skip or require, got {presliding!r}')
-    timings = {}
-    fixed = ()
+    timings: dict[str, float] = {}
+    fixed: tuple[str, ...] = ()
     if isinstance(structure, str):
-        path = structure
-        structure = load_gear(path)              # a malformed file: GearConfigError first
-        keys = _declared_friction_keys(path)
+        structure_path = structure
+        structure = load_gear(structure_path)    # a malformed file: GearConfigError first
+        keys = _declared_friction_keys(structure_path)
         if keys is not None and 'delta_v' not in keys:
             fixed = ('delta_v',)
     if not paths:
@@ -427,7 +452,7 @@ def identify_recordings(paths: Sequence[str | os.PathLike], structure: str | Gea
     t0 = time.perf_counter()
     recordings, parts = [], []
     for path in paths:
-        rec = _read(path, structure.joint_name)
+        rec = _read(path, structure.joint_name, velocity_from_position)
         recordings.append(rec)
         part = find_plateaus(rec, structure, options=detection)
         parts.append(part)
@@ -436,7 +461,7 @@ def identify_recordings(paths: Sequence[str | os.PathLike], structure: str | Gea
                 'structure lever model (no /link_torque)'
             progress(f'{path}: {rec.duration:.1f} s, {len(part)} plateaus (tau_ext from {src})')
     plateaus = Plateaus.concatenate(parts)
-    gap = (detection or {}).get('gap_factor', DETECTION['gap_factor'])
+    gap = (DETECTION if detection is None else detection).gap_factor
     gaps = gap_summary(split_pieces(r.joint_states.t, r.joint_states.qd, gap=gap)
                        for r in recordings)
     if progress and (gaps['bridged'] or gaps['split']):
@@ -447,6 +472,8 @@ def identify_recordings(paths: Sequence[str | os.PathLike], structure: str | Gea
     ident = StaticIdentifier(structure, orders=orders, fixed=fixed,
                              progress=progress).fit(plateaus)
     timings['time_steps_1_2_s'] = time.perf_counter() - t0
+    for line in scale_lines(ident.gear, structure):
+        warnings.warn(line, UnitsWarning, stacklevel=2)
     if progress:
         progress(f'steps 1-2: RMS residual {ident.rms:.4f} Nm over {len(plateaus)} plateaus '
                  f'({timings["time_steps_1_2_s"]:.2f} s)')
@@ -461,12 +488,14 @@ def identify_recordings(paths: Sequence[str | os.PathLike], structure: str | Gea
         slip = stick_slip_summary(plateaus)
         if slip:
             progress(f'stick-slip: {slip}')
+    if ident.gear is None:                       # fit() sets it
+        raise RuntimeError('steps 1-2 gave no gear')
     t0 = time.perf_counter()
     gear, step3 = _step3(ident.gear, recordings, presliding, progress)
     timings['time_step_3_s'] = time.perf_counter() - t0
-    if progress and step3['status'] != 'done':
-        progress(f'step 3 {step3["status"]}: {step3["reason"]}')
-        if step3.get('why'):
-            progress(f'step 3: why: {step3["why"]}')
-            progress(f'step 3: to fit it, {step3["advice"]}')
+    if progress and step3.status != 'done':
+        progress(f'step 3 {step3.status}: {step3.reason}')
+        if step3.why:
+            progress(f'step 3: why: {step3.why}')
+            progress(f'step 3: to fit it, {step3.advice}')
     return IdentificationRun(ident, gear, recordings, plateaus, step3, timings, gaps=gaps)

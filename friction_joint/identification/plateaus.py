@@ -1,16 +1,5 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 
 """
 Constant-velocity plateaus of a recording: the data points of the static friction fit.
@@ -69,11 +58,12 @@ from __future__ import annotations
 from collections.abc import Iterable
 import dataclasses
 import math
-from typing import TYPE_CHECKING
+from typing import Any, cast, TYPE_CHECKING
 
 import numpy as np
-from numpy.typing import ArrayLike
+from numpy.typing import ArrayLike, NDArray
 
+from ._arrays import FloatArray, IntArray
 from .stick_slip import position_resolution, stick_slip_scan, stuck_and_slipped
 from ..bag import check_samples, check_values
 from ..bag.stamps import piece_on_grid, split_pieces
@@ -83,25 +73,32 @@ if TYPE_CHECKING:
     from ..bag import Recording
     from ..gear import GearParams
 
-__all__ = ['DETECTION', 'NOISE_SIGMAS', 'Plateaus', 'find_plateaus', 'plateaus_from_arrays']
+__all__ = ['DETECTION', 'Detection', 'NOISE_SIGMAS', 'Plateaus', 'find_plateaus',
+           'plateaus_from_arrays']
+
+
+@dataclasses.dataclass(frozen=True)
+class Detection:
+    """The plateau detection thresholds (module docstring); change them with ``replace``."""
+
+    block: float = 0.025       # s, averaging block
+    gap_factor: float = 5.0    # a time step larger than this many median steps is a gap
+    v_floor: float = 2e-3      # rad/s, slowest plateau speed
+    rel_slope: float = 1.0     # 1/s: |dv/dt| <= rel_slope |v| + abs_slope within a steady block
+    abs_slope: float = 0.02    # rad/s^2
+    rel_tol: float = 0.04      # block means within rel_tol |v| + abs_tol of the running median
+    abs_tol: float = 5e-4      # rad/s
+    trim: float = 0.05         # s dropped at both ends
+    settle_tol: float = 0.01   # leading blocks off the settled friction by more are dropped
+    min_duration: float = 0.2  # s, shortest plateau kept
+    min_samples: int = 50      # fewest samples in a plateau
+    clip_mad: float = 5.0      # outlier clipping of the robust means, in MADs
+    batches: int = 10          # batch means for the standard errors
+    load_smooth: float = 0.01  # s, smoothing of the link torque before |.|
+
 
 #: detection thresholds (see the module docstring)
-DETECTION = {
-    'block': 0.025,        # s, averaging block
-    'gap_factor': 5.0,     # a time step larger than this many median steps is a gap
-    'v_floor': 2e-3,       # rad/s, slowest plateau speed
-    'rel_slope': 1.0,      # 1/s: |dv/dt| <= rel_slope |v| + abs_slope within a steady block
-    'abs_slope': 0.02,     # rad/s^2
-    'rel_tol': 0.04,       # block means within rel_tol |v| + abs_tol of the running median
-    'abs_tol': 5e-4,       # rad/s
-    'trim': 0.05,          # s dropped at both ends
-    'settle_tol': 0.01,    # leading blocks with friction off the settled level by more are dropped
-    'min_duration': 0.2,   # s, shortest plateau kept
-    'min_samples': 50,     # fewest samples in a plateau
-    'clip_mad': 5.0,       # outlier clipping of the robust means, in MADs
-    'batches': 10,         # batch means for the standard errors
-    'load_smooth': 0.01,   # s, smoothing of the link torque before |.|
-}
+DETECTION = Detection()
 
 #: detection tolerances include this many robust standard deviations of the data's own noise
 NOISE_SIGMAS = 4.0
@@ -156,29 +153,29 @@ class Plateaus:
 
     """
 
-    qd: np.ndarray
-    qd_se: np.ndarray
-    tau_r: np.ndarray
-    tau_r_se: np.ndarray
-    xi: np.ndarray
-    xi_se: np.ndarray
-    xi_spread: np.ndarray
-    load: np.ndarray
-    load_se: np.ndarray
-    load2: np.ndarray
-    load3: np.ndarray
-    tau_ext: np.ndarray
-    q: np.ndarray
-    t0: np.ndarray
-    t1: np.ndarray
-    n: np.ndarray
-    source: np.ndarray
-    xi_rate: np.ndarray
+    qd: FloatArray
+    qd_se: FloatArray
+    tau_r: FloatArray
+    tau_r_se: FloatArray
+    xi: FloatArray
+    xi_se: FloatArray
+    xi_spread: FloatArray
+    load: FloatArray
+    load_se: FloatArray
+    load2: FloatArray
+    load3: FloatArray
+    tau_ext: FloatArray
+    q: FloatArray
+    t0: FloatArray
+    t1: FloatArray
+    n: IntArray
+    source: IntArray
+    xi_rate: FloatArray
     sources: tuple[str, ...] = ()
     torque_source: tuple[str, ...] = ()
-    stick_slip: tuple[dict, ...] = ()
+    stick_slip: tuple[dict[str, float], ...] = ()
 
-    def __len__(self):
+    def __len__(self) -> int:
         return len(self.qd)
 
     @classmethod
@@ -199,8 +196,9 @@ class Plateaus:
         Plateaus
 
         """
-        return cls(**{f: np.zeros(0, dtype=int if f in ('n', 'source') else float)
-                      for f in _FIELDS}, sources=tuple(sources),
+        columns: dict[str, Any] = {f: np.zeros(0, dtype=int if f in ('n', 'source') else float)
+                                   for f in _FIELDS}
+        return cls(**columns, sources=tuple(sources),
                    torque_source=tuple(torque_source))
 
     @classmethod
@@ -227,16 +225,18 @@ class Plateaus:
         qd = np.atleast_1d(np.asarray(qd, dtype=float))
         n = len(qd)
 
-        def col(x, default=0.0):
+        def col(x: ArrayLike | None, default: ArrayLike = 0.0) -> FloatArray:
             return np.broadcast_to(np.asarray(default if x is None else x, dtype=float),
                                    (n,)).copy()
         load = col(load)
-        data = {f: col(extra.pop(f, None)) for f in _FIELDS
-                if f not in ('qd', 'tau_r', 'xi', 'load', 'load2', 'load3', 'n', 'source')}
+        data: dict[str, Any] = {
+            f: col(extra.pop(f, None)) for f in _FIELDS
+            if f not in ('qd', 'tau_r', 'xi', 'load', 'load2', 'load3', 'n', 'source')}
         data['load2'] = col(extra.pop('load2', None), load ** 2)
         data['load3'] = col(extra.pop('load3', None), load ** 3)
-        sources = extra.pop('sources', ('arrays',))
-        torque_source = extra.pop('torque_source', ('given',) * len(sources))
+        sources = cast('tuple[str, ...]', extra.pop('sources', ('arrays',)))
+        torque_source = cast('tuple[str, ...]',
+                             extra.pop('torque_source', ('given',) * len(sources)))
         src = np.broadcast_to(np.asarray(extra.pop('source', 0), dtype=int), (n,)).copy()
         nn = np.broadcast_to(np.asarray(extra.pop('n', 1), dtype=int), (n,)).copy()
         if extra:
@@ -278,32 +278,34 @@ class Plateaus:
         parts = list(parts)
         if not parts:
             return Plateaus.empty()
-        cols = {f: [] for f in _FIELDS}
-        sources, tsrc, stick = [], [], []
+        cols: dict[str, list[NDArray[Any]]] = {f: [] for f in _FIELDS}
+        sources: list[str] = []
+        stick: list[dict[str, float]] = []
         for p in parts:
             for f in _FIELDS:
                 cols[f].append(getattr(p, f) + (len(sources) if f == 'source' else 0))
             stick += [dict(x, source=x['source'] + len(sources)) for x in p.stick_slip]
             sources += list(p.sources)
-            tsrc += list(p.torque_source)
-        return Plateaus(**{f: np.concatenate(v) for f, v in cols.items()},
-                        sources=tuple(sources), torque_source=tuple(tsrc),
+        columns: dict[str, Any] = {f: np.concatenate(v) for f, v in cols.items()}
+        return Plateaus(**columns,
+                        sources=tuple(sources),
+                        torque_source=tuple(s for p in parts for s in p.torque_source),
                         stick_slip=tuple(stick))
 
-    def to_dict(self) -> dict[str, list]:
+    def to_dict(self) -> dict[str, list[Any]]:
         """Return plain lists (JSON)."""
-        out = {f: getattr(self, f).tolist() for f in _FIELDS}
+        out: dict[str, list[Any]] = {f: getattr(self, f).tolist() for f in _FIELDS}
         out['sources'] = list(self.sources)
         out['torque_source'] = list(self.torque_source)
         out['stick_slip'] = [dict(x) for x in self.stick_slip]
         return out
 
 
-def _moving_average(x, m):
+def _moving_average(x: FloatArray, m: int) -> FloatArray:
     """Centred moving average over m samples (shorter at the ends)."""
     if m <= 1:
         return x.copy()
-    c = np.concatenate(([0.0], np.cumsum(x)))
+    c: FloatArray = np.concatenate(([0.0], np.cumsum(x)))
     n = len(x)
     i = np.arange(n)
     lo = np.clip(i - m // 2, 0, n)
@@ -311,7 +313,7 @@ def _moving_average(x, m):
     return (c[hi] - c[lo]) / (hi - lo)
 
 
-def _robust_mean(x, clip):
+def _robust_mean(x: FloatArray, clip: float) -> float:
     """Mean of the samples within ``clip`` MADs of the median."""
     med = np.median(x)
     mad = np.median(np.abs(x - med))
@@ -320,7 +322,7 @@ def _robust_mean(x, clip):
     return float(np.mean(x))
 
 
-def _batch_se(x, batches):
+def _batch_se(x: FloatArray, batches: float) -> float:
     """Return the standard error of the mean of x by batch means."""
     k = int(min(batches, len(x) // 10))
     if k < 2:
@@ -329,7 +331,8 @@ def _batch_se(x, batches):
     return float(np.std(means, ddof=1) / math.sqrt(k))
 
 
-def _rate(t, x, i0, i1, half):
+def _rate(t: FloatArray, x: FloatArray, i0: int, i1: int, half: int
+          ) -> float:
     """Slope of x over [i0, i1) and ``half`` samples either side (0 where x is flat)."""
     h = max((i1 - i0) // 2, half)
     a, b = max(0, i0 - h), min(len(t), i1 + h)
@@ -340,10 +343,11 @@ def _rate(t, x, i0, i1, half):
     return float(np.dot(tc, xx - xx.mean()) / np.dot(tc, tc))
 
 
-def _segments(t, qd, tau_r, opt):
+def _segments(t: FloatArray, qd: FloatArray, tau_r: FloatArray,
+              opt: Detection) -> list[tuple[int, int]]:
     """Index ranges [i0, i1) of plateaus in one contiguous piece."""
     dt = float(np.median(np.diff(t))) if len(t) > 1 else 1.0
-    m = max(2, int(round(opt['block'] / dt)))
+    m = max(2, int(round(opt.block / dt)))
     nb = len(t) // m
     if nb < 2:
         return []
@@ -360,9 +364,9 @@ def _segments(t, qd, tau_r, opt):
         if nb > 3 else 0.0
     noise_s = 1.4826 * float(np.median(np.abs(np.diff(slope)))) / math.sqrt(2.0) \
         if nb > 2 else 0.0
-    abs_tol = opt['abs_tol'] + NOISE_SIGMAS * noise_b
-    steady = ((speed >= opt['v_floor'])
-              & (np.abs(slope) <= opt['rel_slope'] * speed + opt['abs_slope']
+    abs_tol = opt.abs_tol + NOISE_SIGMAS * noise_b
+    steady = ((speed >= opt.v_floor)
+              & (np.abs(slope) <= opt.rel_slope * speed + opt.abs_slope
                  + NOISE_SIGMAS * noise_s))
     sign = np.sign(mean)
     out = []
@@ -375,7 +379,7 @@ def _segments(t, qd, tau_r, opt):
         vals = [mean[j]]
         while k + 1 < nb and steady[k + 1] and sign[k + 1] == sign[j]:
             ref = float(np.median(vals))
-            if abs(mean[k + 1] - ref) > opt['rel_tol'] * abs(ref) + abs_tol:
+            if abs(mean[k + 1] - ref) > opt.rel_tol * abs(ref) + abs_tol:
                 break
             k += 1
             vals.append(mean[k])
@@ -384,7 +388,7 @@ def _segments(t, qd, tau_r, opt):
     segs = []
     # blocks to trim: a sample time a few ulps off (stamps read as float seconds) must not
     # tip the count over an integer
-    trim = int(math.ceil(opt['trim'] / (m * dt) - 1e-6))
+    trim = int(math.ceil(opt.trim / (m * dt) - 1e-6))
     for b0, b1 in out:
         b0, b1 = b0 + trim, b1 - trim
         if b1 - b0 < 2:
@@ -394,19 +398,19 @@ def _segments(t, qd, tau_r, opt):
         second = tb[(b1 - b0) // 2:]
         level = float(np.median(second))
         noise = float(1.4826 * np.median(np.abs(second - level))) if len(second) > 2 else 0.0
-        tol = opt['settle_tol'] * abs(level) + 3.0 * noise
+        tol = opt.settle_tol * abs(level) + 3.0 * noise
         off = np.abs(tb - level) > tol
         first_ok = int(np.argmin(off)) if not off.all() else len(tb)
         b0 += first_ok
         i0, i1 = b0 * m, b1 * m
-        if i1 - i0 >= opt['min_samples'] and (i1 - i0) * dt >= opt['min_duration']:
+        if i1 - i0 >= opt.min_samples and (i1 - i0) * dt >= opt.min_duration:
             segs.append((i0, i1))
     return segs
 
 
 def plateaus_from_arrays(t: ArrayLike, q: ArrayLike, qd: ArrayLike, effort: ArrayLike,
                          xi: ArrayLike, tau_ext: ArrayLike, *, inertia: float,
-                         options: dict | None = None, source: str = 'arrays',
+                         options: Detection | None = None, source: str = 'arrays',
                          torque_source: str = 'given', check: bool = True,
                          qd_command: ArrayLike | None = None) -> Plateaus:
     """
@@ -422,8 +426,8 @@ def plateaus_from_arrays(t: ArrayLike, q: ArrayLike, qd: ArrayLike, effort: Arra
         External torque at the sample times (Nm), signed as in docs/interfaces.md: sign convention.
     inertia : float
         J (kg m^2) for the J qdd term.
-    options : dict, optional
-        Overrides of :data:`DETECTION`.
+    options : Detection, optional
+        The thresholds (default :data:`DETECTION`).
     source : str
         Name of the data in error messages and in the plateaus' ``sources``.
     torque_source : str
@@ -444,18 +448,12 @@ def plateaus_from_arrays(t: ArrayLike, q: ArrayLike, qd: ArrayLike, effort: Arra
     Raises
     ------
     ExcitationError
-        Arrays of different lengths, NaN/inf, unknown options.
+        Arrays of different lengths, NaN/inf.
     RecordingError
         An absurd sample (named with ``source``, the field and its time).
 
     """
-    opt = dict(DETECTION)
-    if options:
-        unknown = sorted(set(options) - set(DETECTION))
-        if unknown:
-            raise ExcitationError(f'unknown plateau detection option(s) {", ".join(unknown)}; '
-                                  f'known: {", ".join(DETECTION)}')
-        opt.update(options)
+    opt = DETECTION if options is None else options
     t, q, qd, effort, xi, tau_ext = (np.asarray(a, dtype=float) for a in
                                      (t, q, qd, effort, xi, tau_ext))
     n = len(t)
@@ -476,19 +474,20 @@ def plateaus_from_arrays(t: ArrayLike, q: ArrayLike, qd: ArrayLike, effort: Arra
     has_command = qd_command is not None
     command = (np.broadcast_to(np.asarray(qd_command, dtype=float), (n,)) if has_command
                else np.zeros(n))
-    cut = split_pieces(t, qd, gap=opt['gap_factor'])
-    rows, stick = [], []
+    cut = split_pieces(t, qd, gap=opt.gap_factor)
+    rows: list[tuple[float, ...]] = []
+    stick: list[dict[str, float]] = []
     for a, b in cut.ranges:
         if b - a < 10:
             continue
         steps = cut.bridged[(cut.bridged >= a) & (cut.bridged < b - 1)] - a
         tt, (qq, vv, ee, xx, te, cc), ok = piece_on_grid(
             t[a:b], [x[a:b] for x in (q, qd, effort, xi, tau_ext, command)], steps,
-            margin=opt['gap_factor'] * cut.dt)
+            margin=opt.gap_factor * cut.dt)
         qdd = np.gradient(_moving_average(vv, 5), tt)
         tau_r = ee - te - inertia * qdd
         dt = float(np.median(np.diff(tt)))
-        tl = np.abs(_moving_average(te, max(1, int(round(opt['load_smooth'] / dt)))))
+        tl = np.abs(_moving_average(te, max(1, int(round(opt.load_smooth / dt)))))
         tick = position_resolution(qq)
         # the temperature's rate around a plateau: over at least ten of the sensor's steps
         # at the piece's mean rate (a quantised sensor's rate over a few seconds is noise)
@@ -498,13 +497,14 @@ def plateaus_from_arrays(t: ArrayLike, q: ArrayLike, qd: ArrayLike, effort: Arra
         rate_half = (int(5.0 * q_step / mean_rate / dt) if mean_rate > 0 and q_step > 0
                      else 0)
         segs = _segments(tt, vv, tau_r, opt)
-        scan = stick_slip_scan(tt, qq, cc if has_command else None, tick, segs, opt)
-        for w0, w1, slip in scan:
-            stick.append(dict(slip, source=0, t0=float(tt[w0]) + t_first,
+        scan = stick_slip_scan(tt, qq, cc if has_command else None, tick, segs,
+                               dataclasses.asdict(opt))
+        for w0, w1, window in scan:
+            stick.append(dict(window, source=0, t0=float(tt[w0]) + t_first,
                               t1=float(tt[w1 - 1]) + t_first))
         for i0, i1 in segs:
             sl = np.arange(i0, i1)[ok[i0:i1]]
-            if len(sl) < opt['min_samples']:
+            if len(sl) < opt.min_samples:
                 continue
             slip = stuck_and_slipped(tt[i0:i1], qq[i0:i1], tick)
             if slip is not None:
@@ -513,17 +513,17 @@ def plateaus_from_arrays(t: ArrayLike, q: ArrayLike, qd: ArrayLike, effort: Arra
                 continue
             x = xx[sl]
             lo = tl[sl]
-            v_mean = _robust_mean(vv[sl], opt['clip_mad'])
+            v_mean = _robust_mean(vv[sl], opt.clip_mad)
             v_pos = (qq[i1 - 1] - qq[i0]) / (tt[i1 - 1] - tt[i0])
             if abs(v_mean - v_pos) > 0.05 * abs(v_pos) + 2.0 * tick / (tt[i1 - 1] - tt[i0]):
                 # a velocity column too coarse for this speed (single encoder ticks as
                 # spikes): the position's travel gives the mean speed
                 v_mean = float(v_pos)
             rows.append((
-                v_mean, _batch_se(vv[sl], opt['batches']),
-                _robust_mean(tau_r[sl], opt['clip_mad']), _batch_se(tau_r[sl], opt['batches']),
-                float(x.mean()), _batch_se(x, opt['batches']), float(x.max() - x.min()),
-                float(lo.mean()), _batch_se(lo, opt['batches']),
+                v_mean, _batch_se(vv[sl], opt.batches),
+                _robust_mean(tau_r[sl], opt.clip_mad), _batch_se(tau_r[sl], opt.batches),
+                float(x.mean()), _batch_se(x, opt.batches), float(x.max() - x.min()),
+                float(lo.mean()), _batch_se(lo, opt.batches),
                 float(np.mean(lo ** 2)), float(np.mean(lo ** 3)),
                 float(te[sl].mean()), float(qq[sl].mean()),
                 float(tt[i0]) + t_first, float(tt[i1 - 1]) + t_first, len(sl), 0,
@@ -532,15 +532,15 @@ def plateaus_from_arrays(t: ArrayLike, q: ArrayLike, qd: ArrayLike, effort: Arra
         return dataclasses.replace(Plateaus.empty(sources=(source,),
                                                   torque_source=(torque_source,)),
                                    stick_slip=tuple(stick))
-    cols = list(zip(*rows))
-    data = {f: np.array(c, dtype=int if f in ('n', 'source') else float)
-            for f, c in zip(_FIELDS, cols)}
+    cols = list(zip(*rows, strict=True))
+    data: dict[str, Any] = {f: np.array(c, dtype=int if f in ('n', 'source') else float)
+                            for f, c in zip(_FIELDS, cols, strict=True)}
     return Plateaus(**data, sources=(source,), torque_source=(torque_source,),
                     stick_slip=tuple(stick))
 
 
 def find_plateaus(recording: Recording, structure: GearParams, *,
-                  options: dict | None = None) -> Plateaus:
+                  options: Detection | None = None) -> Plateaus:
     """
     Find the constant-velocity plateaus of one recording.
 
@@ -551,8 +551,8 @@ def find_plateaus(recording: Recording, structure: GearParams, *,
     structure : GearParams
         The structure gear file: its inertia (J qdd) and, when the recording has
         no ``/link_torque``, its lever (tau_ext = m g l sin(q - angle_offset)).
-    options : dict, optional
-        Overrides of :data:`DETECTION`.
+    options : Detection, optional
+        The thresholds (default :data:`DETECTION`).
 
     Returns
     -------

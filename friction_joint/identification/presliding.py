@@ -1,16 +1,5 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 
 """
 Identification step 3: pre-sliding parameters of LuGre and GMS (seed Section V-A).
@@ -126,18 +115,24 @@ follow them (it stuck).  The advice gives swings in that range.
 """
 from __future__ import annotations
 
+from collections.abc import Callable, Iterable, Mapping, Sequence
 import dataclasses
 import math
 import time
+from typing import Any, cast
 import warnings
 
 import numpy as np
-from numpy.typing import ArrayLike
+from numpy.typing import ArrayLike, NDArray
 
+from ._arrays import FloatArray, IntArray
 from .pattern_search import pattern_search
 from .presliding_data import (batch_frictions, BatchData, check_presliding_excitation,
                               default_settle, EXPERIMENT_ADVICE, gear_with, initial_params,
-                              prepare_batch, PRESLIDING_PARAMETERS, Segment)
+                              prepare_batch, PRESLIDING_PARAMETERS, PreslidingOptions,
+                              Segment)
+from .presliding_stats import (autocorr_time, covariance_from_hessian, fd_hessian,
+                               log_interval)
 from ..exceptions import ArgumentError, ExcitationError, GearConfigWarning
 from ..gear import GearParams
 from ..models.static import StaticFriction
@@ -210,17 +205,24 @@ class PreslidingFit:
     correlation: np.ndarray
     gear: GearParams
     segments: list[Segment]
-    report: dict
+    report: dict[str, Any]
 
-    def to_dict(self) -> dict:
+    def to_dict(self) -> dict[str, Any]:
         """Return the fit's numbers as plain JSON types (not the gear and segments)."""
-        return json_clean({'model': self.model, 'params': self.params, 'initial': self.initial,
-                           'stderr': self.stderr, 'rel_stderr': self.rel_stderr,
-                           'interval': self.interval, 'correlation': self.correlation,
-                           'n_segments': len(self.segments), 'report': self.report})
+        out = json_clean({'model': self.model, 'params': self.params, 'initial': self.initial,
+                          'stderr': self.stderr, 'rel_stderr': self.rel_stderr,
+                          'interval': self.interval, 'correlation': self.correlation,
+                          'n_segments': len(self.segments), 'report': self.report})
+        return cast('dict[str, Any]', out)
 
 
-def _bounds(names, start, bounds):
+#: a batched objective: log-parameter rows (m, n) to m values
+_Batched = Callable[[FloatArray], FloatArray]
+
+
+def _bounds(names: Sequence[str], start: Mapping[str, float],
+            bounds: Mapping[str, tuple[float, float]] | None
+            ) -> tuple[FloatArray, FloatArray]:
     lo, hi = [], []
     for nm in names:
         if bounds and nm in bounds:
@@ -236,7 +238,8 @@ def _bounds(names, start, bounds):
     return np.array(lo), np.array(hi)
 
 
-def _effects(rmse, x, names, lo, hi, base):
+def _effects(rmse: _Batched, x: FloatArray, names: Sequence[str],
+             lo: FloatArray, hi: FloatArray, base: float) -> dict[str, float]:
     """Relative rise of ``rmse`` when each log-parameter moves by +-1 (within the bounds)."""
     rows = []
     for i in range(len(names)):
@@ -246,77 +249,13 @@ def _effects(rmse, x, names, lo, hi, base):
             rows.append(row)
     values = np.asarray(rmse(np.array(rows)), dtype=float).reshape(len(names), 2)
     return {nm: float(max(np.max(v) - base, 0.0) / base) if base > 0 else math.inf
-            for nm, v in zip(names, values)}
-
-
-def _autocorr_time(r, max_lag=2000):
-    """Integrated autocorrelation time (samples) of residual r: 1 + 2 sum rho_k up to rho <= 0."""
-    r = r - r.mean()
-    n = r.size
-    if n < 10 or not np.any(r):
-        return 1.0
-    m = 1 << int(np.ceil(np.log2(2 * n)))
-    f = np.fft.rfft(r, m)
-    acf = np.fft.irfft(f * np.conj(f), m)[:min(n, max_lag)]
-    acf /= acf[0]
-    neg = np.flatnonzero(acf[1:] <= 0.0)
-    k = neg[0] + 1 if neg.size else acf.size
-    return float(max(1.0, min(1.0 + 2.0 * acf[1:k].sum(), n / 10.0)))
-
-
-def _hessian(f, x, h):
-    """Central-difference Hessian of f (batched) at x with step h: one call."""
-    n = x.size
-    pts = [x]
-    for i in range(n):
-        for s in (1.0, -1.0):
-            p = x.copy()
-            p[i] += s * h
-            pts.append(p)
-    pairs = [(i, j) for i in range(n) for j in range(i + 1, n)]
-    for i, j in pairs:
-        for si, sj in ((1, 1), (1, -1), (-1, 1), (-1, -1)):
-            p = x.copy()
-            p[i] += si * h
-            p[j] += sj * h
-            pts.append(p)
-    v = f(np.array(pts))
-    f0 = v[0]
-    hess = np.empty((n, n))
-    for i in range(n):
-        hess[i, i] = (v[1 + 2 * i] - 2.0 * f0 + v[2 + 2 * i]) / (h * h)
-    base = 1 + 2 * n
-    for m, (i, j) in enumerate(pairs):
-        pp, pm, mp, mm = v[base + 4 * m: base + 4 * m + 4]
-        hess[i, j] = hess[j, i] = (pp - pm - mp + mm) / (4.0 * h * h)
-    return hess, len(pts)
-
-
-def _covariance(hess, scale):
-    """Return scale * inverse of hess, with infinite variance along non-positive curvature."""
-    w, v = np.linalg.eigh(hess)
-    tol = 1e-12 * max(float(np.max(np.abs(w))), 1e-300)
-    good = w > tol
-    inv_w = np.where(good, 1.0 / np.where(good, w, 1.0), 0.0)
-    cov = scale * (v * inv_w) @ v.T
-    var = np.diag(cov).copy()
-    bad = np.any((v ** 2 > 1e-6) & ~good[None, :], axis=1)
-    var[bad] = np.inf
-    return cov, var
-
-
-def _interval(value, se_log):
-    if not np.isfinite(se_log) or se_log > 700.0:
-        return (0.0, math.inf)
-    return (float(value * math.exp(-se_log)), float(value * math.exp(se_log)))
+            for nm, v in zip(names, values, strict=True)}
 
 
 def fit_presliding(t: ArrayLike, qd: ArrayLike, tau_r: ArrayLike, xi: ArrayLike, tau_l: ArrayLike,
-                   gear: GearParams, *, model: str = 'lugre', segments: list | None = None,
-                   q: ArrayLike | None = None, free: list[str] | None = None,
-                   bounds: dict | None = None, init: str = 'sliding', burn_in: float = 0.0,
-                   v_max: float | None = None, step: float = 0.5, min_step: float = 2e-3,
-                   max_evals: int = 4000, fd_step: float = 0.05) -> PreslidingFit:
+                   gear: GearParams, *, segments: Sequence[Segment | slice] | None = None,
+                   q: ArrayLike | None = None,
+                   options: PreslidingOptions | None = None) -> PreslidingFit:
     """
     Fit the pre-sliding parameters of LuGre or GMS with the static curve fixed.
 
@@ -332,8 +271,6 @@ def fit_presliding(t: ArrayLike, qd: ArrayLike, tau_r: ArrayLike, xi: ArrayLike,
     gear : GearParams
         Starting gear: its static curve is kept; its LuGre/GMS section gives
         the starting values and (GMS) the stiffness structure.
-    model : {'lugre', 'gms'}
-        The pre-sliding model to fit.
     segments : list of Segment or slice, optional
         With whole-recording arrays: the parts to fit (e.g. from
         :func:`presliding_segments`).  Default: the whole arrays as one
@@ -343,25 +280,9 @@ def fit_presliding(t: ArrayLike, qd: ArrayLike, tau_r: ArrayLike, xi: ArrayLike,
         ``position_ripple`` section, that ripple (fixed, like the static
         curve) is subtracted from tau_r: LuGre and GMS do not contain it,
         and an unremoved ripple of a few hundredths of a Nm biases the fit.
-    free : sequence of str, optional
-        Parameters to fit (default all of :data:`PRESLIDING_PARAMETERS` [model]); the
-        others keep the gear's values.
-    bounds : dict, optional
-        ``{name: (lower, upper)}`` search bounds; default a factor 10 around
-        the start (sigma1: 1e-3..1e2 x, c: 1e-2..1e2 x).
-    init : {'sliding', 'rest'}
-        State at the start of segments given as arrays or slices.
-    burn_in : float
-        Seconds at the start of each segment simulated but not fitted.
-    v_max : float, optional
-        Slow-velocity limit of the excitation check (default 2 v_s / kappa).
-    step, min_step : float
-        Initial and final pattern-search step in log space (0.5 = x1.65;
-        2e-3 = 0.2 %).
-    max_evals : int
-        Limit on evaluated parameter sets.
-    fd_step : float
-        Log-space step of the finite-difference Hessian.
+    options : PreslidingOptions, optional
+        The model to fit (default ``lugre``), the free parameters, bounds, initial state,
+        burn-in and the search's steps; default ``PreslidingOptions()``.
 
     Returns
     -------
@@ -376,6 +297,9 @@ def fit_presliding(t: ArrayLike, qd: ArrayLike, tau_r: ArrayLike, xi: ArrayLike,
         Malformed arrays.
 
     """
+    o = PreslidingOptions() if options is None else options
+    model, free, bounds, init, burn_in = o.model, o.free, o.bounds, o.init, o.burn_in
+    v_max, step, min_step, max_evals, fd_step = o.v_max, o.step, o.min_step, o.max_evals, o.fd_step
     t0 = time.perf_counter()
     if model not in PRESLIDING_PARAMETERS:
         raise ArgumentError(f"model must be 'lugre' or 'gms', got {model!r}")
@@ -397,42 +321,42 @@ def fit_presliding(t: ArrayLike, qd: ArrayLike, tau_r: ArrayLike, xi: ArrayLike,
     x_start = {nm: (start[nm] if start[nm] > 0 else ZERO_START[nm]) for nm in start}
     lo, hi = _bounds(names, x_start, bounds)
 
-    def params_of(x_log):
+    def params_of(x_log: FloatArray) -> list[dict[str, float]]:
         out = []
         for row in np.atleast_2d(x_log):
             p = dict(start)
-            p.update({nm: float(np.exp(v)) for nm, v in zip(names, row)})
+            p.update({nm: float(np.exp(v)) for nm, v in zip(names, row, strict=True)})
             out.append(p)
         return out
 
-    def mse(x_log):
+    def mse(x_log: FloatArray) -> FloatArray:
         return data.mse(batch_frictions(gear, model, params_of(x_log)), model)
 
-    def rmse(x_log):
+    def rmse(x_log: FloatArray) -> FloatArray:
         return np.sqrt(mse(x_log))
 
     x0 = np.clip(np.log([x_start[nm] for nm in names]), np.log(lo), np.log(hi))
     f_initial = float(np.sqrt(data.mse(batch_frictions(gear, model, [start]), model)[0]))
     res = pattern_search(rmse, x0, np.log(lo), np.log(hi), step=step, min_step=min_step,
                          max_evals=max_evals)
-    hess, n_h = _hessian(mse, res.x, fd_step)
+    hess, n_h = fd_hessian(mse, res.x, fd_step)
     best = params_of(res.x)[0]
     resid = data.residuals(batch_frictions(gear, model, [best]), model)[0]
-    tau_ac = _autocorr_time(resid)
+    tau_ac = autocorr_time(resid)
     m_best = float(np.mean(resid * resid))
     effect = _effects(rmse, res.x, names, np.log(lo), np.log(hi), math.sqrt(m_best))
-    cov, var = _covariance(hess, 2.0 * m_best * tau_ac / data.n)
+    cov, var = covariance_from_hessian(hess, 2.0 * m_best * tau_ac / data.n)
     se_log = np.sqrt(var)
     sd = np.sqrt(np.where(np.isfinite(var) & (var > 0), var, np.nan))
     corr = cov / np.outer(sd, sd)
-    at_bound = [nm for nm, v, a, b in zip(names, res.x, np.log(lo), np.log(hi))
+    at_bound = [nm for nm, v, a, b in zip(names, res.x, np.log(lo), np.log(hi), strict=True)
                 if v <= a + 1e-9 or v >= b - 1e-9]
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter('always', GearConfigWarning)
         fitted_gear = gear_with(gear, model, best)
     for w in caught:
         warnings.warn(w.message, w.category, stacklevel=2)
-    report = {
+    report: dict[str, Any] = {
         'model': model, 'free': list(names),
         'warnings': [str(w.message) for w in caught],
         'objective_initial': f_initial, 'objective_final': float(np.sqrt(m_best)),
@@ -441,22 +365,23 @@ def fit_presliding(t: ArrayLike, qd: ArrayLike, tau_r: ArrayLike, xi: ArrayLike,
         'iterations': res.nit, 'success': res.success, 'message': res.message,
         'at_bound': at_bound, 'autocorrelation_time': tau_ac,
         'effect': effect,
-        'undetermined': [nm for nm, se in zip(names, se_log)
+        'undetermined': [nm for nm, se in zip(names, se_log, strict=True)
                          if not se <= 1.0 or nm in at_bound or effect[nm] < EFFECT_FLOOR],
-        'bounds': {nm: (float(a), float(b)) for nm, a, b in zip(names, lo, hi)},
+        'bounds': {nm: (float(a), float(b)) for nm, a, b in zip(names, lo, hi, strict=True)},
         'wall_time': time.perf_counter() - t0,
     }
     return PreslidingFit(
         model=model, params=best, initial=dict(start),
-        stderr={nm: float(best[nm] * s) for nm, s in zip(names, se_log)},
-        rel_stderr={nm: float(s) for nm, s in zip(names, se_log)},
-        interval={nm: _interval(best[nm], s) for nm, s in zip(names, se_log)},
+        stderr={nm: float(best[nm] * s) for nm, s in zip(names, se_log, strict=True)},
+        rel_stderr={nm: float(s) for nm, s in zip(names, se_log, strict=True)},
+        interval={nm: log_interval(best[nm], s) for nm, s in zip(names, se_log, strict=True)},
         correlation=corr, gear=fitted_gear, segments=segs, report=report)
 
 
 def presliding_rmse(gear: GearParams, t: ArrayLike, qd: ArrayLike, tau_r: ArrayLike,
                     xi: ArrayLike, tau_l: ArrayLike, *, model: str = 'lugre',
-                    segments: list | None = None, q: ArrayLike | None = None,
+                    segments: Sequence[Segment | slice] | None = None,
+                    q: ArrayLike | None = None,
                     init: str = 'sliding', burn_in: float = 0.0) -> float:
     """
     Return the RMS torque error (Nm) of a gear's LuGre or GMS model on (held-out) data.
@@ -478,7 +403,8 @@ def presliding_rmse(gear: GearParams, t: ArrayLike, qd: ArrayLike, tau_r: ArrayL
 
 # ------------------------------------------------------------ what the data lack
 
-def reversal_swings(q, hysteresis):
+def reversal_swings(q: ArrayLike, hysteresis: float
+                    ) -> tuple[FloatArray, IntArray]:
     """
     Return the swings of ``q``: the travel between successive turning points (rad).
 
@@ -487,7 +413,8 @@ def reversal_swings(q, hysteresis):
     Returns ``(swings, turns)``: the swings and the indices of the turning points.
     """
     q = np.asarray(q, dtype=float)
-    turns, direction = [], 0
+    found: list[int] = []
+    direction = 0
     hi = lo = q[0] if q.size else 0.0
     i_hi = i_lo = 0
     for i, x in enumerate(q):
@@ -496,22 +423,29 @@ def reversal_swings(q, hysteresis):
         if x < lo:
             lo, i_lo = x, i
         if direction >= 0 and x < hi - hysteresis:
-            turns.append(i_hi)
+            found.append(i_hi)
             direction, lo, i_lo = -1, x, i
         elif direction <= 0 and x > lo + hysteresis:
-            turns.append(i_lo)
+            found.append(i_lo)
             direction, hi, i_hi = 1, x, i
-    turns = np.asarray(turns[1:], dtype=int)       # the first is where the motion starts
+    turns = np.asarray(found[1:], dtype=int)       # the first is where the motion starts
     return np.abs(np.diff(q[turns])), turns
 
 
-def _travel(x):
+#: per recording: commanded time and position, measured time and position
+_Command = tuple[FloatArray, FloatArray, FloatArray,
+                 FloatArray]
+
+
+def _travel(x: float) -> str:
     return f'{1e3 * x:.3g} mrad' if x < 0.1 else f'{x:.3g} rad'
 
 
-def _commanded_small(commands, length, hysteresis):
+def _commanded_small(commands: Iterable[_Command], length: float, hysteresis: float
+                     ) -> tuple[list[float], list[float]]:
     """Commanded swings shorter than ``length`` and how far the measured position went."""
-    swings, moved = [], []
+    swings: list[float] = []
+    moved: list[float] = []
     for t_cmd, q_cmd, t_js, q_js in commands:
         q_cmd = np.asarray(q_cmd, dtype=float)
         if q_cmd.size < 3 or not np.all(np.isfinite(q_cmd)):
@@ -525,7 +459,9 @@ def _commanded_small(commands, length, hysteresis):
     return swings, moved
 
 
-def presliding_excitation(pieces, gear, models, *, commands=()):
+def presliding_excitation(pieces: Sequence[Mapping[str, NDArray[Any]]], gear: GearParams,
+                          models: Sequence[str], *, commands: Iterable[_Command] = ()
+                          ) -> dict[str, Any]:
     """
     Say in plain words whether the recordings can show the pre-sliding parameters.
 
@@ -557,10 +493,11 @@ def presliding_excitation(pieces, gear, models, *, commands=()):
     ranges = {m: float(default_settle(gear, m, xi_mid)) for m in models}
     length, shortest = max(ranges.values()), min(ranges.values())
     hysteresis = 0.1 * shortest
-    swings = [reversal_swings(p['q'], hysteresis)[0] for p in pieces]
-    swings = np.concatenate(swings) if swings else np.zeros(0)
+    per_piece = [reversal_swings(p['q'], hysteresis)[0] for p in pieces]
+    swings = np.concatenate(per_piece) if per_piece else np.zeros(0)
     small = int(np.count_nonzero(swings < length))
     cmd, moved = _commanded_small(commands, length, hysteresis)
+    out: dict[str, Any]
     out = {'range_rad': ranges, 'reversals': int(swings.size),
            'smallest_swing_rad': float(swings.min()) if swings.size else None,
            'small_reversals': small, 'commanded_small': len(cmd),
@@ -596,5 +533,5 @@ def presliding_excitation(pieces, gear, models, *, commands=()):
     return out
 
 
-def _curve_at_fs(gear, xi):
+def _curve_at_fs(gear: GearParams, xi: float) -> float:
     return float(np.ravel(StaticFriction(gear.friction).parameters(float(xi))['fs'])[0])

@@ -1,16 +1,5 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 
 """
 Pre-sliding data: reversal segments, their checks, and the batched model simulation.
@@ -22,24 +11,27 @@ LuGre/GMS simulation of :func:`batch_frictions` runs on.
 """
 from __future__ import annotations
 
+import builtins
+from collections.abc import Iterable, Mapping, Sequence
 import dataclasses
 import math
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, TypedDict
 
 import numpy as np
 from numpy.typing import ArrayLike
 
+from ._arrays import FloatArray, IntArray
 from ..exceptions import ArgumentError, ExcitationError, GearConfigError, PreslidingDataError
 from ..models.gms import GMS
 from ..models.lugre import LuGre
 from ..models.static import StaticFriction
 
 if TYPE_CHECKING:
-    from ..gear import GearParams
+    from ..gear import FrictionParams, GearParams, GMSParams, LuGreParams, RippleParams
 
 __all__ = ['PRESLIDING_PARAMETERS', 'EXPERIMENT_ADVICE', 'Segment', 'presliding_segments',
            'default_v_max', 'default_settle', 'initial_params', 'batch_frictions', 'gear_with',
-           'prepare_batch', 'check_presliding_excitation', 'BatchData']
+           'prepare_batch', 'check_presliding_excitation', 'BatchData', 'PreslidingOptions']
 
 
 #: free parameters of each model, in the order of the search vector
@@ -55,7 +47,11 @@ EXPERIMENT_ADVICE = ('run slow motions with velocity reversals: a slow slide in 
                      'position follows them, not only the command')
 
 
-def _check_series(name, a, n=None):
+#: one prepared segment: velocity, friction torque, temperature, load, initial state
+_Prepared = tuple[FloatArray, FloatArray, FloatArray, FloatArray, str]
+
+
+def _check_series(name: str, a: ArrayLike, n: int | None = None) -> FloatArray:
     a = np.asarray(a, dtype=float)
     if a.ndim != 1:
         raise PreslidingDataError(f'{name} must be a 1-D array, got shape {a.shape}')
@@ -67,17 +63,17 @@ def _check_series(name, a, n=None):
     return a
 
 
-def _series(name, a, n):
+def _series(name: str, a: ArrayLike, n: int) -> FloatArray:
     """Return a per-sample series: scalars are broadcast."""
     if np.ndim(a) == 0:
-        v = float(a)
+        v = float(np.asarray(a))
         if not math.isfinite(v):
             raise PreslidingDataError(f'{name} must be finite, got {v}')
         return np.full(n, v)
     return _check_series(name, a, n)
 
 
-def _sample_time(t):
+def _sample_time(t: FloatArray) -> float:
     d = np.diff(t)
     if t.size < 3:
         raise PreslidingDataError(f'need at least 3 samples, got {t.size}')
@@ -91,7 +87,7 @@ def _sample_time(t):
     return dt
 
 
-def _noise_level(qd):
+def _noise_level(qd: FloatArray) -> float:
     """Robust velocity noise: MAD of qd minus its 31-sample moving average."""
     k = min(31, qd.size)
     smooth = np.convolve(np.pad(qd, (k // 2, k - 1 - k // 2), mode='edge'), np.ones(k) / k,
@@ -100,12 +96,12 @@ def _noise_level(qd):
     return 1.4826 * float(np.median(np.abs(r - np.median(r))))
 
 
-def _curve_at(gear, xi):
+def _curve_at(gear: GearParams, xi: float) -> dict[str, float]:
     p = StaticFriction(gear.friction).parameters(float(xi))
     return {k: float(np.ravel(v)[0]) for k, v in p.items()}
 
 
-def default_v_max(gear, xi):
+def default_v_max(gear: GearParams, xi: float) -> float:
     """Upper velocity of the pre-sliding windows: 2 v_s / kappa at temperature xi."""
     f = gear.friction
     if f.fs is None:
@@ -113,7 +109,7 @@ def default_v_max(gear, xi):
     return 2.0 * _curve_at(gear, xi)['vs'] / f.velocity_scale
 
 
-def default_settle(gear, model, xi):
+def default_settle(gear: GearParams, model: str, xi: float) -> float:
     """
     Slide (rad) after which every candidate's state is the sliding one.
 
@@ -129,7 +125,7 @@ def default_settle(gear, model, xi):
         return 10.0 * fs / f.lugre.sigma0
     if f.gms is None:
         raise GearConfigError('the gear has no friction.gms section to start from')
-    return 3.0 * max(a * fs / k for a, k in zip(f.gms.alpha, f.gms.k))
+    return 3.0 * max(a * fs / k for a, k in zip(f.gms.alpha, f.gms.k, strict=True))
 
 
 # ------------------------------------------------------------ segments
@@ -156,10 +152,10 @@ class Segment:
     reversals: int = 0
 
     @property
-    def slice(self):  # noqa: A003
+    def slice(self) -> builtins.slice:  # noqa: A003
         return slice(self.start, self.stop)
 
-    def __len__(self):
+    def __len__(self) -> int:
         return self.stop - self.start
 
 
@@ -216,14 +212,16 @@ def presliding_segments(t: ArrayLike, qd: ArrayLike, *, gear: GearParams | None 
     dt = _sample_time(t)
     if model not in PRESLIDING_PARAMETERS:
         raise ArgumentError(f"model must be 'lugre' or 'gms', got {model!r}")
-    if gear is None and (v_max is None or settle is None):
-        raise ArgumentError('give a gear or both v_max and settle')
     if xi is None:
         xi_m = 0.5 * sum(gear.friction.temperature_range) if gear is not None else 30.0
     else:
-        xi_m = float(np.mean(xi))
-    v_max = default_v_max(gear, xi_m) if v_max is None else float(v_max)
-    settle = default_settle(gear, model, xi_m) if settle is None else float(settle)
+        xi_m = float(np.mean(np.asarray(xi, dtype=float)))
+    if gear is not None:
+        v_max = default_v_max(gear, xi_m) if v_max is None else v_max
+        settle = default_settle(gear, model, xi_m) if settle is None else settle
+    if v_max is None or settle is None:
+        raise ArgumentError('give a gear or both v_max and settle')
+    v_max, settle = float(v_max), float(settle)
     if v_noise is None:
         v_noise = max(5.0 * _noise_level(qd), 1e-9)
     v_noise = min(float(v_noise), 0.5 * v_max)
@@ -235,13 +233,13 @@ def presliding_segments(t: ArrayLike, qd: ArrayLike, *, gear: GearParams | None 
     run_id = np.cumsum(run_id)
     bounds = np.concatenate(([0], rev, [qd.size]))
     pos = np.concatenate(([0.0], np.cumsum(0.5 * (qd[1:] + qd[:-1]) * dt)))
-    settled = []
-    for a, b in zip(bounds[:-1], bounds[1:]):
+    first_settled: list[int] = []
+    for a, b in zip(bounds[:-1], bounds[1:], strict=True):
         k = np.flatnonzero(d[b - 1] * (pos[a:b] - pos[a]) >= settle)
         if k.size:
-            settled.append(a + int(k[0]))
-    settled = np.asarray(settled, dtype=int)
-    segments = []
+            first_settled.append(a + int(k[0]))
+    settled = np.asarray(first_settled, dtype=int)
+    segments: list[Segment] = []
     for a, b in windows:
         prev_stop = segments[-1].stop if segments else 0
         first_rev = int(rev[np.argmax(rev > a)])
@@ -249,7 +247,8 @@ def presliding_segments(t: ArrayLike, qd: ArrayLike, *, gear: GearParams | None 
         if before.size:
             p = int(before[-1])
             # the slide into the window settled before it: start at the window
-            starts = [(a if p <= a and run_id[p] == run_id[a] else p, 'sliding')]
+            starts: list[tuple[int, str]] = [
+                (a if p <= a and run_id[p] == run_id[a] else p, 'sliding')]
         elif from_rest and not segments:
             starts = [(0, 'rest')]                    # state known from the relaxed start
         else:
@@ -258,7 +257,7 @@ def presliding_segments(t: ArrayLike, qd: ArrayLike, *, gear: GearParams | None 
         starts += later if (split or not starts) else []
         if not split:
             starts = starts[:1]
-        pieces = []
+        pieces: list[Segment] = []
         for i, (s, init) in enumerate(starts):
             e = starts[i + 1][0] if i + 1 < len(starts) else b
             nrev = int(np.count_nonzero((rev > s) & (rev < e)))
@@ -277,7 +276,8 @@ def presliding_segments(t: ArrayLike, qd: ArrayLike, *, gear: GearParams | None 
     return segments
 
 
-def _slow_reversals(qd, v_max, v_noise, min_samples):
+def _slow_reversals(qd: FloatArray, v_max: float, v_noise: float, min_samples: int
+                    ) -> tuple[IntArray, list[tuple[int, int]], FloatArray]:
     """
     Reversal indices, the slow windows (|qd| < v_max) that hold one, directions.
 
@@ -300,7 +300,7 @@ def _slow_reversals(qd, v_max, v_noise, min_samples):
             f'pre-sliding transition after a reversal is not observed; {EXPERIMENT_ADVICE}')
     slow = np.abs(qd) < v_max
     edges = np.flatnonzero(np.diff(np.concatenate(([0], slow.astype(np.int8), [0]))))
-    windows = [(int(a), int(b)) for a, b in zip(edges[::2], edges[1::2])
+    windows = [(int(a), int(b)) for a, b in zip(edges[::2], edges[1::2], strict=True)
                if b - a >= min_samples and np.any((rev > a) & (rev < b))]
     if not windows:
         raise ExcitationError(
@@ -312,7 +312,7 @@ def _slow_reversals(qd, v_max, v_noise, min_samples):
 
 # ------------------------------------------------------------ model batch
 
-def initial_params(gear, model):
+def initial_params(gear: GearParams, model: str) -> dict[str, float]:
     f = gear.friction
     if model == 'lugre':
         if f.lugre is None:
@@ -325,38 +325,67 @@ def initial_params(gear, model):
     return {'k_total': float(sum(f.gms.k)), 'c': f.gms.c}
 
 
-def batch_frictions(gear, model, params):
+def _lugre(f: FrictionParams) -> LuGreParams:
+    """Return the friction section's LuGre section (GearConfigError without one)."""
+    if f.lugre is None:
+        raise GearConfigError('the gear has no friction.lugre section')
+    return f.lugre
+
+
+def _gms(f: FrictionParams) -> GMSParams:
+    """Return the friction section's GMS section (GearConfigError without one)."""
+    if f.gms is None:
+        raise GearConfigError('the gear has no friction.gms section')
+    return f.gms
+
+
+def batch_frictions(gear: GearParams, model: str, params: Iterable[Mapping[str, float]]
+                    ) -> list[FrictionParams]:
     """Return FrictionParams for each row of ``params`` (dicts of full parameter values)."""
     f = gear.friction
     out = []
     for p in params:
         if model == 'lugre':
-            lug = dataclasses.replace(f.lugre, sigma0=float(p['sigma0']),
+            lug = dataclasses.replace(_lugre(f), sigma0=float(p['sigma0']),
                                       sigma1=float(p['sigma1']))
             out.append(dataclasses.replace(f, lugre=lug))
         else:
-            k0 = np.asarray(f.gms.k, dtype=float)
+            k0 = np.asarray(_gms(f).k, dtype=float)
             k = tuple(float(v) for v in k0 * (p['k_total'] / k0.sum()))
-            out.append(dataclasses.replace(f, gms=dataclasses.replace(f.gms, k=k,
+            out.append(dataclasses.replace(f, gms=dataclasses.replace(_gms(f), k=k,
                                                                       c=float(p['c']))))
     return out
 
 
-def gear_with(gear, model, p):
+def gear_with(gear: GearParams, model: str, p: Mapping[str, float]) -> GearParams:
     if model == 'lugre':
         return gear.replace({'friction': {'lugre': {'sigma0': float(p['sigma0']),
                                                     'sigma1': float(p['sigma1'])}}})
-    k0 = np.asarray(gear.friction.gms.k, dtype=float)
+    k0 = np.asarray(_gms(gear.friction).k, dtype=float)
     k = [float(v) for v in k0 * (p['k_total'] / k0.sum())]
     return gear.replace({'friction': {'gms': {'k': k, 'c': float(p['c'])}}})
+
+
+class _Item(TypedDict):
+    """One segment of :class:`BatchData`."""
+
+    u: FloatArray
+    xi: FloatArray
+    tl: FloatArray
+    y: FloatArray
+    k0: int
+    init: str
+    v0: float
+    xi0: float
+    tl0: float
 
 
 class BatchData:
     """Segments prepared for the model: midpoint velocity in, torque one sample later out."""
 
-    def __init__(self, segs, dt, burn_in):
+    def __init__(self, segs: Iterable[_Prepared], dt: float, burn_in: float) -> None:
         self.dt = dt
-        self.items = []
+        self.items: list[_Item] = []
         for qd, tau, xi, tl, init in segs:
             u = 0.5 * (qd[:-1] + qd[1:])
             k0 = min(max(int(round(burn_in / dt)), 0), u.size)
@@ -368,38 +397,39 @@ class BatchData:
                                'xi0': xi[0], 'tl0': abs(tl[0])})
         self.n = sum(it['u'].size - it['k0'] for it in self.items)
 
-    def simulate(self, frictions, model):
+    def simulate(self, frictions: Iterable[FrictionParams], model: str) -> list[FloatArray]:
         """Model torque of each parameter set on every segment: list of (B, T_i)."""
-        out = []
+        out: list[FloatArray] = []
         if model == 'lugre':
-            sim = LuGre(list(frictions))
+            lugre = LuGre(list(frictions))
             for it in self.items:
                 if it['init'] == 'sliding':
-                    sim.settle(it['v0'], it['xi0'], it['tl0'])
+                    lugre.settle(it['v0'], it['xi0'], it['tl0'])
                 else:
-                    sim.reset(z=0.0)
-                out.append(sim.simulate(it['u'], it['xi'], it['tl'], self.dt))
+                    lugre.reset(z=0.0)
+                out.append(lugre.simulate(it['u'], it['xi'], it['tl'], self.dt))
         else:
-            sim = GMS(list(frictions))
+            gms = GMS(list(frictions))
             for it in self.items:
-                sim.reset()
+                gms.reset()
                 if it['init'] == 'sliding':
-                    _settle_gms(sim, it['v0'], it['xi0'], it['tl0'])
-                out.append(sim.simulate(it['u'], it['xi'], it['tl'], self.dt))
+                    _settle_gms(gms, it['v0'], it['xi0'], it['tl0'])
+                out.append(gms.simulate(it['u'], it['xi'], it['tl'], self.dt))
         return out
 
-    def residuals(self, frictions, model):
+    def residuals(self, frictions: Iterable[FrictionParams], model: str) -> FloatArray:
         """Residuals (B, N) over the samples used."""
         sims = self.simulate(frictions, model)
         return np.concatenate([s[:, it['k0']:] - it['y'][it['k0']:]
-                               for s, it in zip(sims, self.items)], axis=1)
+                               for s, it in zip(sims, self.items, strict=True)], axis=1)
 
-    def mse(self, frictions, model):
+    def mse(self, frictions: Iterable[FrictionParams], model: str) -> FloatArray:
         r = self.residuals(frictions, model)
-        return np.mean(r * r, axis=1)
+        mse: FloatArray = np.mean(r * r, axis=1)
+        return mse
 
 
-def _settle_gms(sim, v, xi, tau_l):
+def _settle_gms(sim: GMS, v: float, xi: float, tau_l: float) -> None:
     """All GMS elements slipping in the direction of v with F_i = alpha_i g(v)."""
     g, _ = StaticFriction.from_packed(sim.packed).components(v, xi, tau_l)
     g = np.asarray(g, dtype=float)[:, -1:]                       # signed, (B, 1)
@@ -408,22 +438,25 @@ def _settle_gms(sim, v, xi, tau_l):
     sim.slipdir = np.full(sim.k.shape, float(np.sign(v)))
 
 
-def _ripple(rp, q):
+def _ripple(rp: RippleParams, q: FloatArray) -> FloatArray:
     """Position ripple torque sum_n a_n sin(n cycles_per_rev q + phase_n) (as in the joint)."""
     out = np.zeros_like(q)
-    for n, (a, ph) in enumerate(zip(rp.amplitude, rp.phase)):
+    for n, (a, ph) in enumerate(zip(rp.amplitude, rp.phase, strict=True)):
         out += a * np.sin((n + 1) * rp.cycles_per_rev * q + ph)
     return out
 
 
-def _as_list(x):
+def _as_list(x: ArrayLike) -> list[ArrayLike] | None:
     """Return the segments of a list of arrays; None for a single array (or a list of numbers)."""
     if isinstance(x, (list, tuple)) and len(x) and np.ndim(x[0]) >= 1:
         return list(x)
     return [] if isinstance(x, (list, tuple)) and not len(x) else None
 
 
-def prepare_batch(t, qd, tau_r, xi, tau_l, segments, *, init, gear=None, q=None):
+def prepare_batch(t: ArrayLike, qd: ArrayLike, tau_r: ArrayLike, xi: ArrayLike, tau_l: ArrayLike,
+                  segments: Sequence[Segment | slice] | None, *, init: str,
+                  gear: GearParams | None = None, q: ArrayLike | None = None
+                  ) -> tuple[list[_Prepared], float, list[Segment]]:
     """
     Per-segment arrays (qd, tau_r, xi, tau_l, init) and the sample time.
 
@@ -431,9 +464,10 @@ def prepare_batch(t, qd, tau_r, xi, tau_l, segments, *, init, gear=None, q=None)
     removed from tau_r.
     """
     ripple = gear.friction.position_ripple if (gear is not None and q is not None) else None
-    lists = [_as_list(a) for a in (t, qd, tau_r)]
-    if any(v is not None for v in lists):
-        if not all(v is not None for v in lists):
+    maybe_lists = [_as_list(a) for a in (t, qd, tau_r)]
+    if any(v is not None for v in maybe_lists):
+        lists = [v for v in maybe_lists if v is not None]
+        if len(lists) != len(maybe_lists):
             raise PreslidingDataError('t, qd and tau_r must all be lists of segments or all '
                                       'arrays')
         if segments is not None:
@@ -443,8 +477,10 @@ def prepare_batch(t, qd, tau_r, xi, tau_l, segments, *, init, gear=None, q=None)
             raise PreslidingDataError('t, qd and tau_r must be lists of the same, non-zero length')
         xis = _as_list(xi) or [xi] * nseg
         tls = _as_list(tau_l) or [tau_l] * nseg
-        qs = _as_list(q) or [q] * nseg
-        if len(xis) != nseg or len(tls) != nseg or len(qs) != nseg:
+        qs: list[ArrayLike] = []
+        if q is not None:
+            qs = _as_list(q) or [q] * nseg
+        if len(xis) != nseg or len(tls) != nseg or (q is not None and len(qs) != nseg):
             raise PreslidingDataError(f'xi, tau_l and q must be scalars/arrays or lists of '
                                       f'{nseg} segments')
         out, dts = [], []
@@ -465,7 +501,7 @@ def prepare_batch(t, qd, tau_r, xi, tau_l, segments, *, init, gear=None, q=None)
     dt = _sample_time(t)
     qd = _check_series('qd', qd, t.size)
     tau_r = _check_series('tau_r', tau_r, t.size)
-    if ripple is not None:
+    if ripple is not None and q is not None:
         tau_r = tau_r - _ripple(ripple, _check_series('q', q, t.size))
     xi = _series('xi', xi, t.size)
     tau_l = _series('tau_l', tau_l, t.size)
@@ -483,11 +519,12 @@ def prepare_batch(t, qd, tau_r, xi, tau_l, segments, *, init, gear=None, q=None)
             dt, segs)
 
 
-def check_presliding_excitation(prepared, gear, v_max, min_samples=30):
+def check_presliding_excitation(prepared: Sequence[_Prepared], gear: GearParams,
+                                v_max: float | None, min_samples: int = 30) -> None:
     """At least one slow reversal in one of the segments, else ExcitationError."""
     if not prepared:
         raise ExcitationError(f'no segments to fit; {EXPERIMENT_ADVICE}')
-    first = None
+    first: tuple[int, ExcitationError] | None = None
     for qd, _, xi, _, _ in prepared:
         vm = default_v_max(gear, float(np.mean(xi))) if v_max is None else float(v_max)
         v_noise = min(max(5.0 * _noise_level(qd), 1e-9), 0.5 * vm)
@@ -499,4 +536,49 @@ def check_presliding_excitation(prepared, gear, v_max, min_samples=30):
             rank = 2 if 'too fast' in str(exc) else 1 if 'no velocity reversal' in str(exc) else 0
             if first is None or rank > first[0]:
                 first = (rank, exc)
-    raise first[1]
+    raise first[1] if first is not None else ExcitationError(f'no segments to fit; '
+                                                             f'{EXPERIMENT_ADVICE}')
+
+
+@dataclasses.dataclass(frozen=True)
+class PreslidingOptions:
+    """
+    The options of the pre-sliding fit (:func:`~friction_joint.identification.fit_presliding`).
+
+    Attributes
+    ----------
+    model : {'lugre', 'gms'}
+        The pre-sliding model to fit.
+    free : sequence of str, optional
+        Parameters to fit (default all of :data:`PRESLIDING_PARAMETERS` [model]); the
+        others keep the gear's values.
+    bounds : dict, optional
+        ``{name: (lower, upper)}`` search bounds; default a factor 10 around
+        the start (sigma1: 1e-3..1e2 x, c: 1e-2..1e2 x).
+    init : {'sliding', 'rest'}
+        State at the start of segments given as arrays or slices.
+    burn_in : float
+        Seconds at the start of each segment simulated but not fitted.
+    v_max : float, optional
+        Slow-velocity limit of the excitation check (default 2 v_s / kappa).
+    step : float
+        Initial pattern-search step in log space (0.5 = x1.65).
+    min_step : float
+        Final pattern-search step in log space (2e-3 = 0.2 %).
+    max_evals : int
+        Limit on evaluated parameter sets.
+    fd_step : float
+        Log-space step of the finite-difference Hessian.
+
+    """
+
+    model: str = 'lugre'
+    free: Sequence[str] | None = None
+    bounds: Mapping[str, tuple[float, float]] | None = None
+    init: str = 'sliding'
+    burn_in: float = 0.0
+    v_max: float | None = None
+    step: float = 0.5
+    min_step: float = 2e-3
+    max_evals: int = 4000
+    fd_step: float = 0.05

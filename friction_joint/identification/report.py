@@ -1,16 +1,5 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 
 """
 Figures of an identification, after the seed paper's Fig. 3 and Fig. 4.
@@ -41,13 +30,29 @@ Figures of an identification, after the seed paper's Fig. 3 and Fig. 4.
 """
 from __future__ import annotations
 
+from collections.abc import Callable, Sequence
 import os
 import re
 import textwrap
+from typing import Any, TYPE_CHECKING
 
 import numpy as np
 
+from ._arrays import BoolArray, FloatArray
 from ..models.static import StaticFriction
+
+if TYPE_CHECKING:
+    from matplotlib.axes import Axes
+    from matplotlib.figure import Figure
+
+    from .plateaus import Plateaus
+    from .static_fit import StaticIdentifier
+    from .step3 import PreslidingStep
+    from ..bag import Recording
+    from ..gear import GearParams
+
+    #: file name -> (draw(fig), (width, height))
+    _Figures = dict[str, tuple[Callable[[Figure], None], tuple[float, float]]]
 
 __all__ = ['against_truth_markdown', 'identification_figures']
 
@@ -66,37 +71,38 @@ _FIG3B_NOTE = (
     'load terms).')
 
 
-def _grid(ax):
+def _grid(ax: Axes) -> None:
     ax.grid(True, which='both', alpha=0.3)
 
 
-def _speeds(plateaus):
+def _speeds(plateaus: Plateaus) -> FloatArray:
     s = np.abs(plateaus.qd)
     return np.geomspace(max(s.min() * 0.7, 1e-4), s.max() * 1.3, 200)
 
 
-def _colors(n):
+def _colors(n: int) -> list[tuple[float, float, float, float]]:
     import matplotlib
     cmap = matplotlib.colormaps['coolwarm']
     return [cmap(x) for x in (np.linspace(0.0, 1.0, n) if n > 1 else [0.0])]
 
 
-def _zero_load_data(ident):
+def _zero_load_data(ident: StaticIdentifier) -> FloatArray:
     """|tau_r| with the identified load effect removed (sign-folded), per plateau."""
     p = ident.plateaus
-    sf = StaticFriction(ident.gear.friction)
-    with_load = sf.torque(p.qd, p.xi, p.load)
-    no_load = sf.torque(p.qd, p.xi, 0.0)
-    return np.sign(p.qd) * (p.tau_r - (with_load - no_load))
+    with_load = ident.predict(p.qd, p.xi, p.load)
+    no_load = ident.predict(p.qd, p.xi, 0.0)
+    y: FloatArray = np.sign(p.qd) * (p.tau_r - (with_load - no_load))
+    return y
 
 
-def _group_masks(ident):
+def _group_masks(ident: StaticIdentifier) -> list[BoolArray]:
     """Plateau masks of the fitted temperature groups."""
     xi = ident.plateaus.xi
     return [(xi >= g['xi_min'] - 1e-9) & (xi <= g['xi_max'] + 1e-9) for g in ident.group_fits]
 
 
-def identification_figures(ident, recordings=(), presliding=None):
+def identification_figures(ident: StaticIdentifier, recordings: Sequence[Recording | None] = (),
+                           presliding: PreslidingStep | None = None) -> _Figures:
     """
     Figures of a fitted :class:`~friction_joint.identification.static_fit.StaticIdentifier`.
 
@@ -106,7 +112,7 @@ def identification_figures(ident, recordings=(), presliding=None):
         After ``fit``.
     recordings : sequence of Recording, optional
         For ``plateaus.png`` (the first one is drawn).
-    presliding : dict, optional
+    presliding : PreslidingStep, optional
         Step-3 results (not drawn; reserved).
 
     Returns
@@ -115,17 +121,20 @@ def identification_figures(ident, recordings=(), presliding=None):
         ``{file name: (draw(fig), (width, height))}``.
 
     """
+    gear = ident.gear
+    if gear is None:
+        raise RuntimeError('call fit() first')
     p = ident.plateaus
     y0 = _zero_load_data(ident)
     v = _speeds(p)
-    kappa = ident.gear.friction.velocity_scale
+    kappa = gear.friction.velocity_scale
     masks = _group_masks(ident)
     colors = _colors(max(len(masks), 1))
-    sf = StaticFriction(ident.gear.friction)
+    sf = StaticFriction(gear.friction)
 
-    def group_curve(g):
+    def group_curve(g: dict[str, Any]) -> FloatArray:
         """Return the static curve of one group's own order-0 fit, zero load."""
-        f = ident.gear.friction
+        f = gear.friction
         vals = g['values']
         fs = vals.get('fs')
         changes = {p_: [vals[p_]] for p_ in vals}
@@ -138,8 +147,8 @@ def identification_figures(ident, recordings=(), presliding=None):
             temperature_range=(-1e3, 1e3))
         return StaticFriction(fr).torque(v, g['xi'], 0.0)
 
-    def scatter_groups(ax):
-        for m, c, g in zip(masks, colors, ident.group_fits):
+    def scatter_groups(ax: Axes) -> None:
+        for m, c, _g in zip(masks, colors, ident.group_fits, strict=False):
             pos = m & (p.qd > 0)
             neg = m & (p.qd < 0)
             ax.plot(np.abs(p.qd[pos]), y0[pos], '^', color=c, ms=4, mfc='none')
@@ -151,7 +160,7 @@ def identification_figures(ident, recordings=(), presliding=None):
             ax.plot(np.abs(p.qd[rest]), y0[rest], 'x', color='0.5', ms=4,
                     label='plateaus outside the temperature groups')
 
-    def finish(ax, title):
+    def finish(ax: Axes, title: str) -> None:
         ax.set_xscale('log')
         ax.set_xlabel(r'velocity $|\dot q|$ (rad/s, output)')
         ax.set_ylabel(r'friction torque $|\tau_r|$ at zero load (Nm)')
@@ -159,10 +168,10 @@ def identification_figures(ident, recordings=(), presliding=None):
         ax.legend(fontsize='x-small', loc='upper left')
         _grid(ax)
 
-    def draw3a(fig):
+    def draw3a(fig: Figure) -> None:
         ax = fig.subplots()
         scatter_groups(ax)
-        for g, c in zip(ident.group_fits, colors):
+        for g, c in zip(ident.group_fits, colors, strict=False):
             ax.plot(v, group_curve(g), color=c, lw=1.3,
                     label=f'{g["xi"]:.1f} degC: fit of this temperature alone '
                           f'({g["plateaus"]} plateaus, RMS {g["rms"]:.3f} Nm)')
@@ -170,10 +179,10 @@ def identification_figures(ident, recordings=(), presliding=None):
         ax.plot([], [], 'kv', mfc='none', label='plateaus, negative velocity')
         finish(ax, '(a) static friction curves identified at single temperatures')
 
-    def draw3c(fig):
+    def draw3c(fig: Figure) -> None:
         ax = fig.subplots()
         scatter_groups(ax)
-        for g, c in zip(ident.group_fits, colors):
+        for g, c in zip(ident.group_fits, colors, strict=False):
             ax.plot(v, sf.torque(v, g['xi'], 0.0), color=c, lw=1.3,
                     label=f'model at {g["xi"]:.1f} degC')
         if not ident.group_fits:
@@ -182,23 +191,23 @@ def identification_figures(ident, recordings=(), presliding=None):
         finish(ax, f'(c) temperature-dependent model (eq. 6-7), RMS residual {ident.rms:.3f} Nm '
                    f'over {len(p)} plateaus')
 
-    def draw3b(fig):
+    def draw3b(fig: Figure) -> None:
         names = [n for n in ('fc', 'fs', 'fv', 'vs', 'delta_v')
                  if n in ident.structure.orders or n in ident.structure.fixed]
         caption = 0.2 if ident.group_fits else 0.01
         grid = fig.add_gridspec(2, len(names), height_ratios=(1.0, caption))
         axes = [fig.add_subplot(grid[0, i]) for i in range(len(names))]
-        lo, hi = ident.gear.friction.temperature_range
+        lo, hi = gear.friction.temperature_range
         xs = np.linspace(lo, hi, 100)
         pars = sf.parameters(xs, 0.0)
-        for ax, n in zip(axes, names):
+        for ax, n in zip(axes, names, strict=True):
             order = ident.structure.orders.get(n)
             lab = 'fixed' if order is None else f'polynomial of order {order}'
             ax.plot(xs, pars[n], 'k-', lw=1.3, label=lab)
             gx = [g['xi'] for g in ident.group_fits if n in g['values']]
             gy = [g['values'][n] for g in ident.group_fits if n in g['values']]
             ge = [g['se'][n] for g in ident.group_fits if n in g['values']]
-            for x, y, e, c in zip(gx, gy, ge, colors):
+            for x, y, e, c in zip(gx, gy, ge, colors, strict=False):
                 ax.errorbar([x], [y], yerr=[e], fmt='o', color=c, ms=5, capsize=3)
             if gx:
                 ax.plot([], [], 'o', color='0.4', label='single-temperature fits')
@@ -215,7 +224,7 @@ def identification_figures(ident, recordings=(), presliding=None):
             note.text(0.5, 0.5, textwrap.fill(_FIG3B_NOTE.format(drift=drift), 190),
                       ha='center', va='center', fontsize='small', transform=note.transAxes)
 
-    def draw4(fig):
+    def draw4(fig: Figure) -> None:
         a0, a1 = fig.subplots(1, 2)
         dl = np.sign(p.qd) * p.tau_r - np.sign(p.qd) * sf.torque(p.qd, p.xi, 0.0)
         sc = a0.scatter(p.load, dl, c=np.log10(np.abs(p.qd)), cmap='viridis', s=14)
@@ -263,7 +272,7 @@ def identification_figures(ident, recordings=(), presliding=None):
         a1.legend(fontsize='x-small')
         _grid(a1)
 
-    def draw_res(fig):
+    def draw_res(fig: Figure) -> None:
         axes = fig.subplots(1, 3, sharey=True)
         r = ident.residuals
         for ax, x, lab, log in ((axes[0], np.abs(p.qd), r'$|\dot q|$ (rad/s)', True),
@@ -279,7 +288,7 @@ def identification_figures(ident, recordings=(), presliding=None):
         fig.suptitle(f'residuals of the identified model (RMS {ident.rms:.4f} Nm; error bars: '
                      'plateau standard errors)')
 
-    figures = {
+    figures: _Figures = {
         'fig3a_temperature_curves.png': (draw3a, (10, 6.5)),
         'fig3b_parameters.png': (draw3b, (16, 5.4)),
         'fig3c_model.png': (draw3c, (10, 6.5)),
@@ -290,13 +299,13 @@ def identification_figures(ident, recordings=(), presliding=None):
     if recs:
         rec = recs[0]
 
-        def draw_plateaus(fig):
+        def draw_plateaus(fig: Figure) -> None:
             ax = fig.subplots()
             js = rec.joint_states
             step = max(1, len(js.t) // 200000)
             ax.plot(js.t[::step], js.qd[::step], color='k', lw=0.5, label='measured velocity')
             src = p.source == 0
-            for k, (a, b) in enumerate(zip(p.t0[src], p.t1[src])):
+            for k, (a, b) in enumerate(zip(p.t0[src], p.t1[src], strict=True)):
                 ax.axvspan(a, b, color='C2', alpha=0.35, lw=0,
                            label='detected plateau windows' if k == 0 else None)
             ax.set_yscale('symlog', linthresh=0.01)
@@ -316,18 +325,19 @@ CURVE = (('fc', 'F_c', 'Nm'), ('fs', 'F_s', 'Nm'), ('fv', 'F_v', 'Nm/(rad/s)^δv
          ('vs', 'v_s', 'rad/s (motor side)'), ('delta_v', 'δ_v', '–'))
 
 
-def _err(found, true):
+def _err(found: float, true: float) -> str:
     return '–' if not true else f'{100.0 * (found / true - 1.0):+.1f} %'
 
 
-def _num(x):
+def _num(x: float) -> str:
     """``x`` to 4 significant digits; whole and with spaced thousands from 1000 on."""
     if abs(x) >= 1000.0:
         return f'{x:,.0f}'.replace(',', '\u2009')
     return f'{x:.4g}'
 
 
-def against_truth_markdown(ident, truth, header=(), temperatures=()):
+def against_truth_markdown(ident: GearParams, truth: GearParams, header: Sequence[str] = (),
+                           temperatures: Sequence[float] = ()) -> list[str]:
     """
     Return Markdown lines: the identified parameters against the truth gear of the recording.
 

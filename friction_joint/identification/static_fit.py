@@ -1,16 +1,5 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 
 """
 Identification of the static friction model from constant-velocity plateaus (seed V-A).
@@ -67,18 +56,19 @@ from collections.abc import Callable, Iterable
 import dataclasses
 import math
 import time
-from typing import TYPE_CHECKING
+from typing import Any, TYPE_CHECKING
 
 import numpy as np
 from numpy.typing import ArrayLike
 
+from ._arrays import BoolArray, FloatArray, IntArray
 from .folds import held_out_sse, random_folds
 from .identifiability import held_out_validation, identifiability, model_adequacy
-from .physical_fit import fit_physical
+from .physical_fit import fit_physical, PhysicalFit
 from .static_problem import (CoefficientLayout, covariance, fit_structure, load_reference,
                              Problem, temperature_range)
 from .static_structure import (carry_structure, check_excitation, distinct_levels, group_table,
-                               PARAMETER_UNITS, StaticStructure)
+                               one_direction_note, PARAMETER_UNITS, StaticStructure)
 from ..exceptions import ExcitationError, GearConfigError
 from ..gear.schema import TEMPERATURE_BOUNDS
 from ..models.static import PARAMETERS, StaticFriction
@@ -125,12 +115,12 @@ def cross_validate_orders(plateaus: Plateaus, structure: StaticStructure, *, fol
         _, theta_full, _, _ = fit_structure(structure, plateaus, t_range, load_ref, stepwise=False)
     layout = CoefficientLayout(structure, t_range, load_ref)
 
-    def fit_predict(fold, train, test):
+    def fit_predict(fold: int, train: BoolArray, test: IntArray) -> FloatArray:
         """Refit without the fold's plateaus; the residuals on them."""
         _, th, _, _ = fit_structure(structure, plateaus.select(train), t_range, load_ref,
                                     theta0=theta_full, stepwise=False)
         held = plateaus.select(test)
-        return layout.torque(th, held.qd, held.xi, held.load)[0] - held.tau_r
+        return layout.torque(th, held.qd, held.xi, held.load)[0, :] - held.tau_r
 
     n = len(plateaus)
     sse, count = held_out_sse(random_folds(n, min(folds, n), seed=seed), n, fit_predict)
@@ -142,8 +132,8 @@ def cross_validate_orders(plateaus: Plateaus, structure: StaticStructure, *, fol
 
 def select_orders(plateaus: Plateaus, structure: StaticStructure, *, max_order: int = 2,
                   max_load_order: int = 2, threshold: float = 0.05, folds: int = 5,
-                  progress: Callable[[str], None] | None = None
-                  ) -> tuple[StaticStructure, list[dict]]:
+                  progress: Callable[[str], None] | None = None, one_direction: bool = False
+                  ) -> tuple[StaticStructure, list[dict[str, Any]]]:
     """
     Choose per-parameter polynomial orders by held-out error (``--orders auto``).
 
@@ -171,6 +161,8 @@ def select_orders(plateaus: Plateaus, structure: StaticStructure, *, max_order: 
         Folds of the cross-validation.
     progress : callable, optional
         ``progress(message)`` per round.
+    one_direction : bool
+        Accept one-direction plateaus with tau_ext measured (:func:`check_excitation`).
 
     Returns
     -------
@@ -182,7 +174,7 @@ def select_orders(plateaus: Plateaus, structure: StaticStructure, *, max_order: 
     """
     cur = structure.with_orders(orders=dict.fromkeys(structure.params, 0),
                                 load_orders=dict.fromkeys(PARAMETERS, 0))
-    check_excitation(plateaus, cur)
+    check_excitation(plateaus, cur, one_direction=one_direction)
     t_range, load_ref = temperature_range(plateaus), load_reference(plateaus)
     _, th, _, _ = fit_structure(cur, plateaus, t_range, load_ref, stepwise=False)
     best = cross_validate_orders(plateaus, cur, folds=folds, theta_full=th)
@@ -191,12 +183,12 @@ def select_orders(plateaus: Plateaus, structure: StaticStructure, *, max_order: 
     if progress:
         progress(f'orders auto: all constant, no load terms: held-out RMS {best:.4f} Nm')
 
-    def score(cands, label):
+    def score(cands: list[StaticStructure], label: str) -> list[tuple[float, StaticStructure]]:
         """Held-out RMS of each candidate the data can determine; logged in ``trace``."""
         results = []
         for cand in cands:
             try:
-                check_excitation(plateaus, cand)
+                check_excitation(plateaus, cand, one_direction=one_direction)
             except ExcitationError:
                 continue
             _, th, _, _ = fit_structure(cand, plateaus, t_range, load_ref, stepwise=False)
@@ -296,12 +288,13 @@ class StaticIdentifier:
         self.base = StaticStructure.from_gear(structure, fixed=fixed)
         self.orders = orders
         self.progress = progress
-        self.gear = None
+        self.gear: GearParams | None = None
 
     # -- fitting
-    def _structure(self, plateaus):
+    def _structure(self, plateaus: Plateaus) -> StaticStructure:
         if self.orders == 'auto':
-            s, trace = select_orders(plateaus, self.base, progress=self.progress)
+            s, trace = select_orders(plateaus, self.base, progress=self.progress,
+                                     one_direction=True)
             self.info['order_selection'] = trace
             return s
         if isinstance(self.orders, dict):
@@ -333,24 +326,31 @@ class StaticIdentifier:
         Raises
         ------
         ExcitationError
-            No plateaus, plateaus in one direction only, or fewer plateaus than the
-            coefficients the data can determine.  What the data cannot pin (a Stribeck
+            No plateaus, plateaus in one direction with tau_ext not measured (no
+            /link_torque), or fewer plateaus than the coefficients the data determine.
+            One direction with tau_ext measured is fitted; the other direction is assumed
+            symmetric and said (:func:`one_direction_note`).  What the data cannot pin (a Stribeck
             dip below the slowest plateau, a temperature or load order the ranges cannot
             carry, delta_v over too narrow a speed range) is not an error: it is kept
             and said (:attr:`identifiability`).
 
         """
         t_start = time.perf_counter()
-        self.info = {}
+        self.info: dict[str, Any] = {}
         t0 = time.perf_counter()
         if self.orders == 'auto':
             check_excitation(plateaus, self.base.with_orders(
                 orders=dict.fromkeys(self.base.params, 0),
-                load_orders=dict.fromkeys(PARAMETERS, 0)))
+                load_orders=dict.fromkeys(PARAMETERS, 0)), one_direction=True)
         s = self._structure(plateaus)
         self.info['time_order_selection_s'] = time.perf_counter() - t0
         s, notes = carry_structure(plateaus, s, prior=self.structure_gear.friction)
-        check_excitation(plateaus, s, stribeck=False, temperature=False, load=False)
+        check_excitation(plateaus, s, stribeck=False, temperature=False, load=False,
+                         one_direction=True)
+        side = one_direction_note(plateaus)          # one direction: the other is assumed
+        if side:
+            notes = {f'{side["assumed"]} direction': {k: side[k] for k in ('why', 'kept',
+                                                                           'advice')}, **notes}
         self.plateaus = plateaus
         t_range, load_ref = temperature_range(plateaus), load_reference(plateaus)
         if self.progress:
@@ -399,9 +399,10 @@ class StaticIdentifier:
         self.info['time_identifier_s'] = time.perf_counter() - t_start
         return self
 
-    def _gear(self, coefs, t_range, fit=None):
-        fr = {p: [float(x) for x in c] for p, c in coefs.items()
-              if p not in ('delta_s', 'fs_ratio', 'lever_error', 'sensor_lag')}
+    def _gear(self, coefs: dict[str, FloatArray], t_range: tuple[float, float],
+              fit: PhysicalFit | None = None) -> GearParams:
+        fr: dict[str, Any] = {p: [float(x) for x in c] for p, c in coefs.items()
+                              if p not in ('delta_s', 'fs_ratio', 'lever_error', 'sensor_lag')}
         for p in self.base.load_orders:              # load terms dropped by auto orders
             key = p + '_load'
             if key not in fr and self.base.load_orders.get(p, 0) > 0:
@@ -435,7 +436,7 @@ class StaticIdentifier:
                 f'range {lo}..{hi} degC ({msg}); the data do not pin the polynomial down: '
                 'lower its order or record at more temperatures') from None
 
-    def _group_fits(self, plateaus, load_ref):
+    def _group_fits(self, plateaus: Plateaus, load_ref: float) -> list[dict[str, Any]]:
         """
         Order-0 fits per temperature group with the identified load terms (Fig. 3 b).
 
@@ -450,14 +451,14 @@ class StaticIdentifier:
         for g in range(labels.max() + 1 if len(labels) else 0):
             m = labels == g
             sub = plateaus.select(m)
-            if m.sum() < 8 or distinct_levels(sub.qd) < 4 or min(np.sum(sub.qd > 0),
-                                                                 np.sum(sub.qd < 0)) < 1:
+            if m.sum() < 8 or distinct_levels(sub.qd) < 4 or (min(np.sum(sub.qd > 0), np.sum(
+                    sub.qd < 0)) < 1 and not one_direction_note(plateaus)):
                 continue
             drift = (self.predict(sub.qd, sub.xi, sub.load)
                      - self.predict(sub.qd, float(sub.xi.mean()), sub.load))
             sub = dataclasses.replace(sub, tau_r=sub.tau_r - drift)
             lay = CoefficientLayout(single, temperature_range(sub), load_ref)
-            th = np.zeros(lay.size)
+            th: FloatArray = np.zeros(lay.size)
             main = {name: sl for name, _, sl in self.layout.blocks}
             at = self.predict_parameters(float(sub.xi.mean()))
             for name, kind, sl in lay.blocks:
@@ -470,9 +471,10 @@ class StaticIdentifier:
                 se = np.sqrt(np.clip(np.diag(cov), 0.0, None))
             except (ValueError, np.linalg.LinAlgError):
                 continue
-            entry = {'xi': float(sub.xi.mean()), 'xi_min': float(sub.xi.min()),
-                     'xi_max': float(sub.xi.max()), 'plateaus': int(m.sum()),
-                     'rms': float(np.sqrt(2 * res.cost / len(sub))), 'values': {}, 'se': {}}
+            entry: dict[str, Any] = {
+                'xi': float(sub.xi.mean()), 'xi_min': float(sub.xi.min()),
+                'xi_max': float(sub.xi.max()), 'plateaus': int(m.sum()),
+                'rms': float(np.sqrt(2 * res.cost / len(sub))), 'values': {}, 'se': {}}
             for name, kind, sl in lay.blocks:
                 if kind == 'temp':
                     entry['values'][name] = float(th[sl][0])
@@ -481,9 +483,10 @@ class StaticIdentifier:
         return out
 
     # -- results
-    def _need_fit(self):
+    def _need_fit(self) -> GearParams:
         if self.gear is None:
             raise RuntimeError('call fit() first')
+        return self.gear
 
     def predict(self, qd: ArrayLike, xi: ArrayLike, tau_l: ArrayLike = 0.0) -> np.ndarray:
         """
@@ -500,8 +503,7 @@ class StaticIdentifier:
             The torque (Nm).
 
         """
-        self._need_fit()
-        return StaticFriction(self.gear.friction).torque(qd, xi, tau_l)
+        return StaticFriction(self._need_fit().friction).torque(qd, xi, tau_l)
 
     def predict_parameters(self, xi: ArrayLike, tau_l: ArrayLike = 0.0) -> dict[str, np.ndarray]:
         """
@@ -517,18 +519,17 @@ class StaticIdentifier:
         dict of str to ndarray
 
         """
-        self._need_fit()
-        return StaticFriction(self.gear.friction).parameters(np.atleast_1d(xi), tau_l)
+        return StaticFriction(self._need_fit().friction).parameters(np.atleast_1d(xi), tau_l)
 
     @property
-    def results(self):
+    def results(self) -> list[dict[str, Any]]:
         """One row per identified coefficient: parameter, power, value, se, unit."""
         self._need_fit()
         rows = []
         for name, vals in self.coefficients.items():
             load = name.endswith('_load')
             base = name[:-5] if load else name
-            for i, (v, e) in enumerate(zip(vals, self.standard_errors[name])):
+            for i, (v, e) in enumerate(zip(vals, self.standard_errors[name], strict=True)):
                 power = i + 1 if load else i
                 var = 'tau_L' if load else 'xi'
                 unit = PARAMETER_UNITS[base] + (f'/Nm^{power}' if load else
@@ -550,10 +551,10 @@ class StaticIdentifier:
                          f'{r["unit"]}')
         return '\n'.join(lines)
 
-    def report(self) -> dict:
+    def report(self) -> dict[str, Any]:
         """Return a JSON-able summary: parameters, standard errors, RMS, plateaus, timings."""
         self._need_fit()
-        step_rms = {}
+        step_rms: dict[str, float] = {}
         for st in self.info.get('steps', []):
             step_rms[str(st['step'])] = math.sqrt(st['cost'] / len(self.plateaus))
         return {

@@ -1,16 +1,5 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 
 """
 The least-squares problem of identification steps 1-2 and its solution.
@@ -22,14 +11,26 @@ the finite-difference columns of the Jacobian; :func:`fit_structure`
 alternates steps 1 and 2 and finishes with a joint pass (see
 :mod:`friction_joint.identification.static_fit`).
 """
+from __future__ import annotations
+
+from collections.abc import Callable, Mapping
 import math
 import time
+from typing import Any, TYPE_CHECKING
 
 import numpy as np
+from numpy.typing import ArrayLike
 from scipy.optimize import least_squares, nnls
 
+from ._arrays import BoolArray, FloatArray
 from .static_structure import LOWER, UPPER
 from ..models.static import PackedStatic, PARAMETERS, StaticFriction
+
+if TYPE_CHECKING:
+    from scipy.optimize import OptimizeResult
+
+    from .plateaus import Plateaus
+    from .static_structure import StaticStructure
 
 __all__ = ['CoefficientLayout', 'Problem', 'single_init', 'theta_from_values', 'fit_structure',
            'covariance', 'temperature_range', 'load_reference']
@@ -38,14 +39,16 @@ __all__ = ['CoefficientLayout', 'Problem', 'single_init', 'theta_from_values', '
 class CoefficientLayout:
     """Parameter vector <-> coefficient arrays of the static curve."""
 
-    def __init__(self, structure, t_range, load_ref):
+    def __init__(self, structure: StaticStructure, t_range: tuple[float, float],
+                 load_ref: float) -> None:
         self.s = structure
         lo, hi = t_range
         self.t_range = (float(lo), float(hi))
         self.load_ref = float(load_ref)
-        self.blocks = []            # (name, kind, slice)
-        self.maps = {}              # name -> matrix theta_block -> coefficients
-        self.nodes = {}
+        self.blocks: list[tuple[str, str, slice]] = []      # (name, kind, slice)
+        # name -> matrix theta_block -> coefficients
+        self.maps: dict[str, FloatArray] = {}
+        self.nodes: dict[str, FloatArray] = {}
         i = 0
         for p in structure.params:
             n = structure.orders[p]
@@ -64,21 +67,21 @@ class CoefficientLayout:
                       + [len(c) for c in structure.fixed.values()] + [1])
         self.nl = max([structure.load_orders.get(p, 0) for p in PARAMETERS] + [1])
 
-    def _nodes(self, n):
+    def _nodes(self, n: int) -> FloatArray:
         lo, hi = self.t_range
         if n == 0:
             return np.array([0.5 * (lo + hi)])
         k = np.arange(n + 1)
         return 0.5 * (lo + hi) - 0.5 * (hi - lo) * np.cos(np.pi * k / n)
 
-    def mask(self, kind):
+    def mask(self, kind: str) -> BoolArray:
         m = np.zeros(self.size, dtype=bool)
         for _, k, sl in self.blocks:
             if k == kind:
                 m[sl] = True
         return m
 
-    def bounds(self):
+    def bounds(self) -> tuple[FloatArray, FloatArray]:
         lo = np.full(self.size, -np.inf)
         hi = np.full(self.size, np.inf)
         for name, kind, sl in self.blocks:
@@ -86,18 +89,18 @@ class CoefficientLayout:
                 lo[sl], hi[sl] = LOWER[name], UPPER[name]
         return lo, hi
 
-    def coefficients(self, theta):
+    def coefficients(self, theta: FloatArray) -> dict[str, FloatArray]:
         """Name -> coefficient array (file convention: powers of xi, powers of tau_L)."""
         return {name: self.maps[name] @ theta[sl] for name, _, sl in self.blocks}
 
-    def transform(self):
+    def transform(self) -> FloatArray:
         """Matrix A with coefficients = A theta (blocks in layout order)."""
         a = np.zeros((self.size, self.size))
         for name, _, sl in self.blocks:
             a[sl, sl] = self.maps[name]
         return a
 
-    def packed(self, thetas):
+    def packed(self, thetas: ArrayLike) -> PackedStatic:
         """Return the PackedStatic of a batch of parameter vectors (B, size)."""
         thetas = np.atleast_2d(thetas)
         b = thetas.shape[0]
@@ -120,7 +123,8 @@ class CoefficientLayout:
         return PackedStatic(temp, load, self.s.delta_s * ones, self.s.velocity_scale * ones,
                             -1e9 * ones, 1e9 * ones)
 
-    def torque(self, thetas, qd, xi, load):
+    def torque(self, thetas: ArrayLike, qd: ArrayLike, xi: ArrayLike, load: ArrayLike
+               ) -> FloatArray:
         """(B, N) static friction torque of a batch of parameter vectors."""
         return StaticFriction.from_packed(self.packed(thetas)).torque(qd, xi, load)
 
@@ -128,19 +132,20 @@ class CoefficientLayout:
 class Problem:
     """Least-squares residuals of the plateau data for a layout."""
 
-    def __init__(self, layout, plateaus):
+    def __init__(self, layout: CoefficientLayout, plateaus: Plateaus) -> None:
         self.layout = layout
-        self.qd = plateaus.qd.astype(float)
-        self.xi = plateaus.xi.astype(float)
-        self.load = plateaus.load.astype(float)
-        self.y = plateaus.tau_r.astype(float)
+        self.qd: FloatArray = plateaus.qd.astype(float)
+        self.xi: FloatArray = plateaus.xi.astype(float)
+        self.load: FloatArray = plateaus.load.astype(float)
+        self.y: FloatArray = plateaus.tau_r.astype(float)
         self.nfev = 0
 
-    def residual_batch(self, thetas):
+    def residual_batch(self, thetas: ArrayLike) -> FloatArray:
         self.nfev += len(np.atleast_2d(thetas))
         return self.layout.torque(thetas, self.qd, self.xi, self.load) - self.y
 
-    def solve(self, theta0, free, max_nfev=200, tol=1e-12):
+    def solve(self, theta0: ArrayLike, free: BoolArray, max_nfev: int = 200,
+              tol: float = 1e-12) -> tuple[FloatArray, OptimizeResult]:
         """
         Minimise over the entries of theta marked ``free`` (ftol = xtol = gtol = ``tol``).
 
@@ -155,16 +160,18 @@ class Problem:
             pad_hi = np.where(np.isfinite(hi), hi - 1e-9 * (1 + np.abs(hi)), np.inf)
         x0 = np.clip(theta0[idx], pad_lo, pad_hi)
 
-        def full(x):
-            th = np.broadcast_to(theta0, (np.atleast_2d(x).shape[0], theta0.size)).copy()
+        def full(x: ArrayLike) -> FloatArray:
+            rows = np.atleast_2d(x).shape[0]
+            th: FloatArray = np.broadcast_to(theta0, (rows, theta0.size)).copy()
             th[:, idx] = np.atleast_2d(x)
             return th
 
-        def fun(x):
-            return self.residual_batch(full(x))[0]
+        def fun(x: FloatArray) -> FloatArray:
+            r: FloatArray = self.residual_batch(full(x))[0]
+            return r
 
-        def jac(x):
-            h = 1e-6 * np.maximum(np.abs(x), 0.1)
+        def jac(x: FloatArray) -> FloatArray:
+            h: FloatArray = 1e-6 * np.maximum(np.abs(x), 0.1)
             xs = np.concatenate([x + np.diag(h), x - np.diag(h)])
             r = self.residual_batch(full(xs))
             k = len(x)
@@ -176,7 +183,9 @@ class Problem:
         theta[idx] = res.x
         return theta, res
 
-    def jacobian(self, theta, free=None, residuals=None):
+    def jacobian(self, theta: FloatArray, free: BoolArray | None = None,
+                 residuals: Callable[[FloatArray], FloatArray] | None = None
+                 ) -> FloatArray:
         """Central-difference Jacobian of ``residuals`` (default the residuals) at theta."""
         free = np.ones(theta.size, dtype=bool) if free is None else free
         residuals = self.residual_batch if residuals is None else residuals
@@ -193,7 +202,8 @@ class Problem:
 
 # ---------------------------------------------------- initial single-temperature fit ---
 
-def single_init(structure, plateaus, load_part=None):
+def single_init(structure: StaticStructure, plateaus: Plateaus,
+                load_part: FloatArray | None = None) -> dict[str, float]:
     """
     Order-0 curve (fc, fs, fv, vs, delta_v) of pooled plateaus by variable projection.
 
@@ -210,16 +220,15 @@ def single_init(structure, plateaus, load_part=None):
     vss = (np.geomspace(max(x.min(), 1e-6) * 0.3, x.max(), 30) if structure.stribeck
            else [1.0])
     ds = structure.delta_s
-    best = None
+    fits = []
     for vs in vss:
         e = np.exp(-(x / vs) ** ds) if structure.stribeck else np.zeros_like(x)
         for dv in dvs:
             cols = [1.0 - e, e, x ** dv] if structure.stribeck else [np.ones_like(x), x ** dv]
             a = np.column_stack(cols)
             coef, rn = nnls(a, y)
-            if best is None or rn < best[0]:
-                best = (rn, vs, dv, coef)
-    _, vs, dv, coef = best
+            fits.append((rn, vs, dv, coef))
+    _, vs, dv, coef = min(fits, key=lambda f: f[0])      # the first of the least
     if structure.stribeck:
         fc, fs, fv = coef
     else:
@@ -227,7 +236,9 @@ def single_init(structure, plateaus, load_part=None):
     return {'fc': fc, 'fs': fs, 'fv': fv, 'vs': vs, 'delta_v': dv}
 
 
-def theta_from_values(layout, values, load=None):
+def theta_from_values(layout: CoefficientLayout,
+                      values: Mapping[str, float | Callable[[FloatArray], ArrayLike]],
+                      load: Mapping[str, ArrayLike] | None = None) -> FloatArray:
     """Return theta with each temperature node of parameter p at values[p] (scalar or callable)."""
     theta = np.zeros(layout.size)
     for name, kind, sl in layout.blocks:
@@ -243,12 +254,15 @@ def theta_from_values(layout, values, load=None):
 
 # ------------------------------------------------------------------ fitting ---
 
-def fit_structure(structure, plateaus, t_range, load_ref, *, theta0=None, stepwise=True,
-                  progress=None, max_iterations=4, tol=1e-3):
-    """Fit one structure; returns (layout, theta, info)."""
+def fit_structure(structure: StaticStructure, plateaus: Plateaus, t_range: tuple[float, float],
+                  load_ref: float, *, theta0: FloatArray | None = None,
+                  stepwise: bool = True, progress: Callable[[str], None] | None = None,
+                  max_iterations: int = 4, tol: float = 1e-3
+                  ) -> tuple[CoefficientLayout, FloatArray, Problem, dict[str, Any]]:
+    """Fit one structure; returns (layout, theta, problem, info)."""
     layout = CoefficientLayout(structure, t_range, load_ref)
     prob = Problem(layout, plateaus)
-    info = {'steps': []}
+    info: dict[str, Any] = {'steps': []}
     tmask, lmask = layout.mask('temp'), layout.mask('load')
     if theta0 is None:
         init = single_init(structure, plateaus)
@@ -287,7 +301,7 @@ def fit_structure(structure, plateaus, t_range, load_ref, *, theta0=None, stepwi
     return layout, theta, prob, info
 
 
-def covariance(prob, theta):
+def covariance(prob: Problem, theta: FloatArray) -> tuple[FloatArray, float]:
     """Covariance of theta: s^2 (J^T J)^-1 (pseudo-inverse if singular), and s^2."""
     jac = prob.jacobian(theta)
     r = prob.residual_batch(theta)[0]
@@ -297,7 +311,7 @@ def covariance(prob, theta):
     return cov, s2
 
 
-def temperature_range(plateaus):
+def temperature_range(plateaus: Plateaus) -> tuple[float, float]:
     lo, hi = float(plateaus.xi.min()), float(plateaus.xi.max())
     if hi - lo < 0.2:
         c = 0.5 * (lo + hi)
@@ -305,5 +319,5 @@ def temperature_range(plateaus):
     return lo, hi
 
 
-def load_reference(plateaus):
+def load_reference(plateaus: Plateaus) -> float:
     return max(float(np.max(plateaus.load)) if len(plateaus) else 0.0, 1.0)

@@ -1,16 +1,5 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 
 """
 The structure of a static friction model and the checks that data can determine it.
@@ -32,17 +21,20 @@ import dataclasses
 from typing import TYPE_CHECKING
 
 import numpy as np
+from numpy.typing import ArrayLike
 
+from ._arrays import IntArray
 from ..exceptions import ExcitationError, GearConfigError
 from ..models.static import PARAMETERS
 
 if TYPE_CHECKING:
     from .plateaus import Plateaus
-    from ..gear import GearParams
+    from ..gear import FrictionParams, GearParams
 
 __all__ = ['LOWER', 'UPPER', 'PARAMETER_UNITS', 'GROUP_WIDTH', 'MIN_GROUP', 'SPEED_TOL',
            'StaticStructure', 'temperature_groups', 'distinct_levels', 'group_table',
-           'check_excitation', 'carry_structure', 'temperature_levels', 'load_levels']
+           'check_excitation', 'carry_structure', 'temperature_levels', 'load_levels',
+           'external_torque_measured', 'one_direction_note']
 
 #: temperature-polynomial parameters, in the order of the packed arrays of :mod:`static`
 LOWER = {'fc': 0.0, 'fs': 0.0, 'fv': 0.0, 'vs': 1e-6, 'delta_v': 0.05}
@@ -170,12 +162,12 @@ class StaticStructure:
         return len(self.fixed.get(p, ()))
 
     @property
-    def params(self):
+    def params(self) -> list[str]:
         """Fitted temperature parameters, in :data:`PARAMETERS` order."""
         return [p for p in PARAMETERS if p in self.orders]
 
     @property
-    def load_params(self):
+    def load_params(self) -> list[str]:
         return [p for p in PARAMETERS if self.load_orders.get(p, 0) > 0]
 
     def describe(self) -> str:
@@ -197,7 +189,7 @@ class StaticStructure:
 
 # ------------------------------------------------------------- data checks ---
 
-def temperature_groups(xi, width=GROUP_WIDTH):
+def temperature_groups(xi: ArrayLike, width: float = GROUP_WIDTH) -> IntArray:
     """Group labels of temperatures: sorted, a new group when the span would exceed ``width``."""
     xi = np.asarray(xi, dtype=float)
     labels = np.zeros(len(xi), dtype=int)
@@ -213,7 +205,7 @@ def temperature_groups(xi, width=GROUP_WIDTH):
     return labels
 
 
-def distinct_levels(x, rel=SPEED_TOL, absolute=0.0):
+def distinct_levels(x: ArrayLike, rel: float = SPEED_TOL, absolute: float = 0.0) -> int:
     """
     Return the number of distinct values of x.
 
@@ -230,7 +222,7 @@ def distinct_levels(x, rel=SPEED_TOL, absolute=0.0):
     return count
 
 
-def group_table(plateaus):
+def group_table(plateaus: Plateaus) -> tuple[IntArray, list[tuple[float, int]]]:
     labels = temperature_groups(plateaus.xi)
     groups = []
     for g in range(labels.max() + 1 if len(labels) else 0):
@@ -268,16 +260,80 @@ def load_levels(plateaus: Plateaus) -> int:
     return distinct_levels(loads, rel=0.0, absolute=width)
 
 
+def external_torque_measured(plateaus: Plateaus) -> bool:
+    """
+    Return whether every plateau's tau_ext was measured by a load sensor (``/link_torque``).
+
+    Parameters
+    ----------
+    plateaus : Plateaus
+        The data (their ``torque_source`` per recording).
+
+    Returns
+    -------
+    bool
+        False when any recording's tau_ext came from the structure's lever model (or
+        was given from elsewhere), or there are no sources.
+
+    """
+    src = plateaus.torque_source
+    return bool(src) and all(s == 'link_torque' for s in src)
+
+
+def _directions(plateaus: Plateaus) -> tuple[int, int]:
+    """Return (positive, negative) plateau counts."""
+    return int(np.sum(plateaus.qd > 0)), int(np.sum(plateaus.qd < 0))
+
+
+def one_direction_note(plateaus: Plateaus) -> dict[str, str] | None:
+    """
+    Say what one-direction plateaus leave unidentified, or None when both directions are there.
+
+    With the external torque measured, plateaus in one direction pin the static curve in
+    that direction (F_c, F_v, delta_v, the Stribeck dip where slow plateaus reach it, the
+    temperature and load terms the ranges carry); the other direction is the same curve
+    mirrored, assumed, not measured, and an offset of the drive torque (effort) would sit
+    in F_c unseen (two directions would show it as an asymmetry).
+
+    Parameters
+    ----------
+    plateaus : Plateaus
+        The data.
+
+    Returns
+    -------
+    dict or None
+        ``{'why', 'kept', 'advice', 'measured', 'assumed'}`` (``measured``/``assumed``:
+        ``'positive'`` or ``'negative'``), the form of
+        :func:`carry_structure`'s notes.
+
+    """
+    pos, neg = _directions(plateaus)
+    if not len(plateaus) or min(pos, neg) >= 2:
+        return None
+    have, miss = ('positive', 'negative') if pos >= neg else ('negative', 'positive')
+    return {
+        'why': f'the {len(plateaus)} plateaus are all {have} velocity ({pos} positive, {neg} '
+               'negative) with tau_ext measured (/link_torque): the curve is identified in the '
+               f'{have} direction only, and an offset of the drive torque would sit in F_c '
+               'unseen',
+        'kept': f'the {miss} direction assumed symmetric (the {have} curve mirrored, '
+                'F(-v) = -F(v)), not measured',
+        'advice': f'record plateaus at {miss} velocities too to identify it and check the '
+                  'symmetry',
+        'measured': have, 'assumed': miss}
+
+
 def check_excitation(plateaus: Plateaus, structure: StaticStructure, *,
                      stribeck: bool = True, temperature: bool = True,
-                     load: bool = True) -> None:
+                     load: bool = True, one_direction: bool = False) -> None:
     """
     Raise :class:`ExcitationError` if the plateaus cannot determine the structure's coefficients.
 
-    Checks: plateaus exist; both directions; enough plateaus for the number of
-    coefficients; distinct temperatures for each temperature order; low-speed
-    plateaus for the Stribeck parameters; a velocity range for delta_v and F_v;
-    distinct loads for each load order.  The message says what to record.
+    Checks: plateaus exist; both directions (or one, see ``one_direction``); enough
+    plateaus for the number of coefficients; distinct temperatures for each temperature
+    order; low-speed plateaus for the Stribeck parameters; a velocity range for delta_v
+    and F_v; distinct loads for each load order.  The message says what to record.
 
     Parameters
     ----------
@@ -292,6 +348,12 @@ def check_excitation(plateaus: Plateaus, structure: StaticStructure, *,
         the load orders.  ``identify`` turns them off: it lowers what the data cannot
         carry and says so (:func:`carry_structure`, scaled with the data) and decides the
         Stribeck parameters from the residual's profile over v_s.
+    one_direction : bool
+        Accept plateaus in one direction when every recording measured tau_ext
+        (:func:`external_torque_measured`; ``identify`` does, saying what is assumed:
+        :func:`one_direction_note`).  Otherwise, or without the load sensor, one
+        direction is refused, the message naming what to record: both directions, or
+        the external torque with a load sensor.
 
     """
     src = ', '.join(plateaus.sources) or 'the data'
@@ -302,9 +364,16 @@ def check_excitation(plateaus: Plateaus, structure: StaticStructure, *,
             'of constant velocity (at least 0.2 s each, both directions, speeds from about '
             '0.01 rad/s up to the highest operating speed, e.g. '
             '"friction_joint experiment identification"); the recording has none')
-    pos, neg = int(np.sum(plateaus.qd > 0)), int(np.sum(plateaus.qd < 0))
-    if min(pos, neg) < 2:
+    pos, neg = _directions(plateaus)
+    if min(pos, neg) < 2 and not (one_direction and external_torque_measured(plateaus)):
         have, miss = ('positive', 'negative') if neg < 2 else ('negative', 'positive')
+        if one_direction:
+            raise ExcitationError(
+                f'{src}: the {n} plateaus all have {have} velocity ({pos} positive, {neg} '
+                f'negative) and tau_ext comes from the lever model (no /link_torque): record '
+                f'plateaus in both directions (also {miss} velocities), or record the external '
+                'torque with a load sensor on /link_torque; with one direction and no load '
+                'sensor friction cannot be told from a torque offset or a gravity error')
         raise ExcitationError(
             f'{src}: the {n} plateaus all have {have} velocity ({pos} positive, {neg} negative): '
             f'record plateaus in both directions (also {miss} velocities); with one direction '
@@ -359,7 +428,8 @@ def check_excitation(plateaus: Plateaus, structure: StaticStructure, *,
 
 
 def carry_structure(plateaus: Plateaus, structure: StaticStructure, *,
-                    prior=None) -> tuple[StaticStructure, dict]:
+                    prior: FrictionParams | None = None
+                    ) -> tuple[StaticStructure, dict[str, dict[str, str]]]:
     """
     Lower what the plateaus cannot carry, and say so, instead of refusing the fit.
 
@@ -387,7 +457,7 @@ def carry_structure(plateaus: Plateaus, structure: StaticStructure, *,
         ``{'why', 'kept', 'advice'}`` in plain words.
 
     """
-    notes = {}
+    notes: dict[str, dict[str, str]] = {}
     if not len(plateaus):
         return structure, notes
     orders = dict(structure.orders)

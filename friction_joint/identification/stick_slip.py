@@ -1,16 +1,5 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 
 """
 Stick-slip: constant-speed windows the joint did not follow steadily.
@@ -25,17 +14,17 @@ in ``Plateaus.stick_slip``.
 """
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
+from collections.abc import Iterator
+from typing import Protocol
 
 import numpy as np
 
-if TYPE_CHECKING:
-    from .plateaus import Plateaus
+from ._arrays import FloatArray
 
 __all__ = ['position_resolution', 'stuck_and_slipped', 'stick_slip_scan', 'stick_slip_summary']
 
 
-def position_resolution(q):
+def position_resolution(q: FloatArray) -> float:
     """Return the position's resolution: a low quantile of its non-zero steps (0: none)."""
     d = np.abs(np.diff(q))
     d = d[d > 0]
@@ -44,7 +33,8 @@ def position_resolution(q):
     return float(np.quantile(d, 0.05))
 
 
-def stuck_and_slipped(t, q, tick, parts=None):
+def stuck_and_slipped(t: FloatArray, q: FloatArray, tick: float,
+                      parts: int | None = None) -> dict[str, float] | None:
     """
     Say whether a constant-speed window stuck and slipped; None when it slid steadily.
 
@@ -77,7 +67,10 @@ def stuck_and_slipped(t, q, tick, parts=None):
     return {'speed': float(abs(total) / (t[-1] - t[0])), 'stuck': stuck}
 
 
-def stick_slip_scan(t, q, command, tick, segs, opt):
+def stick_slip_scan(t: FloatArray, q: FloatArray,
+                    command: FloatArray | None, tick: float,
+                    segs: list[tuple[int, int]], opt: dict[str, float]
+                    ) -> Iterator[tuple[int, int, dict[str, float]]]:
     """
     Windows outside the plateaus where a constant speed was commanded and not followed.
 
@@ -94,7 +87,7 @@ def stick_slip_scan(t, q, command, tick, segs, opt):
     used = np.zeros(n, dtype=bool)
     for a, b in segs:
         used[a:b] = True
-    found = []
+    found: list[tuple[int, int, float, float]] = []
     for a in range(0, n - m + 1, m):
         b = a + m
         if used[a:b].any():
@@ -121,7 +114,19 @@ def stick_slip_scan(t, q, command, tick, segs, opt):
         yield i0, i1, {'speed': float(abs(travel) / (t[i1 - 1] - t[i0])), 'stuck': stuck}
 
 
-def stick_slip_summary(plateaus: Plateaus) -> str | None:
+class _WithStickSlip(Protocol):
+    """What :func:`stick_slip_summary` reads of a ``Plateaus``."""
+
+    @property
+    def stick_slip(self) -> tuple[dict[str, float], ...]:
+        """Return the stick-slip windows."""
+
+    @property
+    def qd(self) -> FloatArray:
+        """Return the plateaus' mean velocities."""
+
+
+def stick_slip_summary(plateaus: _WithStickSlip) -> str | None:
     """
     Say in words which constant-speed commands stuck and slipped (None: none did).
 

@@ -1,16 +1,5 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 
 """
 The ``classic`` command's work: run a classic LuGre experiment and write its two files.
@@ -19,16 +8,17 @@ The ``classic`` command's work: run a classic LuGre experiment and write its two
 :data:`friction_joint.experiments.classic.CLASSIC_EXPERIMENTS` and writes
 ``DIR/NAME.png`` (drawn by :func:`friction_joint.experiments.classic_report.draw_classic`)
 and ``DIR/NAME.json``, together or not at all; :func:`write_experiment` writes
-a result already computed (the demo's).
+a result already computed (the demo's).  Both return a
+:class:`~friction_joint.jobs.runs.ClassicRun`.
 """
 from __future__ import annotations
 
 import os
 
-from ..experiments.classic import CLASSIC_EXPERIMENTS, ClassicResult
-from ..experiments.classic_report import draw_classic
+from .runs import ClassicRun
+from ..experiments.classic import CLASSIC_EXPERIMENTS
 from ..output import OutputSet
-from ..results import json_bytes, render_png
+from ..results import ExperimentResult, json_bytes, render_png
 
 __all__ = ['write_experiment', 'run_classic']
 
@@ -42,15 +32,14 @@ def _declare(outputs, name, out_dir):
 
 
 def _write(outputs, result, paths):
-    size = (10, 5) if result.name != 'stick-slip' else (9, 6.5)
-    png = render_png(lambda fig: draw_classic(fig, result), size, dpi=110)
-    outputs.write_file(paths[0], png)
+    draw, size = result.figures[result.name + '.png']
+    outputs.write_file(paths[0], render_png(draw, size, dpi=110))
     outputs.write_file(paths[1], json_bytes(result.to_dict()))
-    return tuple(outputs.publish())
+    return ClassicRun(result, tuple(outputs.publish()))
 
 
-def write_experiment(result: ClassicResult, out_dir: str | os.PathLike, *,
-                     force: bool = False) -> tuple[str, ...]:
+def write_experiment(result: ExperimentResult, out_dir: str | os.PathLike, *,
+                     force: bool = False) -> ClassicRun:
     """
     Write ``out_dir/NAME.png`` and ``out_dir/NAME.json`` of ``result``, together or not at all.
 
@@ -62,8 +51,8 @@ def write_experiment(result: ClassicResult, out_dir: str | os.PathLike, *,
 
     Parameters
     ----------
-    result : ClassicResult
-        The run of a classic experiment.
+    result : ExperimentResult
+        The run of a classic experiment (its figure ``NAME.png``).
     out_dir : str or path-like
         Directory of the two files.
     force : bool
@@ -71,8 +60,8 @@ def write_experiment(result: ClassicResult, out_dir: str | os.PathLike, *,
 
     Returns
     -------
-    tuple of str
-        Paths of the PNG and JSON files.
+    ClassicRun
+        ``result``, and the paths of the PNG and JSON files (``written``).
 
     """
     with OutputSet(force=force) as outputs:
@@ -80,7 +69,7 @@ def write_experiment(result: ClassicResult, out_dir: str | os.PathLike, *,
 
 
 def run_classic(name: str, out_dir: str | os.PathLike, *,
-                force: bool = False) -> tuple[str, ...]:
+                force: bool = False) -> ClassicRun:
     """
     Run classic experiment ``name`` and write its files (as :func:`write_experiment`).
 
@@ -97,8 +86,8 @@ def run_classic(name: str, out_dir: str | os.PathLike, *,
 
     Returns
     -------
-    tuple of str
-        Paths of the PNG and JSON files.
+    ClassicRun
+        ``result``, and the paths of the PNG and JSON files (``written``).
 
     """
     with OutputSet(force=force) as outputs:

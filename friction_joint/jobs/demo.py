@@ -1,16 +1,5 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 
 """
 ``friction_joint demo --out DIR``: the main job, with a Markdown report of the results.
@@ -49,6 +38,7 @@ import time
 from .classic import write_experiment
 from .experiment import run_experiment
 from .identify import run_identify
+from .runs import DemoRun
 from ..exceptions import InputFileError, NodeError
 from ..experiments.classic import CLASSIC_EXPERIMENTS
 from ..experiments.classic_report import summary_markdown
@@ -111,7 +101,7 @@ def _figures(d):
 
 def run_demo(out: str | os.PathLike, *, model: str | None = None, truth: str | None = None,
              duration_scale: float = 1.0, force: bool = False,
-             progress: Callable[[str], None] | None = None) -> str:
+             progress: Callable[[str], None] | None = None) -> DemoRun:
     """
     Run all experiments into ``out`` and write ``out/report.md`` and ``out/report.html``.
 
@@ -135,8 +125,8 @@ def run_demo(out: str | os.PathLike, *, model: str | None = None, truth: str | N
 
     Returns
     -------
-    str
-        The path of ``report.md``.
+    DemoRun
+        The path of ``report.md`` and the paths written.
 
     """
     model = model or _config('csd25.yaml')
@@ -150,8 +140,8 @@ def run_demo(out: str | os.PathLike, *, model: str | None = None, truth: str | N
         stages = _Stages(progress)
         _run_all(stage, model, truths, duration_scale, outputs.final_path, stages=stages)
         with stages.stage('moving the results into place'):
-            outputs.publish()
-    return os.path.join(os.path.normpath(out), 'report.md')
+            written = outputs.publish()
+    return DemoRun(os.path.join(os.path.normpath(out), 'report.md'), written)
 
 
 def _hardware_keys(truths):
@@ -223,7 +213,7 @@ CLASSIC_TEXT = {
 def _testbed(out, model, truths, duration_scale, stages):
     """Run the test-bed experiments against every truth; returns report lines."""
     results = {}
-    for key, truth in zip(_hardware_keys(truths), truths):
+    for key, truth in zip(_hardware_keys(truths), truths, strict=True):
         results[key] = {}
         for name in TESTBED:
             d = os.path.join(out, 'testbed', key, name)

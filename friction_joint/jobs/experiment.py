@@ -1,16 +1,5 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 
 """
 The ``experiment`` command's work: load the gear files, run an experiment, write its results.
@@ -26,25 +15,31 @@ from __future__ import annotations
 from collections.abc import Callable
 import inspect
 import os
+import threading
 import time
+from typing import Any
 
+from .runs import ExperimentRun
 from ..bag import write_recording
 from ..control.gains import gain_design, GainDesign
 from ..exceptions import ExperimentError, FrictionJointError
 from ..experiments._common import check_scale
-from ..experiments.plots import experiment_figures
 from ..experiments.runner import check_gains, CLOSED_LOOP, EXPERIMENTS
 from ..gear import load_gear
 from ..output import OutputSet
-from ..results import ExperimentResult, result_files
+from ..results import result_files
 
-__all__ = ['run_experiment']
+__all__ = ['run_experiment', 'QUIET_FOR']
+
+#: s an experiment that reports nothing itself runs before the job says that it runs
+QUIET_FOR = 5.0
 
 
 def run_experiment(name: str, model_path: str | os.PathLike | None,
                    truth_path: str | os.PathLike, out_dir: str | os.PathLike, *,
                    duration_scale: float = 1.0, progress: Callable[[str], None] | None = None,
-                   force: bool = False, gains: str | GainDesign | None = None) -> list[str]:
+                   force: bool = False,
+                   gains: str | GainDesign | None = None) -> ExperimentRun:
     """
     Load the gear files, run experiment ``name`` and write its results.
 
@@ -83,15 +78,16 @@ def run_experiment(name: str, model_path: str | os.PathLike | None,
 
     Returns
     -------
-    list of str
-        The paths written (figures, then ``summary.json``; or the recording).
+    ExperimentRun
+        The summary, the run (None for a recording) and the paths written
+        (figures, then ``summary.json``; or the recording).
 
     """
     if name not in EXPERIMENTS:
         raise ExperimentError(f'unknown experiment {name!r}; choose from {", ".join(EXPERIMENTS)}')
     exp = EXPERIMENTS[name]
     scale = check_scale(duration_scale)
-    options = {}
+    options: dict[str, Any] = {}
     if gains is not None:
         if name not in CLOSED_LOOP:
             raise ExperimentError(f'experiment {name} has no controller: --gains applies to '
@@ -129,13 +125,29 @@ def run_experiment(name: str, model_path: str | os.PathLike | None,
                 progress(f'{len(summary.get("plateaus", []))} plateaus planned, '
                          f'{summary.get("duration_s", 0.0):.1f} s simulated in '
                          f'{summary["wall_time_s"]:.1f} s')
-            return written
+            return ExperimentRun(name, summary, written)
+        said, timers = [], []
         if progress is not None and 'progress' in inspect.signature(exp.func).parameters:
             options['progress'] = progress
-        result = exp.func(model, truth, scale, **options)
-        result.summary['model_file'] = os.path.abspath(model_path)
+        elif progress is not None:          # the experiment says nothing itself: a run that
+            def running():                  # lasts says that it runs (a refusal stays alone)
+                said.append(True)
+                progress(f'{name}: still simulating on the test bed after {QUIET_FOR:g} s '
+                         f'(duration scale {scale:g}) ...')
+            timers.append(threading.Timer(QUIET_FOR, running))
+            timers[0].daemon = True
+            timers[0].start()
+        try:
+            result = exp.func(model, truth, scale, **options)
+        finally:
+            for timer in timers:
+                timer.cancel()
+        result.summary['model_file'] = (os.path.abspath(model_path) if model_path is not None
+                                        else None)      # every 'results' experiment has one
         result.summary['truth_file'] = os.path.abspath(truth_path)
         result.summary['wall_time_s'] = time.perf_counter() - start
-        figures = experiment_figures(result)
-        outputs.write_directory(out_dir, result_files(ExperimentResult(result.summary, figures)))
-        return outputs.publish()
+        if said and progress is not None:
+            progress(f'{name}: simulated in {result.summary["wall_time_s"]:.1f} s; '
+                     'drawing the figures')
+        outputs.write_directory(out_dir, result_files(result))
+        return ExperimentRun(name, result.summary, outputs.publish(), result)

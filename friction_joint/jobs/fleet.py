@@ -1,16 +1,5 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 """
 The ``fleet`` command's work: manifest -> per-recording tasks on Dask -> verdict -> files.
 
@@ -34,15 +23,16 @@ always), then
    one :class:`~friction_joint.exceptions.CacheWarning` line naming the rows;
 2. runs one task per remaining recording on Dask
    (:func:`~friction_joint.fleet.cluster.map_recordings`,
-   :func:`~friction_joint.fleet.recording.analyse_recording`), reporting a
+   :func:`~friction_joint.fleet.recording.recording_task`: plain data back, a
+   :class:`~friction_joint.fleet.recording.RecordingResult` here), reporting a
    line per finished recording through ``progress``;
 3. assesses the fleet (:func:`~friction_joint.fleet.assess.assess_fleet`) and
    writes ``fleet.json``, ``recordings.csv``, ``report.html``
    (:func:`~friction_joint.fleet.report.fleet_files`) and ``cache.json`` into
    DIR, all or nothing.
 
-It returns a :class:`~friction_joint.fleet.monitor.FleetRun` (the assessment,
-what was written, :meth:`~friction_joint.fleet.monitor.FleetRun.plot`).
+It returns a :class:`~friction_joint.jobs.runs.FleetRun` (the assessment,
+what was written, :meth:`~friction_joint.jobs.runs.FleetRun.plot`).
 """
 from __future__ import annotations
 
@@ -51,15 +41,17 @@ import hashlib
 import json
 import os
 import time
+from typing import cast
 import warnings
 
+from .runs import FleetRun
+from ..bag import missing_recording_error
 from ..exceptions import (ArgumentError, CacheWarning, FrictionJointError, GearConfigError,
-                          InputFileError)
+                          InputFileError, RecordingError, StallWarning)
 from ..fleet.assess import assess_fleet
 from ..fleet.cluster import check_scheduler, check_workers, map_recordings
 from ..fleet.manifest import read_manifest
-from ..fleet.monitor import FleetRun
-from ..fleet.recording import analyse_recording, FIT_VERSION, result_problem
+from ..fleet.recording import FIT_VERSION, recording_task, RecordingResult, result_problem
 from ..fleet.report import fleet_files
 from ..gear import parse_gear
 from ..inputs import check_input_dir, open_input, read_input
@@ -159,7 +151,8 @@ def _say(progress, msg):
 
 def run_fleet(manifest: str | os.PathLike, model: str | os.PathLike, out: str | os.PathLike, *,
               scheduler: str | None = None, workers: int | None = None, force: bool = False,
-              progress: Callable[[str], None] | None = None, seed: int = 0) -> FleetRun:
+              progress: Callable[[str], None] | None = None, seed: int = 0,
+              stall_timeout: float | None = None) -> FleetRun:
     """
     Monitor a fleet: analyse its recordings and write DIR (module docstring).
 
@@ -181,6 +174,10 @@ def run_fleet(manifest: str | os.PathLike, model: str | os.PathLike, out: str | 
         Called with one line per finished recording and per stage.
     seed : int
         Of the wear test's bootstrap.
+    stall_timeout : float, optional
+        Seconds without a finished task (once one has finished) after which the pending
+        recordings are reported failed, with one :class:`StallWarning` line (default:
+        scaled with the task times, :func:`~friction_joint.fleet.cluster.stall_guard`).
 
     Returns
     -------
@@ -214,12 +211,16 @@ def run_fleet(manifest: str | os.PathLike, model: str | os.PathLike, out: str | 
                           CacheWarning, stacklevel=2)
         refused = []
         t0 = time.perf_counter()
-        keys, results, todo = [], [None] * len(entries), []
+        keys: list[str | None] = []
+        results: list[RecordingResult | None] = [None] * len(entries)
+        todo: list[int] = []
         for i, e in enumerate(entries):
             try:
+                if not os.path.lexists(e.path):     # a killed recorder's: how to recover
+                    raise missing_recording_error(e.path)
                 h = content_hash(e.path)
-            except InputFileError as exc:
-                results[i] = {'path': e.path, 'status': 'failed', 'reason': str(exc)}
+            except (InputFileError, RecordingError) as exc:
+                results[i] = RecordingResult(e.path, 'failed', str(exc))
                 keys.append(None)
                 continue
             key = hashlib.sha256(f'{h}:{model_hash}:{FIT_VERSION}'.encode()).hexdigest()
@@ -232,11 +233,11 @@ def run_fleet(manifest: str | os.PathLike, model: str | os.PathLike, out: str | 
                 refused.append((e, why))
                 todo.append(i)
             else:
-                results[i] = dict(old, path=e.path, cached=True)
+                results[i] = RecordingResult.from_dict(old, path=e.path, cached=True)
         if refused:
             _cache_warning(os.path.join(os.fspath(out), CACHE_NAME), refused)
         t_hash = time.perf_counter() - t0
-        n_cached = sum(1 for r in results if r and r.get('cached'))
+        n_cached = sum(1 for r in results if r and r.cached)
         _say(progress, f'{len(entries)} recordings: {n_cached} from the cache, {len(todo)} to '
                        'analyse')
         done = [0]
@@ -244,30 +245,36 @@ def run_fleet(manifest: str | os.PathLike, model: str | os.PathLike, out: str | 
         def on_result(k, res):
             done[0] += 1
             e = entries[todo[k]]
-            what = (f'{res.get("plateaus")} plateaus' if res.get('status') == 'ok'
-                    else f'failed: {res.get("reason")}')
+            res = RecordingResult.from_dict(res)
+            what = f'{res.plateaus} plateaus' if res.ok else f'failed: {res.reason}'
             _say(progress, f'[{done[0]}/{len(todo)}] {e.joint} {e.time.isoformat()} '
                            f'{e.recording}: {what}')
 
         t0 = time.perf_counter()
         nworkers = 0
         if todo:
-            run = map_recordings(analyse_recording, [entries[i].path for i in todo],
+            run = map_recordings(recording_task, [entries[i].path for i in todo],
                                  args=(gear_text,), kwargs={'gear_name': os.fspath(model)},
-                                 scheduler=scheduler, workers=workers, on_result=on_result)
+                                 scheduler=scheduler, workers=workers, on_result=on_result,
+                                 stall_timeout=stall_timeout)
             nworkers = run['workers']
-            for i, res in zip(todo, run['results']):
-                results[i] = dict(res, cached=False)
+            if run['stalled']:
+                warnings.warn(f'no task of the cluster finished for {run["stall_guard"]:g} s '
+                              f'(a worker stopped or hung?): {run["stalled"]} recording(s) '
+                              'reported failed', StallWarning, stacklevel=2)
+            for i, res in zip(todo, run['results'], strict=True):
+                results[i] = RecordingResult.from_dict(res)
             where = run['scheduler']
         else:
             where = 'none needed'
         t_tasks = time.perf_counter() - t0
         t0 = time.perf_counter()
-        assessment = assess_fleet(entries, results, gear, seed=seed)
+        filled = cast('list[RecordingResult]', results)      # every entry has its result now
+        assessment = assess_fleet(entries, filled, gear, seed=seed)
         new_cache = {}
-        for key, res in zip(keys, results):
-            if key and res.get('version') == FIT_VERSION:      # a dead worker is not cached
-                new_cache[key] = {k: v for k, v in res.items() if k != 'cached'}
+        for cache_key, res in zip(keys, results, strict=True):
+            if cache_key and res is not None and res.version == FIT_VERSION:   # not a dead
+                new_cache[cache_key] = res.to_dict()                          # worker's
         info = {'manifest': os.fspath(manifest), 'model': os.fspath(model),
                 'computed': len(todo), 'cached': n_cached, 'workers': nworkers,
                 'scheduler': where}
@@ -278,7 +285,6 @@ def run_fleet(manifest: str | os.PathLike, model: str | os.PathLike, out: str | 
         written = outputs.publish()
     timings = {'hash_s': t_hash, 'tasks_s': t_tasks, 'assess_and_report_s': t_assess,
                'total_s': time.perf_counter() - t_start}
-    flagged = sorted(j for j, d in assessment.joints.items() if d['wear'])
-    _say(progress, f'{len(assessment.joints)} joints, wearing: {", ".join(flagged) or "none"}; '
-                   f'wrote {out}')
+    _say(progress, f'done in {timings["total_s"]:.1f} s ({t_tasks:.1f} s analysing the '
+                   f'recordings, {t_assess:.1f} s assessing the joints and writing)')
     return FleetRun(assessment, written, len(todo), n_cached, nworkers, timings)

@@ -1,16 +1,5 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 
 """
 The ``identify`` command's work: load, compute, write (the paper's identification, Section V-A).
@@ -19,7 +8,8 @@ The ``identify`` command's work: load, compute, write (the paper's identificatio
 on the recordings in the structure of a gear file, draws the report figures
 (:mod:`friction_joint.identification.report`) and writes GEAR.yaml (a gear
 file whose header says what was fitted, with standard errors) together with
-its report directory, as one output set (:class:`~friction_joint.output.OutputSet`).
+its report directory, as one output set (:class:`~friction_joint.output.OutputSet`);
+it returns an :class:`~friction_joint.jobs.runs.IdentifyRun`.
 """
 from __future__ import annotations
 
@@ -31,6 +21,8 @@ import time
 
 import numpy as np
 
+from .diagnose import current_sources
+from .runs import IdentifyRun
 from ..gear import format_gear, parse_gear
 from ..identification import identify_recordings
 from ..identification.report import identification_figures
@@ -42,10 +34,10 @@ __all__ = ['run_identify']
 
 
 def _fmt_list(vals, ses):
-    return '[' + ', '.join(f'{v:.6g} +- {e:.2g}' for v, e in zip(vals, ses)) + ']'
+    return '[' + ', '.join(f'{v:.6g} +- {e:.2g}' for v, e in zip(vals, ses, strict=True)) + ']'
 
 
-def _header(run, paths, structure_path):
+def _header(run, paths, structure_path, currents=()):
     ident = run.identifier
     p = run.plateaus
     lines = [
@@ -68,6 +60,7 @@ def _header(run, paths, structure_path):
         lines.insert(3, f'  gaps in the joint-state stamps: {gaps["bridged"]} bridged (longest '
                         f'{1e3 * gaps["longest_bridged_s"]:.1f} ms, interpolated and left out '
                         f'of the fits), {gaps["split"]} split the recordings')
+    lines[2:2] = [f'  {c["recording"]}: {c["text"]}' for c in currents]
     for name, vals in ident.coefficients.items():
         lines.append(f'  {name}: {_fmt_list(vals, ident.standard_errors[name])}')
     for name, vals in ident.structure.fixed.items():
@@ -90,8 +83,8 @@ def _header(run, paths, structure_path):
     if slip:
         lines.append(f'stick-slip: {slip}')
     s3 = run.presliding
-    if s3['status'] == 'done':
-        for model, r in s3['models'].items():
+    if s3.status == 'done' and s3.models is not None:
+        for model, r in s3.models.items():
             if r.get('status') == 'rejected':
                 lines.append(f'step 3 ({model}) rejected: {r["reason"]}')
                 continue
@@ -105,10 +98,10 @@ def _header(run, paths, structure_path):
                 for k, v in r['params'].items() if k in r['stderr'])
                 + f'; RMS {r["report"]["objective_final"]:.4f} Nm')
     else:
-        lines.append(f'step 3 (pre-sliding) {s3["status"]}: {s3["reason"]}; pre-sliding '
+        lines.append(f'step 3 (pre-sliding) {s3.status}: {s3.reason}; pre-sliding '
                      'parameters kept from the structure')
-    if s3.get('why'):
-        lines += [f'step 3: why: {s3["why"]}', f'step 3: to fit it, {s3["advice"]}']
+    if s3.why:
+        lines += [f'step 3: why: {s3.why}', f'step 3: to fit it, {s3.advice}']
     return '\n'.join(lines)
 
 
@@ -133,7 +126,8 @@ def run_identify(paths: Sequence[str | os.PathLike], model_path: str | os.PathLi
                  presliding: str = 'auto', joint_name: str | None = None,
                  progress: Callable[[str], None] | None = None,
                  report_dir: str | os.PathLike | None = None, force: bool = False,
-                 relocate: Callable[[str], str] | None = None) -> list[str]:
+                 relocate: Callable[[str], str] | None = None,
+                 velocity_from_position: bool = False) -> IdentifyRun:
     """
     Run the identification and write GEAR.yaml and its report directory, one set of outputs.
 
@@ -155,11 +149,14 @@ def run_identify(paths: Sequence[str | os.PathLike], model_path: str | os.PathLi
     relocate : callable, optional
         Maps the absolute paths named in the header and report to the paths they will
         have (for a caller that builds everything in a staging directory, ``demo``).
+    velocity_from_position : bool
+        As for :func:`identify_recordings` (recorded in ``identification.json``).
 
     Returns
     -------
-    list of str
-        The paths written (report files, then the gear file).
+    IdentifyRun
+        The identification, the report (``identification.json``) and the paths
+        written (report files, then the gear file).
 
     """
     start = time.perf_counter()
@@ -173,8 +170,11 @@ def run_identify(paths: Sequence[str | os.PathLike], model_path: str | os.PathLi
         outputs.add_directory(report_dir, label='--report')
         outputs.add_file(out, label='--out')
         outputs.check()
-        run = identify_recordings(paths, model_path, orders=orders, joint_name=joint_name,
-                                  presliding=presliding, progress=progress)
+        currents = current_sources(paths)
+        run = identify_recordings(paths, os.fspath(model_path), orders=orders,
+                                  joint_name=joint_name,
+                                  presliding=presliding, progress=progress,
+                                  velocity_from_position=velocity_from_position)
         if relocate is not None:
             run.recordings = [dataclasses.replace(r, path=relocate(os.path.abspath(r.path)))
                               for r in run.recordings]
@@ -183,15 +183,19 @@ def run_identify(paths: Sequence[str | os.PathLike], model_path: str | os.PathLi
         rep['structure_file'] = os.path.abspath(model_path)
         rep['gear_file'] = where(os.path.abspath(out))
         rep['joint_name'] = run.gear.joint_name
+        rep['velocity_from_position'] = bool(velocity_from_position)
+        rep['torque_from_current'] = currents
         figures = identification_figures(run.identifier, run.recordings, run.presliding)
         rep['timings']['time_total_s'] = time.perf_counter() - start
         if relocate is not None:
             rep = _relocated(rep, relocate)
-        outputs.write_directory(report_dir, result_files(ExperimentResult(rep, figures),
-                                                         json_name='identification.json'))
-        header = _header(run, [where(os.path.abspath(x)) for x in paths], model_path)
+        report = ExperimentResult('identification', rep, figures=figures)
+        outputs.write_directory(report_dir,
+                                result_files(report, json_name='identification.json'))
+        header = _header(run, [where(os.path.abspath(x)) for x in paths], model_path,
+                         currents)
         outputs.write_file(out, _gear_bytes(run.gear, header))
         written = outputs.publish()
     if progress:
         progress(f'report: {report_dir} ({time.perf_counter() - t0:.1f} s)')
-    return written
+    return IdentifyRun(run, rep, written)

@@ -1,16 +1,5 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 
 """
 Friction models and the joint they act in (seed eq. 1, 5-7, 10-13).
@@ -24,7 +13,9 @@ Sign convention: docs/interfaces.md.
 * :mod:`~friction_joint.models.friction`: a model by name (``static``,
   ``lugre``, ``gms``, ``none``);
 * :mod:`~friction_joint.models.joint`: the joint ``J q̈ = τ − τ_r − τ_ext``
-  integrated together with its friction state.
+  integrated together with its friction state;
+* :mod:`~friction_joint.models.params`: their parameters (``FrictionParams``, ...),
+  which :mod:`friction_joint.gear` reads from gear files and re-exports.
 
 Argument order of every evaluating or simulating call: the signals first,
 positionally, in the order input (velocity ``qd`` or drive torque ``tau``),
@@ -42,11 +33,17 @@ The static curve's load ``tau_l`` defaults to an unloaded gear.  The joint
 takes only its input ``tau`` before ``dt``: its temperature and external
 torque are keyword arguments (defaults 25 degC and 0 Nm in :meth:`Joint.simulate`).
 """
-from .friction import FRICTION_KINDS, friction_model
-from .gms import GMS
-from .joint import Joint, JointTrajectory
-from .lugre import LuGre
-from .static import PARAMETERS, StaticFriction
+from .._lazy import lazy_exports
+
+#: where each public name lives: the package imports a module on first use only (PEP 562),
+#: so the parameter classes (:mod:`.params`, which the gear files' layer imports) load
+#: without the models and numba
+_HOMES = {'StaticFriction': '.static', 'PARAMETERS': '.static', 'LuGre': '.lugre',
+          'GMS': '.gms', 'Joint': '.joint', 'JointTrajectory': '.joint',
+          'friction_model': '.friction', 'FRICTION_KINDS': '.friction'}
 
 __all__ = ['StaticFriction', 'LuGre', 'GMS', 'Joint', 'JointTrajectory', 'friction_model',
            'FRICTION_KINDS', 'PARAMETERS']
+
+
+__getattr__, __dir__ = lazy_exports(__name__, _HOMES)

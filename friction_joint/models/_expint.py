@@ -1,16 +1,5 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 
 """
 Exact steps of small affine ODE systems, the core of the joint integrator.
@@ -27,7 +16,7 @@ __all__ = ['affine2_step', 'implicit_euler_v']
 
 
 @njit
-def _phi_real(z):
+def _phi_real(z: float) -> tuple[float, float]:
     """phi1(z) = (e^z - 1)/z and phi2(z) = (e^z - 1 - z)/z^2 for real z."""
     if abs(z) < 1e-2:
         return (1.0 + z * (0.5 + z * (1.0 / 6.0 + z * (1.0 / 24.0 + z / 120.0))),
@@ -37,7 +26,7 @@ def _phi_real(z):
 
 
 @njit
-def _phi_cplx(x, y):
+def _phi_cplx(x: float, y: float) -> tuple[float, float, float, float]:
     """Real and imaginary parts of phi1, phi2 at z = x + iy (|z| >= 1e-2)."""
     ex = math.exp(x)
     er = ex * math.cos(y) - 1.0
@@ -56,7 +45,8 @@ def _phi_cplx(x, y):
 
 
 @njit
-def affine2_step(a, b, x, h):
+def affine2_step(a: tuple[float, float, float, float], b: tuple[float, float],
+                 x: tuple[float, float], h: float) -> tuple[float, float, float, float]:
     """
     Exact solution of x' = A x + b (2x2, constant) over h.
 
@@ -140,7 +130,8 @@ def affine2_step(a, b, x, h):
 
 
 @njit
-def implicit_euler_v(a, b, x, h):
+def implicit_euler_v(a: tuple[float, float, float, float], b: tuple[float, float],
+                     x: tuple[float, float], h: float) -> float:
     """x2 after one implicit Euler step of x' = A x + b (cheap, L-stable predictor)."""
     a11, a12, a21, a22 = a
     b1, b2 = b

@@ -1,24 +1,18 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 
 """Shared driver of the batched, sampled-velocity friction models (LuGre, GMS)."""
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import numpy as np
-from numpy.typing import ArrayLike
+from numpy.typing import ArrayLike, NDArray
 
 from .static import broadcast_batch, pack_static
+
+if TYPE_CHECKING:
+    from .params import FrictionParams
 
 __all__ = ['SampledFrictionModel']
 
@@ -32,27 +26,33 @@ class SampledFrictionModel:
     added here.
     """
 
-    def _init_batch(self, frictions):
+    def _init_batch(self, frictions: FrictionParams | list[FrictionParams]
+                    | tuple[FrictionParams, ...]) -> list[FrictionParams]:
         self.single = not isinstance(frictions, (list, tuple))
-        flist = [frictions] if self.single else list(frictions)
+        flist = list(frictions) if isinstance(frictions, (list, tuple)) else [frictions]
         self.packed = pack_static(flist)
         self._buf = np.zeros((4, 1, 1))
         self._offset = float(self.packed.offset[0])
         return flist
 
     @property
-    def batch(self):
+    def batch(self) -> int:
         return self.packed.batch
 
-    def _simulate(self, qd, xi, tau_l, dt):
-        qd, xi, tl = broadcast_batch(self.batch, qd, xi, tau_l)
-        tau = np.empty_like(qd)
-        self._run(qd, xi, np.abs(tl), float(dt), tau)
+    def _run(self, qd: NDArray[np.float64], xi: NDArray[np.float64], tl: NDArray[np.float64],
+             dt: float, out: NDArray[np.float64]) -> None:
+        raise NotImplementedError          # the subclass's kernel
+
+    def _simulate(self, qd: ArrayLike, xi: ArrayLike, tau_l: ArrayLike,
+                  dt: float) -> NDArray[np.float64]:
+        qd2, xi2, tl = broadcast_batch(self.batch, qd, xi, tau_l)
+        tau = np.empty_like(qd2)
+        self._run(qd2, xi2, np.abs(tl), float(dt), tau)
         tau += self.packed.offset[:, None]
         return tau[0] if self.single else tau
 
     def step(self, qd: ArrayLike, xi: ArrayLike, tau_l: ArrayLike,
-             dt: float) -> float | np.ndarray:
+             dt: float) -> float | NDArray[np.float64]:
         """
         Advance one sample.
 
@@ -71,10 +71,10 @@ class SampledFrictionModel:
         """
         if not self.single:
             col = [np.reshape(a, (-1, 1)) if np.ndim(a) else a for a in (qd, xi, tau_l)]
-            return self._simulate(*col, dt)[:, 0]
+            return self._simulate(col[0], col[1], col[2], dt)[:, 0]
         buf = self._buf
         buf[0, 0, 0] = qd
         buf[1, 0, 0] = xi
-        buf[2, 0, 0] = abs(tau_l)
+        buf[2, 0, 0] = np.abs(tau_l)
         self._run(buf[0], buf[1], buf[2], float(dt), buf[3])
         return float(buf[3, 0, 0]) + self._offset

@@ -1,16 +1,5 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 
 """
 One friction model instance for a sampled-data loop: ``step(qd, xi, tau_l, dt, *, q) -> tau_r``.
@@ -24,7 +13,7 @@ included, as in the simulated joint.
 from __future__ import annotations
 
 import math
-from typing import TYPE_CHECKING
+from typing import Callable, Protocol, TYPE_CHECKING
 
 from .gms import GMS
 from .lugre import LuGre
@@ -32,52 +21,66 @@ from .static import StaticFriction
 from ..exceptions import GearConfigError
 
 if TYPE_CHECKING:
-    from ..gear import GearParams
+    import numpy as np
+    from numpy.typing import NDArray
+
+    from .params import FrictionParams, GearLike, RippleParams
 
 __all__ = ['FRICTION_KINDS', 'friction_model']
 
 FRICTION_KINDS = ('lugre', 'gms', 'static', 'none')
 
 
+class _Model(Protocol):
+    """A single-gear model that steps (LuGre, GMS, the static curve)."""
+
+    def reset(self) -> None:
+        """Relax the state."""
+
+    def step(self, qd: float, xi: float, tau_l: float,
+             dt: float) -> float | NDArray[np.float64]:
+        """Advance one sample; return the friction torque."""
+
+
 class _Static:
-    def __init__(self, friction):
+    def __init__(self, friction: FrictionParams) -> None:
         self.model = StaticFriction(friction)
 
-    def reset(self):
+    def reset(self) -> None:
         pass
 
-    def step(self, qd, xi, tau_l, dt):
+    def step(self, qd: float, xi: float, tau_l: float, dt: float) -> float:
         return float(self.model.torque(qd, xi, tau_l)[0])
 
 
 class _WithRipple:
     """Adds the position ripple sum_n A_n sin(n c q + phi_n) to a model's torque."""
 
-    def __init__(self, model, ripple):
+    def __init__(self, model: _Model, ripple: RippleParams | _NoRipple) -> None:
         self.model = model
         self.terms = [(n + 1) * ripple.cycles_per_rev for n in range(len(ripple.amplitude))]
         self.amp = ripple.amplitude
         self.phase = ripple.phase
 
-    def reset(self):
+    def reset(self) -> None:
         self.model.reset()
 
-    def step(self, qd, xi, tau_l, dt, *, q=0.0):
-        tau = self.model.step(qd, xi, tau_l, dt)
-        for w, a, p in zip(self.terms, self.amp, self.phase):
+    def step(self, qd: float, xi: float, tau_l: float, dt: float, *, q: float = 0.0) -> float:
+        tau = float(self.model.step(qd, xi, tau_l, dt))     # a float: one gear
+        for w, a, p in zip(self.terms, self.amp, self.phase, strict=True):
             tau += a * math.sin(w * q + p)
         return tau
 
 
 class _NoFriction:
-    def reset(self):
+    def reset(self) -> None:
         pass
 
-    def step(self, qd, xi, tau_l, dt, *, q=0.0):
+    def step(self, qd: float, xi: float, tau_l: float, dt: float, *, q: float = 0.0) -> float:
         return 0.0
 
 
-def friction_model(gear: GearParams, kind: str) -> _WithRipple | _NoFriction:
+def friction_model(gear: GearLike, kind: str) -> _WithRipple | _NoFriction:
     """
     Build a stateful single-gear friction model.
 
@@ -98,14 +101,16 @@ def friction_model(gear: GearParams, kind: str) -> _WithRipple | _NoFriction:
                               f'got {kind!r}')
     if kind == 'none':
         return _NoFriction()
-    model = {'lugre': LuGre, 'gms': GMS, 'static': _Static}[kind](gear.friction)
+    models: dict[str, Callable[[FrictionParams], _Model]] = {'lugre': LuGre, 'gms': GMS,
+                                                             'static': _Static}
+    model = models[kind](gear.friction)
     return _WithRipple(model, gear.friction.position_ripple or _NO_RIPPLE)
 
 
 class _NoRipple:
     cycles_per_rev = 0.0
-    amplitude = ()
-    phase = ()
+    amplitude: tuple[float, ...] = ()
+    phase: tuple[float, ...] = ()
 
 
 _NO_RIPPLE = _NoRipple()

@@ -1,16 +1,5 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 
 """
 Modified Generalized Maxwell-Slip (GMS) friction model (seed eq. 11-13).
@@ -57,7 +46,7 @@ import math
 from typing import TYPE_CHECKING
 
 import numpy as np
-from numpy.typing import ArrayLike
+from numpy.typing import ArrayLike, NDArray
 
 from ._sampled import SampledFrictionModel
 from .lugre import G_MIN
@@ -66,15 +55,25 @@ from .._jit import njit
 from ..exceptions import GearConfigError
 
 if TYPE_CHECKING:
-    from collections.abc import Sequence
+    from typing import TypeAlias
 
-    from ..gear import FrictionParams
+    from .params import FrictionParams, GMSParams
+
+    #: a float array
+    _A: TypeAlias = NDArray[np.float64]
+    #: the element states ``(z, stick, slipdir)``: deflections (rad), 1/0, +1/-1
+    _State: TypeAlias = tuple[NDArray[np.float64], NDArray[np.int8], NDArray[np.float64]]
+    #: the elements ``(k, alpha, c)``: stiffnesses, torque shares, attraction parameter
+    _Elements: TypeAlias = tuple[NDArray[np.float64], NDArray[np.float64], float]
+    #: ``(F_c, F_s, v_s, delta_s, kappa)``
+    _Curve: TypeAlias = tuple[float, float, float, float, float]
 
 __all__ = ['GMS', 'gms_update', 'gms_update_ramp', 'pack_gms']
 
 
 @njit(inline='always')
-def _element(f, stuck, slipdir, ki, share, v, h, ga, lam):
+def _element(f: float, stuck: int, slipdir: float, ki: float, share: float, v: float, h: float,
+             ga: float, lam: float) -> tuple[float, int, float]:
     """
     One element over a step of constant velocity v: returns (torque, stick, slip direction).
 
@@ -100,7 +99,8 @@ def _element(f, stuck, slipdir, ki, share, v, h, ga, lam):
 
 
 @njit(inline='always')
-def gms_update(state, elements, v, h, gabs, commit=True):
+def gms_update(state: _State, elements: _Elements, v: float, h: float, gabs: float,
+               commit: bool = True) -> float:
     """
     Advance the N element states in place over a step of constant velocity v.
 
@@ -125,7 +125,8 @@ def gms_update(state, elements, v, h, gabs, commit=True):
 
 
 @njit(inline='always')
-def _onset(f, ki, share, sv, v0, v1, dn, h, curve, p0, p1):
+def _onset(f: float, ki: float, share: float, sv: float, v0: float, v1: float, dn: float,
+           h: float, curve: _Curve, p0: float, p1: float) -> tuple[float, float]:
     """
     Slip onset of a sticking element over a step with velocity ramping v0 -> v1.
 
@@ -149,7 +150,8 @@ def _onset(f, ki, share, sv, v0, v1, dn, h, curve, p0, p1):
 
 
 @njit(inline='always')
-def gms_update_ramp(state, elements, ramp, h, curve, commit=True):
+def gms_update_ramp(state: _State, elements: _Elements, ramp: tuple[float, float, float],
+                    h: float, curve: _Curve, commit: bool = True) -> tuple[float, float]:
     """
     :func:`gms_update` over a step whose velocity ramps linearly.
 
@@ -221,8 +223,9 @@ def gms_update_ramp(state, elements, ramp, h, curve, commit=True):
 
 
 @njit
-def _gms_run(temp, load, delta_s, kappa, t_lo, t_hi, k, alpha, c,
-             qd, xi, tl, h, z, stick, slipdir, tau):
+def _gms_run(temp: _A, load: _A, delta_s: _A, kappa: _A, t_lo: _A, t_hi: _A, k: _A, alpha: _A,
+             c: _A, qd: _A, xi: _A, tl: _A, h: float, z: _A, stick: NDArray[np.int8],
+             slipdir: _A, tau: _A) -> None:
     nb, nt = qd.shape
     for b in range(nb):
         for t in range(nt):
@@ -233,18 +236,20 @@ def _gms_run(temp, load, delta_s, kappa, t_lo, t_hi, k, alpha, c,
             tau[b, t] = tot + s_visc(fv, dv, kappa[b], v)
 
 
-def pack_gms(flist):
+def pack_gms(flist: list[FrictionParams]) -> tuple[_A, _A, _A]:
     """Element arrays (B, N) padded with inert elements (alpha = 0) and C (B,)."""
+    gms: list[GMSParams] = []
     for f in flist:
         if f.gms is None:
             raise GearConfigError('GMS model needs friction.gms (k, alpha, c)')
-    n = max(len(f.gms.k) for f in flist)
+        gms.append(f.gms)
+    n = max(len(g.k) for g in gms)
     k = np.ones((len(flist), n))
     alpha = np.zeros((len(flist), n))
-    for b, f in enumerate(flist):
-        k[b, :len(f.gms.k)] = f.gms.k
-        alpha[b, :len(f.gms.alpha)] = f.gms.alpha
-    return k, alpha, np.array([f.gms.c for f in flist], dtype=float)
+    for b, g in enumerate(gms):
+        k[b, :len(g.k)] = g.k
+        alpha[b, :len(g.alpha)] = g.alpha
+    return k, alpha, np.array([g.c for g in gms], dtype=float)
 
 
 class GMS(SampledFrictionModel):
@@ -253,18 +258,19 @@ class GMS(SampledFrictionModel):
 
     Parameters
     ----------
-    frictions : FrictionParams or sequence of FrictionParams
+    frictions : FrictionParams or list or tuple of FrictionParams
         Each must have a ``gms`` section (k, alpha, c).
 
     """
 
-    def __init__(self, frictions: FrictionParams | Sequence[FrictionParams]) -> None:
+    def __init__(self, frictions: FrictionParams | list[FrictionParams]
+                 | tuple[FrictionParams, ...]) -> None:
         flist = self._init_batch(frictions)
         self.k, self.alpha, self.c = pack_gms(flist)
         self.reset()
 
     @property
-    def state(self):
+    def state(self) -> NDArray[np.float64]:
         """Element deflections z (B, N) in rad."""
         return self.z.copy()
 
@@ -278,16 +284,16 @@ class GMS(SampledFrictionModel):
             Element deflections (rad); default relaxed.
 
         """
-        self.z = np.zeros_like(self.k) + np.asarray(z, dtype=float)
+        self.z: NDArray[np.float64] = np.zeros_like(self.k) + np.asarray(z, dtype=float)
         self.stick = np.ones(self.k.shape, dtype=np.int8)
         self.slipdir = np.zeros(self.k.shape, dtype=np.float64)
 
-    def _run(self, qd, xi, tl, dt, out):
+    def _run(self, qd: _A, xi: _A, tl: _A, dt: float, out: _A) -> None:
         _gms_run(*self.packed.args(), self.k, self.alpha, self.c, qd, xi, tl, dt,
                  self.z, self.stick, self.slipdir, out)
 
     def simulate(self, qd: ArrayLike, xi: ArrayLike, tau_l: ArrayLike, dt: float, *,
-                 reset: bool = False) -> np.ndarray:
+                 reset: bool = False) -> NDArray[np.float64]:
         """
         Return the friction torque for a sampled velocity sequence.
 

@@ -1,16 +1,5 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 
 """
 Rigid single joint with friction: J qdd = tau - tau_r - tau_ext (docs/interfaces.md).
@@ -92,223 +81,32 @@ velocity would cross zero inside a step and the net torque is below F_s.
 from __future__ import annotations
 
 import math
-from typing import TYPE_CHECKING
+from typing import Any, Callable, TYPE_CHECKING
 
 import numpy as np
-from numpy.typing import ArrayLike
+from numpy.typing import ArrayLike, NDArray
 
-from ._expint import affine2_step, implicit_euler_v
-from .gms import gms_update_ramp, pack_gms
-from .lugre import G_MIN, lugre_torque
-from .static import broadcast_batch, curve_params, g_abs, pack_static, s_visc, sign
+from ._coupled import _gms_joint_step, _lugre_joint_step, _static_joint_step
+from .gms import pack_gms
+from .static import broadcast_batch, curve_params, pack_static
 from .._jit import njit
 from ..exceptions import GearConfigError
 
 if TYPE_CHECKING:
-    from collections.abc import Sequence
+    from typing import TypeAlias
 
-    from ..gear import GearParams
+    from .params import FrictionParams, GearLike, LuGreParams
+
+    #: a float array: the kernels' batch arrays (B,), (B, N), (B, T) and their rows
+    _A: TypeAlias = NDArray[np.float64]
 
 __all__ = ['Joint', 'JointTrajectory']
 
 
-@njit
-def _chord(fv, dv, kap, v0, v1, s0):
-    """Slope and offset of the viscous term's chord between v0 and v1."""
-    if v1 == v0:
-        return 0.0, s0
-    c = (s_visc(fv, dv, kap, v1) - s0) / (v1 - v0)
-    return max(c, 0.0), s0 - max(c, 0.0) * v0
-
-
-@njit
-def _implicit_visc(m, r, c, dv, vguess):
-    """
-    Root of m v + c sign(v)|v|^dv = r (m > 0, c >= 0); unique, sign(v) = sign(r).
-
-    Newton on the convex increasing function of w = |v|^dv (dv < 1) or
-    u = |v| (dv >= 1): after its first step it approaches the root from
-    above, so it converges from any start.  Warm start at |vguess|.
-    """
-    if r == 0.0:
-        return 0.0
-    ar = abs(r)
-    if c == 0.0:
-        return r / m
-    same = vguess != 0.0 and (vguess > 0.0) == (r > 0.0)
-    if dv < 1.0:
-        p = 1.0 / dv
-        w = abs(vguess) ** dv if same else min(ar / c, (ar / m) ** dv)
-        for _ in range(50):
-            wp1 = w ** (p - 1.0)
-            dw = (m * wp1 * w + c * w - ar) / (m * p * wp1 + c)
-            w -= dw
-            if abs(dw) <= 1e-13 * w:
-                break
-        u = w ** p
-    else:
-        u = abs(vguess) if same else ar / m
-        for _ in range(50):
-            up1 = u ** (dv - 1.0)
-            du = (m * u + c * up1 * u - ar) / (m + c * dv * up1)
-            u -= du
-            if abs(du) <= 1e-13 * u:
-                break
-    return u if r > 0.0 else -u
-
-
-@njit
-def _lugre_joint_step(q, v, z, f, jj, sg0, sg1, fc, fs, fv, vs, dv, ds, kap, h):
-    """One coupled step of joint + LuGre; returns (q, v, z, tau_r) at the step's end."""
-    s0 = s_visc(fv, dv, kap, v)
-    # predictor: implicit Euler, LuGre rate at v; s(vn) implicit where its slope
-    # is stiff (h s'(v) > J/2, always near qd = 0), else held at s(v)
-    g0 = max(g_abs(fc, fs, vs, ds, kap, v), G_MIN)
-    a = sg0 * abs(v) / g0
-    if v == 0.0 or h * dv * s0 / v > 0.5 * jj:
-        dd = 1.0 + h * a
-        vn = _implicit_visc(jj + h * (sg1 + h * sg0) / dd,
-                            jj * v + h * (f - (sg0 - sg1 * a) * z / dd),
-                            h * fv * kap ** dv, dv, v)
-    else:
-        vn = implicit_euler_v((-a, 1.0, -(sg0 - sg1 * a) / jj, -sg1 / jj),
-                              (0.0, (f - s0) / jj), (z, v), h)
-    c, sc = _chord(fv, dv, kap, v, vn, s0)
-    if v * vn > 0.0:
-        # corrector (no reversal in the step): exponential Rosenbrock-Euler, the
-        # system linearised at the step's start with its exact Jacobian, d(a z)/dv
-        # included; s by its chord.  Second order also where the bristle
-        # relaxation is stiff (a h >> 1): the end state then sits on the
-        # linearised quasi-equilibrium, which is exact to O(h^2)
-        a = sg0 * abs(v) / g0
-        x = abs(kap * v / vs)
-        u = x * x if ds == 2.0 else x ** ds
-        da = sg0 * (g0 + (fs - fc) * math.exp(-u) * ds * u) / (g0 * g0)
-        if v < 0.0:
-            da = -da
-        d1 = 1.0 - da * z
-        zn, vn, _, dq = affine2_step((-a, d1, -(sg0 - sg1 * a) / jj, -(sg1 * d1 + c) / jj),
-                                     (v * da * z, (f - sg1 * v * da * z - sc) / jj), (z, v), h)
-    else:
-        # a reversal (or rest) inside the step: rate frozen at the mid-step velocity
-        vm = 0.5 * (v + vn)
-        a = sg0 * abs(vm) / max(g_abs(fc, fs, vs, ds, kap, vm), G_MIN)
-        zn, vn, _, dq = affine2_step((-a, 1.0, -(sg0 - sg1 * a) / jj, -(sg1 + c) / jj),
-                                     (0.0, (f - sc) / jj), (z, v), h)
-    tau_r = lugre_torque(zn, vn, sg0, sg1, g_abs(fc, fs, vs, ds, kap, vn),
-                         s_visc(fv, dv, kap, vn))
-    return q + dq, vn, zn, tau_r
-
-
-@njit
-def _gms_joint_step(q, v, z, stick, slipdir, k, alpha, cc, f, jj,
-                    fc, fs, fv, vs, dv, ds, kap, h):
-    """
-    One coupled step of joint + GMS (element arrays updated in place).
-
-    A velocity reversal or an element's slip onset predicted inside the step
-    splits it there, so the elements stick again at the reversal and not a
-    step late (which would leave an O(h) error in every element's
-    deflection), and the element torques are smooth inside each substep (a
-    kink inside leaves an O(h^2) velocity error, large with stiff elements).
-    At most three splits per step.  Returns (q, qd, tau_r) at the step's end.
-    """
-    tau_r = 0.0
-    for n in range(4):
-        q, v, tau_r, h = _gms_substep(q, v, z, stick, slipdir, k, alpha, cc, f, jj,
-                                      fc, fs, fv, vs, dv, ds, kap, h, n < 3)
-        if h <= 0.0:
-            break
-    return q, v, tau_r
-
-
 @njit(inline='always')
-def _gms_sticking(z, stick, slipdir, k, sv):
-    """Stiffness of the elements that stick for velocity sign sv, and the total torque."""
-    kst = 0.0
-    ftot = 0.0
-    for i in range(z.shape[0]):
-        ftot += k[i] * z[i]
-        if stick[i] == 1 or sv != slipdir[i]:
-            kst += k[i]
-    return kst, ftot
-
-
-@njit
-def _gms_substep(q, v, z, stick, slipdir, k, alpha, cc, f, jj,
-                 fc, fs, fv, vs, dv, ds, kap, h, split):
-    """
-    Joint + GMS over h; returns (q, qd, tau_r, rest).
-
-    With ``split``, a velocity reversal or an element's slip onset predicted
-    inside the step ends the substep there and ``rest`` is the time left of
-    the step (0 otherwise).
-
-    The sticking elements are springs inside the exactly solved 2x2 system;
-    the torque of the others (slipping, or changing state in the step) is a
-    load whose change over the step is taken linear in time: a first pass with
-    it held at its start value predicts its end value, the second pass uses
-    the mean of both (trapezoidal, second order).
-    """
-    kst, ftot = _gms_sticking(z, stick, slipdir, k, sign(v))
-    s0 = s_visc(fv, dv, kap, v)
-    a = (0.0, 1.0, -kst / jj, 0.0)
-    vn = implicit_euler_v(a, (0.0, (f - ftot - s0) / jj), (0.0, v), h)
-    full = h
-    if split and vn * v < 0.0:
-        h1 = h * v / (v - vn)
-        if 1e-3 * h < h1 < (1.0 - 1e-3) * h:
-            h = h1
-            vn = implicit_euler_v(a, (0.0, (f - ftot - s0) / jj), (0.0, v), h)
-    curve = (fc, fs, vs, ds, kap)
-    elements = (k, alpha, cc)
-    for n in range(2):
-        c, sc = _chord(fv, dv, kap, v, vn, s0)
-        dn, vn, _, _ = affine2_step((0.0, 1.0, -kst / jj, -c / jj),
-                                    (0.0, (f - ftot - sc) / jj), (0.0, v), h)
-        # what the elements' torque does beyond the sticking springs, predicted
-        pred, onset = gms_update_ramp((z, stick, slipdir), elements, (v, vn, dn), h, curve,
-                                      False)
-        if n == 1 or not (split and 1e-3 * h < onset < (1.0 - 1e-3) * h):
-            break
-        h = onset                        # a slip onset inside: end the substep there
-        vn = implicit_euler_v(a, (0.0, (f - ftot - s0) / jj), (0.0, v), h)
-    extra = pred - ftot - kst * dn
-    c, sc = _chord(fv, dv, kap, v, vn, s0)
-    dn, vn, _, _ = affine2_step((0.0, 1.0, -kst / jj, -c / jj),
-                                (0.0, (f - ftot - 0.5 * extra - sc) / jj), (0.0, v), h)
-    tot, _ = gms_update_ramp((z, stick, slipdir), elements, (v, vn, dn), h, curve)
-    return q + dn, vn, tot + s_visc(fv, dv, kap, vn), full - h
-
-
-@njit
-def _static_joint_step(q, v, f, jj, fc, fs, fv, vs, dv, ds, kap, h):
-    """
-    One step of joint + static friction with a Karnopp stick zone.
-
-    When the velocity would reach zero inside the step the joint sticks if the
-    net torque is within the break-away torque F_s, and otherwise moves on in
-    the direction of the net torque for the rest of the step.
-    """
-    if v == 0.0:
-        if abs(f) <= fs:
-            return q, 0.0, f
-        vn = h * (f - sign(f) * fs) / jj
-        return q + 0.5 * h * vn, vn, sign(f) * fs
-    fr = sign(v) * g_abs(fc, fs, vs, ds, kap, v) + s_visc(fv, dv, kap, v)
-    vn = v + h * (f - fr) / jj
-    if sign(vn) != sign(v):
-        t0 = h * v / (v - vn)
-        if abs(f) <= fs:
-            return q + 0.5 * t0 * v, 0.0, f - jj * (0.0 - v) / h
-        vn = (h - t0) * (f - sign(f) * fs) / jj
-        return q + 0.5 * t0 * v + 0.5 * (h - t0) * vn, vn, f - jj * (vn - v) / h
-    return q + 0.5 * h * (v + vn), vn, fr
-
-
-@njit(inline='always')
-def _inputs(temp, load, t_lo, t_hi, kext, mgl, qoff, rip_a, rip_p, rip_c, rip_o, b, q, te_in,
-            xi):
+def _inputs(temp: _A, load: _A, t_lo: _A, t_hi: _A, kext: _A, mgl: _A, qoff: _A, rip_a: _A,
+            rip_p: _A, rip_c: _A, rip_o: _A, b: int, q: float, te_in: float,
+            xi: float) -> tuple[float, float, float, float, float, float, float]:
     """
     External torque, ripple torque and curve parameters for set b at position q.
 
@@ -325,8 +123,10 @@ def _inputs(temp, load, t_lo, t_hi, kext, mgl, qoff, rip_a, rip_p, rip_c, rip_o,
 
 
 @njit
-def _run_lugre(temp, load, delta_s, kappa, t_lo, t_hi, rip_a, rip_p, rip_c, rip_o, sg0, sg1, jj,
-               mgl, qoff, kext, tau, tau_ext_in, xi, h, q, v, z, out_q, out_v, out_tr, out_te):
+def _run_lugre(temp: _A, load: _A, delta_s: _A, kappa: _A, t_lo: _A, t_hi: _A, rip_a: _A,
+               rip_p: _A, rip_c: _A, rip_o: _A, sg0: _A, sg1: _A, jj: _A, mgl: _A, qoff: _A,
+               kext: _A, tau: _A, tau_ext_in: _A, xi: _A, h: float, q: _A, v: _A, z: _A,
+               out_q: _A, out_v: _A, out_tr: _A, out_te: _A) -> None:
     nb, nt = tau.shape
     for b in range(nb):
         for k in range(nt):
@@ -343,9 +143,11 @@ def _run_lugre(temp, load, delta_s, kappa, t_lo, t_hi, rip_a, rip_p, rip_c, rip_
 
 
 @njit
-def _run_gms(temp, load, delta_s, kappa, t_lo, t_hi, rip_a, rip_p, rip_c, rip_o, k_el, alpha, cc,
-             jj, mgl, qoff, kext, tau, tau_ext_in, xi, h, q, v, z, stick, slipdir,
-             out_q, out_v, out_tr, out_te):
+def _run_gms(temp: _A, load: _A, delta_s: _A, kappa: _A, t_lo: _A, t_hi: _A, rip_a: _A,
+             rip_p: _A, rip_c: _A, rip_o: _A, k_el: _A, alpha: _A, cc: _A, jj: _A, mgl: _A,
+             qoff: _A, kext: _A, tau: _A, tau_ext_in: _A, xi: _A, h: float, q: _A, v: _A,
+             z: _A, stick: NDArray[np.int8], slipdir: _A, out_q: _A, out_v: _A, out_tr: _A,
+             out_te: _A) -> None:
     nb, nt = tau.shape
     for b in range(nb):
         for k in range(nt):
@@ -362,8 +164,10 @@ def _run_gms(temp, load, delta_s, kappa, t_lo, t_hi, rip_a, rip_p, rip_c, rip_o,
 
 
 @njit
-def _run_static(temp, load, delta_s, kappa, t_lo, t_hi, rip_a, rip_p, rip_c, rip_o, jj, mgl, qoff,
-                kext, tau, tau_ext_in, xi, h, q, v, out_q, out_v, out_tr, out_te):
+def _run_static(temp: _A, load: _A, delta_s: _A, kappa: _A, t_lo: _A, t_hi: _A, rip_a: _A,
+                rip_p: _A, rip_c: _A, rip_o: _A, jj: _A, mgl: _A, qoff: _A, kext: _A, tau: _A,
+                tau_ext_in: _A, xi: _A, h: float, q: _A, v: _A, out_q: _A, out_v: _A,
+                out_tr: _A, out_te: _A) -> None:
     nb, nt = tau.shape
     for b in range(nb):
         for k in range(nt):
@@ -378,7 +182,7 @@ def _run_static(temp, load, delta_s, kappa, t_lo, t_hi, rip_a, rip_p, rip_c, rip
             out_te[b, k] = te
 
 
-def pack_ripple(flist):
+def pack_ripple(flist: list[FrictionParams]) -> tuple[_A, _A, _A, _A]:
     """Ripple amplitudes/phases (B, n), fundamentals (B,) and offsets (B,) (zeros where absent)."""
     n = max([len(f.position_ripple.amplitude) for f in flist if f.position_ripple] + [1])
     amp = np.zeros((len(flist), n))
@@ -412,8 +216,8 @@ class JointTrajectory:
 
     """
 
-    def __init__(self, t: np.ndarray, q: np.ndarray, qd: np.ndarray, tau_r: np.ndarray,
-                 tau_ext: np.ndarray) -> None:
+    def __init__(self, t: NDArray[np.float64], q: NDArray[np.float64], qd: NDArray[np.float64],
+                 tau_r: NDArray[np.float64], tau_ext: NDArray[np.float64]) -> None:
         self.t, self.q, self.qd, self.tau_r, self.tau_ext = t, q, qd, tau_r, tau_ext
 
 
@@ -423,7 +227,7 @@ class Joint:
 
     Parameters
     ----------
-    gears : GearParams or sequence of GearParams
+    gears : GearParams or list or tuple of GearParams
         Inertia and friction parameters.
     model : {'static', 'lugre', 'gms'}, optional
         Friction model; default each gear's ``friction.model`` (must agree
@@ -439,11 +243,12 @@ class Joint:
 
     """
 
-    def __init__(self, gears: GearParams | Sequence[GearParams], *, model: str | None = None,
+    def __init__(self, gears: GearLike | list[GearLike] | tuple[GearLike, ...], *,
+                 model: str | None = None,
                  mgl: ArrayLike = 0.0, k_ext: ArrayLike = 0.0, inertia: ArrayLike | None = None,
                  lever_offset: ArrayLike = 0.0) -> None:
         self.single = not isinstance(gears, (list, tuple))
-        glist = [gears] if self.single else list(gears)
+        glist = list(gears) if isinstance(gears, (list, tuple)) else [gears]
         models = {model or g.friction.model for g in glist}
         if len(models) != 1:
             raise GearConfigError(f'a batch must use one friction model, got {sorted(models)}')
@@ -459,16 +264,17 @@ class Joint:
         self.lever_offset = np.broadcast_to(np.asarray(lever_offset, float), (n,)).copy()
         self.k_ext = np.broadcast_to(np.asarray(k_ext, float), (n,)).copy()
         if self.model == 'lugre':
-            if any(f.lugre is None for f in flist):
+            lugres: list[LuGreParams] = [f.lugre for f in flist if f.lugre is not None]
+            if len(lugres) != len(flist):
                 raise GearConfigError('model lugre needs friction.lugre in every gear')
-            self.sigma0 = np.array([f.lugre.sigma0 for f in flist])
-            self.sigma1 = np.array([f.lugre.sigma1 for f in flist])
+            self.sigma0 = np.array([p.sigma0 for p in lugres])
+            self.sigma1 = np.array([p.sigma1 for p in lugres])
         elif self.model == 'gms':
             self.k_el, self.alpha, self.c = pack_gms(flist)
         self.reset()
 
     @property
-    def batch(self):
+    def batch(self) -> int:
         return self.packed.batch
 
     def reset(self, *, q: ArrayLike = 0.0, qd: ArrayLike = 0.0) -> None:
@@ -483,7 +289,7 @@ class Joint:
             Velocity (rad/s).
 
         """
-        self._step_args = None
+        self._step_args: tuple[Any, ...] | None = None
         n = self.batch
         self.q = np.broadcast_to(np.asarray(q, float), (n,)).copy()
         self.qd = np.broadcast_to(np.asarray(qd, float), (n,)).copy()
@@ -517,30 +323,31 @@ class Joint:
         """
         if not (np.isfinite(dt) and dt > 0):
             raise ValueError(f'dt must be a positive number, got {dt}')
-        tau, te_in, xi = broadcast_batch(self.batch, tau, tau_ext, xi)
-        for name, arr in (('tau', tau), ('tau_ext', te_in), ('xi', xi)):
+        tau_b, te_in, xi_b = broadcast_batch(self.batch, tau, tau_ext, xi)
+        for name, arr in (('tau', tau_b), ('tau_ext', te_in), ('xi', xi_b)):
             if not np.all(np.isfinite(arr)):
                 raise ValueError(f'{name} contains NaN or inf')
-        outs = [np.empty_like(tau) for _ in range(4)]
+        outs = [np.empty_like(tau_b) for _ in range(4)]
         p = self.packed.args() + self.ripple
         h = float(dt)
         if self.model == 'lugre':
             _run_lugre(*p, self.sigma0, self.sigma1, self.inertia, self.mgl, self.lever_offset,
                        self.k_ext,
-                       tau, te_in, xi, h, self.q, self.qd, self.z, *outs)
+                       tau_b, te_in, xi_b, h, self.q, self.qd, self.z, *outs)
         elif self.model == 'gms':
             _run_gms(*p, self.k_el, self.alpha, self.c, self.inertia, self.mgl, self.lever_offset,
                      self.k_ext,
-                     tau, te_in, xi, h, self.q, self.qd, self.z, self.stick, self.slipdir, *outs)
+                     tau_b, te_in, xi_b, h, self.q, self.qd, self.z, self.stick, self.slipdir,
+                     *outs)
         else:
             _run_static(*p, self.inertia, self.mgl, self.lever_offset, self.k_ext,
-                        tau, te_in, xi, h, self.q, self.qd, *outs)
-        t = h * np.arange(1, tau.shape[1] + 1)
+                        tau_b, te_in, xi_b, h, self.q, self.qd, *outs)
+        t = h * np.arange(1, tau_b.shape[1] + 1)
         if self.single:
             outs = [o[0] for o in outs]
         return JointTrajectory(t, *outs)
 
-    def __getstate__(self):
+    def __getstate__(self) -> dict[str, Any]:
         """Drop the cached step arguments: they hold views of arrays a copy replaces."""
         state = self.__dict__.copy()
         state['_step_args'] = None
@@ -573,6 +380,8 @@ class Joint:
             self._inp = np.zeros((3, 1, 1))
             self._out = np.zeros((4, 1, 1))
             p = self.packed.args() + self.ripple
+            state: tuple[NDArray[Any], ...]
+            pars: tuple[NDArray[np.float64], ...]
             if self.model == 'lugre':
                 state, pars = (self.q, self.qd, self.z), (self.sigma0, self.sigma1)
             elif self.model == 'gms':
@@ -583,9 +392,10 @@ class Joint:
             self._step_args = (p + pars + (self.inertia, self.mgl, self.lever_offset, self.k_ext,
                                self._inp[0], self._inp[1], self._inp[2], float(dt)) + state
                                + tuple(self._out))
-            self._step_fn = {'lugre': _run_lugre, 'gms': _run_gms,
-                             'static': _run_static}[self.model]
-            self._step_dt = dt
+            kernels: dict[str, Callable[..., None]] = {'lugre': _run_lugre, 'gms': _run_gms,
+                                                       'static': _run_static}
+            self._step_fn = kernels[self.model]
+            self._step_dt: float = dt
         self._inp[0, 0, 0] = tau
         self._inp[1, 0, 0] = tau_ext
         self._inp[2, 0, 0] = xi

@@ -1,16 +1,5 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 
 """
 Modified LuGre friction model with thermal and load dependency (seed eq. 10).
@@ -42,7 +31,7 @@ import math
 from typing import TYPE_CHECKING
 
 import numpy as np
-from numpy.typing import ArrayLike
+from numpy.typing import ArrayLike, NDArray
 
 from ._sampled import SampledFrictionModel
 from .static import curve_params, g_abs, s_visc, StaticFriction
@@ -50,9 +39,7 @@ from .._jit import njit
 from ..exceptions import GearConfigError
 
 if TYPE_CHECKING:
-    from collections.abc import Sequence
-
-    from ..gear import FrictionParams
+    from .params import FrictionParams, LuGreParams
 
 __all__ = ['LuGre', 'lugre_update', 'lugre_torque', 'G_MIN']
 
@@ -60,7 +47,7 @@ G_MIN = 1e-12
 
 
 @njit
-def lugre_update(z, v, h, sigma0, gabs):
+def lugre_update(z: float, v: float, h: float, sigma0: float, gabs: float) -> float:
     """Exact bristle update over a step of constant velocity v (eq. 10)."""
     a = sigma0 * abs(v) / max(gabs, G_MIN)
     ah = a * h
@@ -71,15 +58,20 @@ def lugre_update(z, v, h, sigma0, gabs):
 
 
 @njit
-def lugre_torque(z, v, sigma0, sigma1, gabs, s):
+def lugre_torque(z: float, v: float, sigma0: float, sigma1: float, gabs: float,
+                 s: float) -> float:
     """Friction torque sigma0 z + sigma1 dz/dt + s at state z, velocity v (eq. 10)."""
     zdot = v - sigma0 * abs(v) / max(gabs, G_MIN) * z
     return sigma0 * z + sigma1 * zdot + s
 
 
 @njit
-def _lugre_run(temp, load, delta_s, kappa, t_lo, t_hi, sigma0, sigma1,
-               qd, xi, tl, h, z, tau):
+def _lugre_run(temp: NDArray[np.float64], load: NDArray[np.float64],
+               delta_s: NDArray[np.float64], kappa: NDArray[np.float64],
+               t_lo: NDArray[np.float64], t_hi: NDArray[np.float64],
+               sigma0: NDArray[np.float64], sigma1: NDArray[np.float64],
+               qd: NDArray[np.float64], xi: NDArray[np.float64], tl: NDArray[np.float64],
+               h: float, z: NDArray[np.float64], tau: NDArray[np.float64]) -> None:
     nb, nt = qd.shape
     for b in range(nb):
         zb = z[b]
@@ -99,7 +91,7 @@ class LuGre(SampledFrictionModel):
 
     Parameters
     ----------
-    frictions : FrictionParams or sequence of FrictionParams
+    frictions : FrictionParams or list or tuple of FrictionParams
         Each must have a ``lugre`` section (sigma0, sigma1).
 
     Notes
@@ -110,17 +102,20 @@ class LuGre(SampledFrictionModel):
 
     """
 
-    def __init__(self, frictions: FrictionParams | Sequence[FrictionParams]) -> None:
+    def __init__(self, frictions: FrictionParams | list[FrictionParams]
+                 | tuple[FrictionParams, ...]) -> None:
         flist = self._init_batch(frictions)
+        lugres: list[LuGreParams] = []
         for f in flist:
             if f.lugre is None:
                 raise GearConfigError('LuGre model needs friction.lugre (sigma0, sigma1)')
-        self.sigma0 = np.array([f.lugre.sigma0 for f in flist])
-        self.sigma1 = np.array([f.lugre.sigma1 for f in flist])
+            lugres.append(f.lugre)
+        self.sigma0 = np.array([p.sigma0 for p in lugres])
+        self.sigma1 = np.array([p.sigma1 for p in lugres])
         self.z = np.zeros(len(flist))
 
     @property
-    def state(self):
+    def state(self) -> NDArray[np.float64]:
         return self.z.copy()
 
     def reset(self, *, z: ArrayLike = 0.0) -> None:
@@ -148,11 +143,12 @@ class LuGre(SampledFrictionModel):
         g, _ = StaticFriction.from_packed(self.packed).components(qd, xi, tau_l)
         self.z = np.asarray(g, dtype=float)[:, -1] / self.sigma0
 
-    def _run(self, qd, xi, tl, dt, out):
+    def _run(self, qd: NDArray[np.float64], xi: NDArray[np.float64], tl: NDArray[np.float64],
+             dt: float, out: NDArray[np.float64]) -> None:
         _lugre_run(*self.packed.args(), self.sigma0, self.sigma1, qd, xi, tl, dt, self.z, out)
 
     def simulate(self, qd: ArrayLike, xi: ArrayLike, tau_l: ArrayLike, dt: float, *,
-                 z0: ArrayLike | None = None) -> np.ndarray:
+                 z0: ArrayLike | None = None) -> NDArray[np.float64]:
         """
         Return the friction torque for a sampled velocity sequence.
 

@@ -1,16 +1,5 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 
 """
 Static friction curve with temperature and load dependency (seed eq. 1, 5-7).
@@ -45,14 +34,12 @@ import math
 from typing import TYPE_CHECKING
 
 import numpy as np
-from numpy.typing import ArrayLike
+from numpy.typing import ArrayLike, NDArray
 
 from .._jit import njit
 
 if TYPE_CHECKING:
-    from collections.abc import Sequence
-
-    from ..gear import FrictionParams
+    from .params import FrictionParams
 
 __all__ = ['PARAMETERS', 'PackedStatic', 'pack_static', 'broadcast_batch', 'curve_params',
            'g_abs', 's_visc', 'sign', 'StaticFriction']
@@ -81,7 +68,10 @@ class PackedStatic:
 
     __slots__ = ('temp', 'load', 'delta_s', 'velocity_scale', 't_lo', 't_hi', 'offset')
 
-    def __init__(self, temp, load, delta_s, velocity_scale, t_lo, t_hi, *, offset=None):
+    def __init__(self, temp: NDArray[np.float64], load: NDArray[np.float64],
+                 delta_s: NDArray[np.float64], velocity_scale: NDArray[np.float64],
+                 t_lo: NDArray[np.float64], t_hi: NDArray[np.float64], *,
+                 offset: NDArray[np.float64] | None = None) -> None:
         self.temp = temp
         self.load = load
         self.delta_s = delta_s
@@ -91,22 +81,24 @@ class PackedStatic:
         self.offset = np.zeros(len(delta_s)) if offset is None else offset
 
     @property
-    def batch(self):
-        return self.temp.shape[0]
+    def batch(self) -> int:
+        return int(self.temp.shape[0])
 
-    def args(self):
+    def args(self) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64],
+                            NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
         """Return the arrays in the order the kernels take them."""
         return (self.temp, self.load, self.delta_s, self.velocity_scale,
                 self.t_lo, self.t_hi)
 
 
-def pack_static(frictions):
+def pack_static(frictions: FrictionParams | list[FrictionParams] | tuple[FrictionParams, ...]
+                ) -> PackedStatic:
     """
     Pack one or more :class:`~friction_joint.gear.FrictionParams`.
 
     Parameters
     ----------
-    frictions : FrictionParams or sequence of FrictionParams
+    frictions : FrictionParams or list or tuple of FrictionParams
         One parameter set, or B of them.
 
     Returns
@@ -117,7 +109,8 @@ def pack_static(frictions):
     if not isinstance(frictions, (list, tuple)):
         frictions = [frictions]
     n = len(frictions)
-    lists_t, lists_l = [], []
+    lists_t: list[tuple[tuple[float, ...], ...]] = []
+    lists_l: list[tuple[tuple[float, ...], ...]] = []
     for f in frictions:
         fs_t = f.fs if f.fs is not None else f.fc        # no Stribeck: Fs = Fc
         fs_l = f.fs_load if f.fs is not None else f.fc_load
@@ -144,7 +137,8 @@ def pack_static(frictions):
 # ---------------------------------------------------------------- kernels ---
 
 @njit(inline='always')
-def _poly(temp, load, b, p, x, tl):
+def _poly(temp: NDArray[np.float64], load: NDArray[np.float64], b: int, p: int, x: float,
+          tl: float) -> float:
     acc = 0.0
     xp = 1.0
     for i in range(temp.shape[2]):
@@ -158,7 +152,9 @@ def _poly(temp, load, b, p, x, tl):
 
 
 @njit(inline='always')
-def curve_params(temp, load, t_range, b, xi, tl):
+def curve_params(temp: NDArray[np.float64], load: NDArray[np.float64],
+                 t_range: tuple[NDArray[np.float64], NDArray[np.float64]], b: int, xi: float,
+                 tl: float) -> tuple[float, float, float, float, float]:
     """
     (F_c, F_s, F_v, v_s, delta_v) of set b at temperature xi, load tl.
 
@@ -174,7 +170,7 @@ def curve_params(temp, load, t_range, b, xi, tl):
 
 
 @njit
-def g_abs(fc, fs, vs, ds, kappa, v):
+def g_abs(fc: float, fs: float, vs: float, ds: float, kappa: float, v: float) -> float:
     """|g(v)|: magnitude of the Stribeck curve (eq. 1); F_s at v = 0."""
     x = kappa * v / vs
     if ds == 2.0:
@@ -183,16 +179,16 @@ def g_abs(fc, fs, vs, ds, kappa, v):
 
 
 @njit
-def s_visc(fv, dv, kappa, v):
+def s_visc(fv: float, dv: float, kappa: float, v: float) -> float:
     """Nonlinear viscous term s(v) = F_v sign(v) |kappa v|^delta_v (eq. 5)."""
     if v == 0.0:
         return 0.0
-    r = fv * abs(kappa * v) ** dv
+    r: float = fv * abs(kappa * v) ** dv
     return r if v > 0.0 else -r
 
 
 @njit
-def sign(v):
+def sign(v: float) -> float:
     if v > 0.0:
         return 1.0
     if v < 0.0:
@@ -201,7 +197,11 @@ def sign(v):
 
 
 @njit
-def _static_eval(temp, load, delta_s, kappa, t_lo, t_hi, qd, xi, tl, out_g, out_s):
+def _static_eval(temp: NDArray[np.float64], load: NDArray[np.float64],
+                 delta_s: NDArray[np.float64], kappa: NDArray[np.float64],
+                 t_lo: NDArray[np.float64], t_hi: NDArray[np.float64], qd: NDArray[np.float64],
+                 xi: NDArray[np.float64], tl: NDArray[np.float64], out_g: NDArray[np.float64],
+                 out_s: NDArray[np.float64]) -> None:
     nb, nt = qd.shape
     for b in range(nb):
         for k in range(nt):
@@ -212,7 +212,9 @@ def _static_eval(temp, load, delta_s, kappa, t_lo, t_hi, qd, xi, tl, out_g, out_
 
 
 @njit
-def _param_eval(temp, load, t_lo, t_hi, xi, tl, out):
+def _param_eval(temp: NDArray[np.float64], load: NDArray[np.float64],
+                t_lo: NDArray[np.float64], t_hi: NDArray[np.float64], xi: NDArray[np.float64],
+                tl: NDArray[np.float64], out: NDArray[np.float64]) -> None:
     nb, nt = xi.shape
     for b in range(nb):
         for k in range(nt):
@@ -224,7 +226,7 @@ def _param_eval(temp, load, t_lo, t_hi, xi, tl, out):
             out[4, b, k] = dv
 
 
-def _as_2d(a):
+def _as_2d(a: NDArray[np.float64]) -> NDArray[np.float64]:
     if a.ndim == 0:
         return a.reshape(1, 1)
     if a.ndim == 1:
@@ -234,7 +236,7 @@ def _as_2d(a):
     raise ValueError('inputs must be scalars, 1-D (T,) or 2-D (B, T) arrays')
 
 
-def broadcast_batch(batch, *arrays):
+def broadcast_batch(batch: int, *arrays: ArrayLike) -> list[NDArray[np.float64]]:
     """Broadcast inputs to contiguous float arrays of shape (batch, T)."""
     arrs = [_as_2d(np.asarray(a, dtype=float)) for a in arrays]
     t = max(a.shape[1] for a in arrs)
@@ -253,12 +255,13 @@ class StaticFriction:
 
     Parameters
     ----------
-    frictions : FrictionParams or sequence of FrictionParams
+    frictions : FrictionParams or list or tuple of FrictionParams
         One parameter set, or B of them (batch dimension first in results).
 
     """
 
-    def __init__(self, frictions: FrictionParams | Sequence[FrictionParams]) -> None:
+    def __init__(self, frictions: FrictionParams | list[FrictionParams]
+                 | tuple[FrictionParams, ...]) -> None:
         self.single = not isinstance(frictions, (list, tuple))
         self.packed = pack_static(frictions)
 
@@ -282,11 +285,11 @@ class StaticFriction:
         obj.packed = packed
         return obj
 
-    def _out(self, a):
+    def _out(self, a: NDArray[np.float64]) -> NDArray[np.float64]:
         return a[0] if self.single else a
 
     def components(self, qd: ArrayLike, xi: ArrayLike,
-                   tau_l: ArrayLike = 0.0) -> tuple[np.ndarray, np.ndarray]:
+                   tau_l: ArrayLike = 0.0) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
         """
         Return ``(g, s)``: Stribeck part and viscous part, each (B, T) or (T,).
 
@@ -305,15 +308,16 @@ class StaticFriction:
             Stribeck part ``g`` (eq. 1) and viscous part ``s`` (eq. 5), Nm.
 
         """
-        qd, xi, tl = broadcast_batch(self.packed.batch, qd, xi, tau_l)
-        g = np.empty_like(qd)
-        s = np.empty_like(qd)
+        qd2, xi2, tl = broadcast_batch(self.packed.batch, qd, xi, tau_l)
+        g = np.empty_like(qd2)
+        s = np.empty_like(qd2)
         p = self.packed
         _static_eval(p.temp, p.load, p.delta_s, p.velocity_scale, p.t_lo, p.t_hi,
-                     qd, xi, np.abs(tl), g, s)
+                     qd2, xi2, np.abs(tl), g, s)
         return self._out(g), self._out(s)
 
-    def torque(self, qd: ArrayLike, xi: ArrayLike, tau_l: ArrayLike = 0.0) -> np.ndarray:
+    def torque(self, qd: ArrayLike, xi: ArrayLike,
+               tau_l: ArrayLike = 0.0) -> NDArray[np.float64]:
         """
         Return the static friction torque tau_rs (Nm) at velocity qd (rad/s).
 
@@ -336,9 +340,11 @@ class StaticFriction:
         """
         g, s = self.components(qd, xi, tau_l)
         off = self.packed.offset[0] if self.single else self.packed.offset[:, None]
-        return g + s + off
+        out: NDArray[np.float64] = g + s + off
+        return out
 
-    def parameters(self, xi: ArrayLike, tau_l: ArrayLike = 0.0) -> dict[str, np.ndarray]:
+    def parameters(self, xi: ArrayLike,
+                   tau_l: ArrayLike = 0.0) -> dict[str, NDArray[np.float64]]:
         """
         Return the evaluated curve parameters as a dict of arrays, keys :data:`PARAMETERS`.
 
@@ -355,8 +361,8 @@ class StaticFriction:
             Each parameter, (B, T) or (T,).
 
         """
-        xi, tl = broadcast_batch(self.packed.batch, xi, tau_l)
-        out = np.empty((5,) + xi.shape)
+        xi2, tl = broadcast_batch(self.packed.batch, xi, tau_l)
+        out = np.empty((5,) + xi2.shape)
         p = self.packed
-        _param_eval(p.temp, p.load, p.t_lo, p.t_hi, xi, np.abs(tl), out)
+        _param_eval(p.temp, p.load, p.t_lo, p.t_hi, xi2, np.abs(tl), out)
         return {name: self._out(out[i]) for i, name in enumerate(PARAMETERS)}

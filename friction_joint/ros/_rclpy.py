@@ -1,16 +1,5 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 
 """
 The rclpy internals this package relies on, isolated in one place with the reasons.
@@ -49,11 +38,8 @@ import tempfile
 
 from rclpy.executors import ExternalShutdownException
 from rclpy.impl.implementation_singleton import rclpy_implementation
-from rclpy.utilities import remove_ros_args as _remove_ros_args
 
-from ..exceptions import RecordingError
-
-__all__ = ['ExternalShutdownException', 'RCLError', 'remove_ros_args', 'take_message',
+__all__ = ['ExternalShutdownException', 'RCLError', 'take_message',
            'take_all', 'parameter_override_names',
            'parameter_overrides', 'Waiter', 'guard_clock', 'held_stderr']
 
@@ -91,32 +77,6 @@ def held_stderr(call):
                     sys.stderr.write(text)
                     sys.stderr.flush()
     return result
-
-
-def remove_ros_args(args):
-    """
-    Return ``args`` without the ROS arguments (rclpy's); malformed ones raise an error.
-
-    rcl parses them to find their end (reading every ``--params-file``: a
-    FIFO blocked it, so :func:`~friction_joint.ros.startup.check_ros_args`
-    checks them first) and raised ``RCLInvalidROSArgsError`` (after logging a
-    line of its own) on, e.g., ``-p :=1``.
-
-    Raises
-    ------
-    GearConfigError
-        A file named by a ROS argument is no readable regular file.
-    RecordingError
-        rcl cannot parse the ROS arguments.
-
-    """
-    from .startup import check_ros_args          # rcl reads --params-file here: no FIFO
-    check_ros_args(args)
-    try:
-        return held_stderr(lambda: _remove_ros_args(args))
-    except RCLError as exc:
-        text = ' '.join(str(exc).split()).split(', at /')[0]
-        raise RecordingError(f'ROS arguments: {text}') from None
 
 
 def take_message(subscription, msg_class, raw=False):

@@ -1,16 +1,5 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 
 """
 ``friction_joint bringup``: start simulator, controller, estimator and recorder as processes.
@@ -38,41 +27,66 @@ not put on ``use_sim_time`` (it would cost each of them one executor turn per
 step for ``/clock``), which they honour when it is set.  Then the other processes are
 stopped with SIGINT (the recorder last, after the others have flushed), so
 the recording is finalised with nothing lost, and the bag path is printed.
+
+SIGTERM and SIGHUP stop the nodes the same way (the recording is finalised),
+then bringup ends as Ctrl-C does, with 128 + the signal's number (143, 129).
+Killed outright (SIGKILL: no handler of its runs), bringup takes its nodes with
+it: each was started with a parent-death signal (``prctl(PR_SET_PDEATHSIG)``,
+:data:`PARENT_DEATH_SIGNAL`), which stops it as ``kill PID`` does, so the nodes
+end and the recorder finalises the recording it has (what arrived until then).
 """
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
 import os
 import signal
 import subprocess
 import sys
 import tempfile
 import time
+from typing import Any
 
 from .nodes.ranges import DURATION_BOUNDS
 from .qos import dds_environ
+from .._process import parent_death_preexec
 from ..exceptions import ArgumentError, NodeError, OutputError
 from ..gear import load_gear
 from ..gear.files import format_ros_params, read_ros_params_file
 
-__all__ = ['bringup', 'NodeProcess', 'LOCKSTEP_WINDOW', 'composed_command']
+__all__ = ['bringup', 'run_summary', 'SUMMARY_STARTS', 'PROGRESS_EVERY', 'NodeProcess',
+           'LOCKSTEP_WINDOW', 'composed_command', 'PARENT_DEATH_SIGNAL']
 
 #: steps the estimator may lag behind the lockstep simulator (0.1 s at 3 kHz; its
 #: input queue holds 1000 states and 1000 temperatures)
 LOCKSTEP_WINDOW = 300
 
 
-class NodeProcess:
-    """A child process in its own process group, stopped with SIGINT then SIGKILL."""
+#: the signal a child gets when bringup ends without stopping it (killed with SIGKILL): the
+#: nodes stop and the recorder seals its recording on it as on ``kill PID``
+PARENT_DEATH_SIGNAL = signal.SIGTERM
 
-    def __init__(self, name, argv, env=None, log_dir=None):
+
+class NodeProcess:
+    """
+    A child process in its own process group, stopped with SIGINT then SIGKILL.
+
+    It gets :data:`PARENT_DEATH_SIGNAL` when this process ends (even by SIGKILL), so no child
+    outlives it.
+    """
+
+    def __init__(self, name: str, argv: Sequence[str], env: Mapping[str, str] | None = None,
+                 log_dir: str | None = None) -> None:
         self.name = name
         self.log = (open(os.path.join(log_dir, f'{name}.log'), 'w') if log_dir
                     else subprocess.DEVNULL)
         self.proc = subprocess.Popen(argv, env=env, stdout=self.log, stderr=subprocess.STDOUT,
-                                     start_new_session=True)
+                                     start_new_session=True,
+                                     preexec_fn=parent_death_preexec(PARENT_DEATH_SIGNAL))
 
-    def alive(self):
+    def alive(self) -> bool:
         return self.proc.poll() is None
 
-    def stop(self, timeout=45.0):
+    def stop(self, timeout: float = 45.0) -> int | None:
         """SIGINT, wait, then kill the process group; returns the exit status."""
         if self.alive():
             try:
@@ -84,7 +98,7 @@ class NodeProcess:
             except subprocess.TimeoutExpired:
                 os.killpg(self.proc.pid, signal.SIGKILL)
                 self.proc.wait()
-        if self.log is not subprocess.DEVNULL:
+        if not isinstance(self.log, int):          # not subprocess.DEVNULL
             self.log.close()
         return self.proc.returncode
 
@@ -120,7 +134,8 @@ def _gear_parameters(path):
     return found
 
 
-def composed_command(model, truth, params, directory):
+def composed_command(model: str, truth: str, params: Mapping[str, Mapping[str, Any]],
+                     directory: str) -> list[str]:
     """
     Return the composed process's argv: a params file with the gear of each node.
 
@@ -150,6 +165,54 @@ def _last_line(path):
     return lines[-1] if lines else ''
 
 
+#: what a node's closing log lines begin with (their summary of the run)
+SUMMARY_STARTS = ('realtime run:', 'lockstep run:', 'answered ', 'rejected ')
+#: s between the progress lines of a running bring-up
+PROGRESS_EVERY = 10.0
+
+
+def run_summary(log_dir: str, record: str | None = None) -> list[str]:
+    """
+    Return the closing lines of a bring-up: each node's own summary, its warnings, the recording.
+
+    Parameters
+    ----------
+    log_dir : str
+        Where the processes' logs are (``NAME.log``; a composed process logs every node).
+    record : str, optional
+        The recording, whose topics and message counts are listed.
+
+    """
+    lines: list[str] = []
+    warned: dict[str, int] = {}
+    for name in sorted(os.listdir(log_dir)) if os.path.isdir(log_dir) else ():
+        if not name.endswith('.log'):
+            continue
+        try:
+            with open(os.path.join(log_dir, name), encoding='utf-8', errors='replace') as fh:
+                text = fh.read().splitlines()
+        except OSError:
+            continue
+        for line in text:
+            head, sep, message = line.partition(']: ')
+            node = head.rsplit('[', 1)[-1] if sep else name[:-4]
+            if '[WARN]' in head or '[ERROR]' in head:
+                warned[node] = warned.get(node, 0) + 1
+            if sep and message.startswith(SUMMARY_STARTS):
+                lines.append(f'{node}: {message.strip()}')
+    lines += [f'{node}: {n} warning(s) in its log' for node, n in sorted(warned.items())]
+    if record and os.path.exists(record):
+        from ..bag import recording_topics
+        try:
+            topics = recording_topics(record)
+        except Exception as exc:                # noqa: BLE001 - the summary never fails
+            lines.append(f'recording {record}: not readable ({exc})')
+        else:
+            lines.append(f'recording {record}: ' + ', '.join(
+                f'{topic} {count}' for topic, (_, count) in sorted(topics.items())))
+    return lines
+
+
 def _check_alive(procs, sim, log_dir, kept):
     """Raise a one-line error naming the first process (but the simulator) that has ended."""
     for p in procs:
@@ -161,17 +224,27 @@ def _check_alive(procs, sim, log_dir, kept):
                             + (f': {last}' if last else '') + where)
 
 
-class _Stop(Exception):
-    """SIGTERM / SIGHUP reached bringup: stop the children, then end like Ctrl-C."""
+class _Stop(KeyboardInterrupt):
+    """
+    SIGTERM / SIGHUP reached bringup: stop the children, then end like Ctrl-C.
+
+    ``signum`` tells the command line the signal: its exit status is 128 + it (143, 129).
+    """
+
+    def __init__(self, signum):
+        super().__init__(signum)
+        self.signum = signum
 
 
 def _on_signal(signum, frame):
     raise _Stop(signum)
 
 
-def bringup(model, truth, duration, *, record=None, mode='lockstep', friction='lugre',
-            amplitude=0.4, omega=1.5, xi0=None, log_dir=None, env=None, quiet=False,
-            composed=False):
+def bringup(model: str, truth: str, duration: float, *, record: str | None = None,
+            mode: str = 'lockstep', friction: str = 'lugre', amplitude: float = 0.4,
+            omega: float = 1.5, xi0: float | None = None, log_dir: str | None = None,
+            env: Mapping[str, str] | None = None, quiet: bool = False,
+            composed: bool = False) -> str | None:
     """
     Run the closed loop as separate processes; returns the bag path (or None).
 
@@ -257,9 +330,14 @@ def bringup(model, truth, duration, *, record=None, mode='lockstep', friction='l
             f'{duration:g} s)')
         t0 = time.monotonic()
         limit = duration + 30.0 if mode == 'realtime' else max(60.0, 40.0 * duration)
+        next_say = t0 + PROGRESS_EVERY
         while sim.alive() and time.monotonic() - t0 < limit:
             _check_alive(procs, sim, log_dir, kept)
             time.sleep(0.1)
+            if time.monotonic() >= next_say:
+                next_say += PROGRESS_EVERY
+                say(f'bringup: running for {time.monotonic() - t0:.0f} s ({duration:g} s of '
+                    f'{"simulated" if lockstep else "wall"} time to run)')
         if sim.alive():
             raise NodeError(f'the simulator did not finish within {limit:.0f} s')
         if sim.proc.returncode != 0:
@@ -269,8 +347,8 @@ def bringup(model, truth, duration, *, record=None, mode='lockstep', friction='l
                             + (f'; see {log_dir}' if kept else ''))
         time.sleep(0.5)                       # let the last messages arrive
     except _Stop as stop:
-        say(f'bringup: signal {stop.args[0]}: stopping the nodes')
-        raise KeyboardInterrupt from None
+        say(f'bringup: {signal.Signals(stop.signum).name}: stopping the nodes')
+        raise
     finally:
         # a second SIGTERM while the children stop must not orphan them
         for sig in old:
@@ -282,6 +360,8 @@ def bringup(model, truth, duration, *, record=None, mode='lockstep', friction='l
                 say(f'bringup: {p.name} exited with {code}')
         for sig, handler in old.items():
             signal.signal(sig, handler)
+        for line in run_summary(log_dir, record):
+            say(f'bringup: {line}')
         scratch.cleanup()
     if record:
         say(f'bringup: recording in {record}')

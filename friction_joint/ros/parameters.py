@@ -1,16 +1,5 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 
 
 """
@@ -31,13 +20,17 @@ params file with the package's reader before ``rclpy.init`` and hands rcl a
 normalized copy, so a node and the command line read a gear file alike and a
 bad file is a :class:`~friction_joint.exceptions.GearConfigError` naming it.
 """
+from __future__ import annotations
+
 import array
+from collections.abc import Callable, Mapping, Sequence
 import math
 import os
 import shutil
 import sys
 import tempfile
 import time
+from typing import Any, TYPE_CHECKING
 
 from rcl_interfaces.msg import (FloatingPointRange, IntegerRange, ParameterDescriptor,
                                 SetParametersResult)
@@ -51,8 +44,13 @@ from ..gear import gear_from_flat, SCHEMA, Section
 from ..gear.files import format_ros_params, read_ros_params_file
 from ..gear.strict_yaml import parse_yaml_text
 
+if TYPE_CHECKING:
+    from rclpy.node import Node
+
+    from ..gear import GearParams
+
 __all__ = ['gear_keys', 'declare_gear', 'declare_node_params', 'parameter_guard', 'describe',
-           'prepare_ros_args', 'REJECT_LOG_PERIOD']
+           'prepare_ros_args', 'REJECT_LOG_PERIOD', 'MODES', 'declare_follower_params']
 
 #: seconds between two log lines about refused input or parameter changes (per node)
 REJECT_LOG_PERIOD = 2.0
@@ -63,7 +61,7 @@ STANDARD = ('use_sim_time',)
 QOS_OVERRIDES = 'qos_overrides.'
 
 
-def gear_keys(schema=SCHEMA, prefix=''):
+def gear_keys(schema: Mapping[str, Any] = SCHEMA, prefix: str = '') -> list[str]:
     """Dotted names of every leaf key of the gear schema."""
     out = []
     for key, spec in schema.items():
@@ -80,7 +78,7 @@ def _plain(value):
     return value
 
 
-def declare_gear(node, own=()):
+def declare_gear(node: Node, own: Sequence[str] = ()) -> GearParams:
     """
     Declare every gear key (dynamically typed) and build the GearParams.
 
@@ -115,7 +113,8 @@ def declare_gear(node, own=()):
     return gear_from_flat(flat, source=f'parameters of {node.get_name()}')
 
 
-def describe(description, *, read_only=True, low=None, high=None, integer=False):
+def describe(description: str, *, read_only: bool = True, low: float | None = None,
+             high: float | None = None, integer: bool = False) -> ParameterDescriptor:
     """
     Return a ParameterDescriptor with a description and, given ``low``/``high``, a range.
 
@@ -133,7 +132,10 @@ def describe(description, *, read_only=True, low=None, high=None, integer=False)
     return desc
 
 
-def declare_node_params(node, defaults, validators=None, descriptors=None):
+def declare_node_params(node: Node, defaults: Mapping[str, Any],
+                        validators: Mapping[str, Callable[[Any], str | None]] | None = None,
+                        descriptors: Mapping[str, ParameterDescriptor] | None = None,
+                        ) -> dict[str, Any]:
     """
     Declare the node's own parameters; return {name: value}.
 
@@ -166,6 +168,36 @@ def declare_node_params(node, defaults, validators=None, descriptors=None):
     return values
 
 
+#: the loop modes of the simulator; controller and estimator take the same parameter
+MODES = ('realtime', 'lockstep')
+_MODE_DESCRIPTOR = ('loop mode of the simulator this node runs with: realtime (answer the '
+                    'newest state, sync off) or lockstep (answer every state, sync on); '
+                    'decides sync unless sync is set')
+
+
+def declare_follower_params(node: Node, defaults: Mapping[str, Any],
+                            validators: Mapping[str, Callable[[Any], str | None]],
+                            descriptors: Mapping[str, ParameterDescriptor]) -> dict[str, Any]:
+    """
+    Declare ``mode`` and then a controller's or estimator's own parameters.
+
+    ``sync`` defaults to ``mode == 'lockstep'``: a node started by hand with
+    its defaults next to a realtime simulator answers the newest state (a
+    synchronised node would hold every state until the temperature of its
+    stamp arrives, which a realtime simulator sends at the sensor's rate: a
+    delay that destabilises the loop).  A ``sync`` the user sets wins.
+    Returns ``{name: value}`` including ``mode``.
+    """
+    mode = declare_node_params(
+        node, {'mode': 'realtime'},
+        {'mode': lambda v: None if v in MODES else f'must be {" or ".join(MODES)}'},
+        {'mode': describe(_MODE_DESCRIPTOR)})['mode']
+    values = declare_node_params(node, dict(defaults, sync=mode == 'lockstep'), validators,
+                                 descriptors)
+    values['mode'] = mode
+    return values
+
+
 def _short(value):
     text = repr(value)
     return text if len(text) <= 60 else text[:57] + '...'
@@ -188,7 +220,9 @@ def _check(name, value, default, validators):
     return v(value) if v else None
 
 
-def parameter_guard(node, defaults, validators, apply):
+def parameter_guard(node: Node, defaults: Mapping[str, Any],
+                    validators: Mapping[str, Callable[[Any], str | None]],
+                    apply: Callable[[str, Any], None] | None) -> None:
     """
     Install a set-parameters callback validating the node's own parameters.
 
@@ -249,7 +283,7 @@ def _one_type_list(assignment):
     return f'{name}:=[{", ".join(repr(float(v)) for v in value)}]'
 
 
-def prepare_ros_args(args=None):
+def prepare_ros_args(args: list[str] | None = None) -> tuple[list[str] | None, Callable[[], None]]:
     """
     Read every ``--params-file`` with the package's reader; return rcl-ready args and a cleanup.
 
@@ -302,7 +336,7 @@ def prepare_ros_args(args=None):
     try:
         texts = [format_ros_params(read_ros_params_file(argv[i])) for i in files]
         tmpdir = tempfile.mkdtemp(prefix='friction_joint-params-')
-        for n, (i, text) in enumerate(zip(files, texts)):
+        for n, (i, text) in enumerate(zip(files, texts, strict=True)):
             path = os.path.join(tmpdir, f'{n}-{os.path.basename(argv[i]) or "params"}')
             with open(path, 'w', encoding='utf-8') as fh:
                 fh.write(text)

@@ -1,16 +1,5 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 
 """
 The QoS profiles of this package, defined once.
@@ -31,6 +20,9 @@ The QoS profiles of this package, defined once.
   parameters for a node's publishers and subscriptions (users retune a
   topic's QoS with ``-p qos_overrides./joint_states.publisher.depth:=100``).
 """
+from __future__ import annotations
+
+from collections.abc import Mapping, MutableMapping, Sequence
 import os
 
 from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
@@ -45,7 +37,7 @@ DDS_PROFILE = os.path.join(os.path.dirname(os.path.abspath(__file__)), 'fastdds.
 _PROFILE_VARIABLES = ('FASTRTPS_DEFAULT_PROFILES_FILE', 'FASTDDS_DEFAULT_PROFILES_FILE')
 
 
-def dds_environ(env=None):
+def dds_environ(env: Mapping[str, str] | None = None) -> MutableMapping[str, str]:
     """
     Return ``env`` with :data:`DDS_PROFILE` as the Fast DDS profile; ``None``: set it here.
 
@@ -77,7 +69,7 @@ READY_QOS = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=1,
                        durability=DurabilityPolicy.TRANSIENT_LOCAL)
 
 
-def stream_qos(lossless=False):
+def stream_qos(lossless: bool = False) -> QoSProfile:
     """
     Reliable, volatile QoS of the contract topics.
 
@@ -98,7 +90,7 @@ def stream_qos(lossless=False):
                       reliability=ReliabilityPolicy.RELIABLE, durability=DurabilityPolicy.VOLATILE)
 
 
-def recorder_qos(topic, offered=()):
+def recorder_qos(topic: str, offered: Sequence[QoSProfile] = ()) -> QoSProfile:
     """
     Return the recorder's QoS for ``topic``.
 
@@ -119,12 +111,12 @@ def recorder_qos(topic, offered=()):
                       durability=DurabilityPolicy.VOLATILE)
 
 
-def replay_qos():
+def replay_qos() -> QoSProfile:
     """Return replay's publisher QoS: reliable keep-all, so no sample is pushed out unrepaired."""
     return QoSProfile(history=HistoryPolicy.KEEP_ALL, reliability=ReliabilityPolicy.RELIABLE,
                       durability=DurabilityPolicy.VOLATILE)
 
 
-def overridable():
+def overridable() -> QoSOverridingOptions:
     """Return the options that declare the standard ``qos_overrides.*`` parameters of an entity."""
     return QoSOverridingOptions.with_default_policies()

@@ -1,77 +1,57 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 
 """
 ``friction_joint record OUT``: record topics into a rosbag2 recording without losing messages.
 
-The recorder subscribes with ``raw=True`` (the serialized CDR bytes are written
-as received, nothing is deserialized) and writes every message with the rosbags
-``Writer`` (version 9, MCAP), the DDS receive time as log (bag) time; with
-``--use-sim-time`` (as ``ros2 bag record --use-sim-time``) the log time is the
-``/clock`` time current when the message was *sent* (the newest ``/clock``
-whose DDS source timestamp precedes the message's; a message waits until a
-later ``/clock`` has arrived, so neither the batching below nor a delay in
-delivery shifts it), and a lockstep recording spans its simulated time, each
-message at the step that produced it: replay, which follows log times, then
-plays it at its simulated speed.  Each
-subscription callback also takes whatever else is already queued on its
-subscription, and the spin loop pauses 2 ms between rounds so that messages
-arrive in batches: at 3 kHz the recorder costs about a fifth of a core instead
-of more than half.  Every message is written in the callback that takes it, so
-the counts received and written are the same number.
+The recorder subscribes with ``raw=True`` (the serialized CDR bytes are written as received,
+nothing is deserialized) and writes every message with the rosbags ``Writer`` (version 9, MCAP),
+the DDS receive time as log (bag) time; with ``--use-sim-time`` (as ``ros2 bag record
+--use-sim-time``) the log time is the ``/clock`` time current when the message was *sent* (the
+newest ``/clock`` whose DDS source timestamp precedes the message's; a message waits until a later
+``/clock`` has arrived, so neither the batching below nor a delay in delivery shifts it), and a
+lockstep recording spans its simulated time, each message at the step that produced it: replay,
+which follows log times, then plays it at its simulated speed. Each subscription callback also
+takes whatever else is already queued on its subscription, and the spin loop pauses 2 ms between
+rounds so that messages arrive in batches: at 3 kHz the recorder costs about a fifth of a core
+instead of more than half. Every message is written in the callback that takes it, so the counts
+received and written are the same number.
 
-Stopping (SIGINT, SIGTERM or ``--duration``) first drains what DDS has already
-received, then finalises the bag: every message received is written, the MCAP
-file is sealed (rewritten with chunk, data and summary CRCs and zstd-compressed
-chunks, messages in log-time order across topics; ``metadata.yaml`` and the
-file's ``rosbag2`` record get ``ros_distro`` from ``ROS_DISTRO`` (default
-``jazzy``) and, per topic, the ``offered_qos_profiles`` of the publishers the
-recorder matched, as rosbag2 stores them:
-:func:`~friction_joint.bag.checksums.seal_rosbag2`; if that fails the bag is
-kept as rosbags wrote it), and the counts are printed.  A second signal skips the
-drain.  The bag is written into a hidden staging directory next to ``OUT``
-(``.OUT.rec-XXXXXXXX.tmp``, marked and locked:
-:class:`~friction_joint.bag.staging.RecorderStaging`) and renamed when
-complete, so ``OUT`` is either a complete recording or absent.  Every
-:data:`~friction_joint.bag.staging.FLUSH_PERIOD` (1 s) the open MCAP chunk is
-closed and the file flushed and ``fsync``-ed
-(:func:`~friction_joint.bag.staging.flush_chunks`), so a recorder killed
-without a chance to finish (SIGKILL, power loss) leaves a truncated file
-holding all but the last second or so: ``friction_joint recover`` turns it into
-a recording (:mod:`~friction_joint.bag.recover`), and a later ``record`` to the
-same ``OUT`` names the staging directory left behind and that command.
+Stopping (SIGINT, SIGTERM or ``--duration``) first drains what DDS has already received, then
+finalises the bag: every message received is written, the MCAP file is sealed (rewritten with
+chunk, data and summary CRCs and zstd-compressed chunks, messages in log-time order across topics;
+``metadata.yaml`` and the file's ``rosbag2`` record get ``ros_distro`` from ``ROS_DISTRO`` (default
+``jazzy``) and, per topic, the ``offered_qos_profiles`` of the publishers the recorder matched, as
+rosbag2 stores them: :func:`~friction_joint.bag.checksums.seal_rosbag2`; if that fails the bag is
+kept as rosbags wrote it), and the counts are printed. A second signal skips the drain. The bag is
+written into a hidden staging directory next to ``OUT`` (``.OUT.rec-XXXXXXXX.tmp``, marked and
+locked: :class:`~friction_joint.bag.staging.RecorderStaging`) and renamed when complete, so ``OUT``
+is either a complete recording or absent. Every :data:`~friction_joint.bag.staging.FLUSH_PERIOD` (1
+s) the open MCAP chunk is closed and the file flushed and ``fsync``-ed
+(:func:`~friction_joint.bag.staging.flush_chunks`), so a recorder killed without a chance to finish
+(SIGKILL, power loss) leaves a truncated file holding all but the last second or so:
+``friction_joint recover`` turns it into a recording (:mod:`~friction_joint.bag.recover`), and a
+later ``record`` to the same ``OUT`` names the staging directory left behind and that command.
 
-Readiness: the recorder publishes on ``READY_TOPIC`` (``recorder_ready``,
-relative, so ``/recorder_ready`` in the root namespace; ``std_msgs/msg/String``,
-``READY_QOS``: reliable, transient local, keep-last 1; both defined in
-:mod:`friction_joint.ros.qos` and exported here too) the comma-separated,
-sorted fully-qualified names of the recorded topics on which it has matched at
-least one publisher (``/external_torque,/joint_command,/joint_states``): once at
-start (possibly the empty string) and again whenever that set changes, so a
-simulator can wait for it before its first step (a late subscriber with
-transient-local durability gets the current set at once).  The log lines
-``/topic: N publisher(s) matched`` stay.
+Readiness: the recorder publishes on ``READY_TOPIC`` (``recorder_ready``, relative, so
+``/recorder_ready`` in the root namespace; ``std_msgs/msg/String``, ``READY_QOS``: reliable,
+transient local, keep-last 1; both defined in :mod:`friction_joint.ros.qos` and exported here too)
+the comma-separated, sorted fully-qualified names of the recorded topics on which it has matched at
+least one publisher (``/external_torque,/joint_command,/joint_states``): once at start (possibly
+the empty string) and again whenever that set changes, so a simulator can wait for it before its
+first step (a late subscriber with transient-local durability gets the current set at once). The
+log lines ``/topic: N publisher(s) matched`` stay.
 
-QoS (:func:`friction_joint.ros.qos.recorder_qos`): reliable with keep-all
-history for every topic (a recorder that falls behind for a moment must not
-let its queue overwrite messages it has acknowledged); ``/clock`` too unless a
-best-effort ``/clock`` publisher is there when the recorder starts (then best
-effort, keep-last 1000).  A reliable subscription does not match a
-best-effort publisher; record such a topic from a reliable republisher.
+QoS (:func:`friction_joint.ros.qos.recorder_qos`): reliable with keep-all history for every topic
+(a recorder that falls behind for a moment must not let its queue overwrite messages it has
+acknowledged); ``/clock`` too unless a best-effort ``/clock`` publisher is there when the recorder
+starts (then best effort, keep-last 1000). A reliable subscription does not match a best-effort
+publisher; record such a topic from a reliable republisher.
 """
 import bisect
 import collections
+from collections.abc import Callable, Iterable, Mapping, Sequence
+import contextlib
 import importlib
 import os
 import shutil
@@ -81,15 +61,23 @@ import sys
 import tempfile
 import threading
 import time
+from typing import Any, TYPE_CHECKING
 
 from ._rclpy import take_all
 from .qos import dds_environ, READY_QOS, READY_TOPIC, recorder_qos
 from .startup import check_domain_id, init_context
 from ..bag import CONTRACT_TYPES
 from ..bag.checksums import seal_rosbag2
+from ..bag.recover import salvage_recording
 from ..bag.staging import (flush_chunks, FLUSH_PERIOD, killed_recordings, RecorderStaging,
                            recovery_command, STAGING_TAG)
 from ..exceptions import RecordingError
+
+if TYPE_CHECKING:
+    from rclpy.node import Node
+    from rclpy.qos import QoSProfile
+    from rosbags.rosbag2 import Writer
+    from rosbags.typesys.store import Typestore
 
 __all__ = ['record', 'Recorder', 'parse_topics', 'message_class', 'install_signals',
            'format_counts', 'qos_dict', 'READY_TOPIC', 'READY_QOS']
@@ -117,7 +105,7 @@ def _duration(value):
     return {'sec': ns // 1_000_000_000, 'nsec': ns % 1_000_000_000}
 
 
-def qos_dict(profile):
+def qos_dict(profile: 'QoSProfile') -> dict[str, Any]:
     """
     Return an rclpy ``QoSProfile`` as a rosbag2 version 9 ``offered_qos_profiles`` entry.
 
@@ -178,18 +166,19 @@ def _source_ns(info):
     return info.get('source_timestamp') or time.time_ns()
 
 
-def parse_topics(specs):
+def parse_topics(specs: Sequence[str]) -> list[tuple[str, str]]:
     """``[(topic, msgtype)]`` from ``TOPIC`` (contract topics) or ``TOPIC:pkg/msg/Type``."""
-    out = []
+    out: list[tuple[str, str]] = []
     for spec in specs:
         topic, _, msgtype = spec.partition(':')
         if not topic.startswith('/'):
             topic = '/' + topic
         if not msgtype:
-            msgtype = CONTRACT_TYPES.get(topic)
-            if msgtype is None:
+            contract = CONTRACT_TYPES.get(topic)
+            if contract is None:
                 raise RecordingError(f'topic {topic} is not a contract topic: give its type '
                                      f'as {topic}:pkg/msg/Type')
+            msgtype = contract
         if msgtype.count('/') != 2:
             raise RecordingError(f'{spec}: message type must look like pkg/msg/Type')
         if topic in dict(out):
@@ -198,7 +187,7 @@ def parse_topics(specs):
     return out
 
 
-def message_class(topic, msgtype):
+def message_class(topic: str, msgtype: str) -> type:
     """Return the rclpy message class of ``msgtype`` (``pkg/msg/Type``) used on ``topic``."""
     try:
         pkg, kind, name = msgtype.split('/')
@@ -247,17 +236,20 @@ class Recorder:
 
     """
 
-    def __init__(self, node, writer, topics, typestore, log=None, *, sim_time=False):
+    def __init__(self, node: 'Node', writer: 'Writer', topics: Sequence[tuple[str, str]],
+                 typestore: 'Typestore', log: Callable[[str], None] | None = None, *,
+                 sim_time: bool = False) -> None:
         from rclpy.event_handler import SubscriptionEventCallbacks
         self.writer = writer
         self.node = node
         self.written = {t: 0 for t, _ in topics}
-        self.offered_qos = {t: [] for t, _ in topics}
+        self.offered_qos: dict[str, list[dict[str, Any]]] = {t: [] for t, _ in topics}
         self.last_message = time.monotonic()
         self.connections = {}
         self._clock = _SimClock() if sim_time else None
-        self._clock_take = None
-        self._deferred = collections.deque()     # (conn, topic, raw, source ns) awaiting /clock
+        self._clock_take: Callable[[], None] | None = None
+        self._deferred: collections.deque[tuple[Any, str, bytes, int]] = collections.deque()
+        # (conn, topic, raw, source ns) awaiting /clock
         self._subs = []
         self.matched = {t: 0 for t, _ in topics}
         from std_msgs.msg import String
@@ -277,7 +269,7 @@ class Recorder:
             if topic in self.written:
                 conn = writer.add_connection(topic, msgtype, typestore=typestore)
                 self.connections[topic] = conn
-            holder = []
+            holder: list[Any] = []
             events = SubscriptionEventCallbacks(matched=self._matched(topic, log)) \
                 if topic in self.written else None
             if sim_time and topic == '/clock':
@@ -300,7 +292,7 @@ class Recorder:
                 log(f'{topic}: {n} publisher{"" if n == 1 else "s"} matched')
         return callback
 
-    def ready_topics(self):
+    def ready_topics(self) -> str:
         """Return the recorded topics with a matched publisher, sorted, comma-separated."""
         return ','.join(sorted(t for t, n in self.matched.items() if n > 0))
 
@@ -311,7 +303,7 @@ class Recorder:
             self._announced = text
             self._ready.publish(self._ready_msg(data=text))
 
-    def update_offered_qos(self, topics=None):
+    def update_offered_qos(self, topics: Iterable[str] | None = None) -> None:
         """Add the QoS profiles of the publishers now on ``topics`` (default all)."""
         for topic in self.written if topics is None else topics:
             seen = self.offered_qos[topic]
@@ -378,9 +370,9 @@ class Recorder:
             self.written[topic] += 1
         self._deferred = keep
 
-    def flush(self):
+    def flush(self) -> None:
         """Write every message still waiting for its ``/clock`` (before closing the bag)."""
-        if self._clock is not None:
+        if self._clock is not None and self._clock_take is not None:    # both with sim_time
             self._clock_take()
             self._release(final=True)
 
@@ -416,7 +408,8 @@ def _blocking(path):
     return f'{path} is not a directory' if path and not os.path.isdir(path) else None
 
 
-def install_signals(stop, force=None):
+def install_signals(stop: threading.Event, force: threading.Event | None = None,
+                    ) -> Callable[[], object]:
     """
     SIGINT/SIGTERM set ``stop`` (a second one also ``force``); returns a restore function.
 
@@ -436,8 +429,10 @@ def install_signals(stop, force=None):
     return lambda: [signal.signal(s, h) for s, h in old.items()]
 
 
-def record(out, *, topics=None, duration=None, args=None, log=None, stop=None,
-           use_sim_time=False):
+def record(out: str | os.PathLike[str], *, topics: Sequence[str] | None = None,
+           duration: float | None = None, args: list[str] | None = None,
+           log: Callable[[str], None] | None = None, stop: threading.Event | None = None,
+           use_sim_time: bool = False) -> dict[str, int]:
     """
     Record ``topics`` into ``out`` until a signal, ``duration`` or ``stop`` is set.
 
@@ -505,7 +500,7 @@ def record(out, *, topics=None, duration=None, args=None, log=None, stop=None,
             f'it with: {recovery_command(stale, avoid=out)}')
     tmp = tempfile.mkdtemp(prefix=f'.{base}.{STAGING_TAG}', suffix='.tmp', dir=parent)
     staging = RecorderStaging(tmp, out, pairs, sim_time=use_sim_time)
-    keep = False                      # keep tmp: it holds messages that did not reach out
+    keep = told = False               # keep tmp: it holds messages that did not reach out
     stop = stop or threading.Event()
     force = threading.Event()
     restore = install_signals(stop, force)
@@ -547,13 +542,20 @@ def record(out, *, topics=None, duration=None, args=None, log=None, stop=None,
             recorder.update_offered_qos()
             for i, conn in enumerate(writer.connections):   # into metadata.yaml at close
                 profiles = _qos_objects(recorder.offered_qos.get(conn.topic, ()))
-                writer.connections[i] = conn._replace(
-                    ext=conn.ext._replace(offered_qos_profiles=profiles))
+                writer.connections[i] = conn._replace(    # rosbags: ext of either format
+                    ext=conn.ext._replace(offered_qos_profiles=profiles))  # type: ignore[call-arg]
         except BaseException:
-            writer.abort()
+            with contextlib.suppress(OSError):      # a full disk: its buffer cannot go
+                writer.abort()
             keep = recorder is not None and any(recorder.written.values())
             raise
-        writer.close()
+        keep = any(recorder.written.values())       # finishing can fail too (a full disk)
+        try:
+            writer.close()
+        except BaseException:
+            with contextlib.suppress(OSError):
+                writer.abort()
+            raise
         _seal(os.path.join(tmp, base), out, log, recorder.offered_qos)
         keep = True
         os.rename(os.path.join(tmp, base), out)
@@ -561,11 +563,14 @@ def record(out, *, topics=None, duration=None, args=None, log=None, stop=None,
         return dict(recorder.written)
     except RecordingError:
         raise
-    except OSError as exc:
-        raise RecordingError(f'cannot write {out}: {exc}') from None
+    except OSError as exc:                # ENOSPC, EDQUOT, EROFS: stop, seal what fits, 1 line
+        staging.close()                   # (its lock released: recover takes it)
+        told = keep
+        raise RecordingError(salvage_recording(tmp, out, exc) if keep else
+                             f'cannot write {out}: {exc.strerror or exc}') from None
     finally:
         staging.close()
-        if keep:
+        if keep and not told:
             log(f'what was recorded is kept in {tmp}; recover it with: {recovery_command(tmp)}')
         if executor is not None:
             executor.shutdown(timeout_sec=1.0)
@@ -578,7 +583,7 @@ def record(out, *, topics=None, duration=None, args=None, log=None, stop=None,
             shutil.rmtree(tmp, ignore_errors=True)
 
 
-def format_counts(counts):
+def format_counts(counts: Mapping[str, int]) -> str:
     """``'N messages (/a: n1, /b: n2)'`` of a topic -> count dict."""
     detail = ', '.join(f'{t}: {n}' for t, n in counts.items())
     return f'{sum(counts.values())} messages ({detail})'

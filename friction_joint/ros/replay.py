@@ -1,16 +1,5 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 
 """
 ``friction_joint replay BAG``: publish a recording again, with its timing and a ``/clock``.
@@ -40,7 +29,11 @@ DDS has repaired it, instead of being pushed out by newer ones.  A subscriber
 that stops taking messages altogether ends the replay with an error once its
 queue is full.
 """
+from __future__ import annotations
+
+from collections.abc import Callable, Sequence
 import math
+import os
 import struct
 import sys
 import threading
@@ -61,7 +54,7 @@ MIN_RATE = 1.0e-3
 MAX_WAIT = 3600.0
 
 
-def parse_rate(text):
+def parse_rate(text: str) -> float:
     """
     Return the time scale of ``--rate TEXT``: a number >= :data:`MIN_RATE`, or 0 for ``max``.
 
@@ -97,8 +90,10 @@ def _clock_bytes(ns):
     return b'\x00\x01\x00\x00' + _STAMP.pack(ns // 1_000_000_000, ns % 1_000_000_000)
 
 
-def replay(bag, *, rate=1.0, topics=None, clock=True, loop=False, wait=2.0, settle=0.5, args=None,
-           log=None, stop=None):
+def replay(bag: str | os.PathLike[str], *, rate: float = 1.0, topics: Sequence[str] | None = None,
+           clock: bool = True, loop: bool = False, wait: float = 2.0, settle: float = 0.5,
+           args: list[str] | None = None, log: Callable[[str], None] | None = None,
+           stop: threading.Event | None = None) -> dict[str, int]:
     """
     Publish the messages of ``bag`` with their original timing.
 
@@ -197,7 +192,8 @@ def replay(bag, *, rate=1.0, topics=None, clock=True, loop=False, wait=2.0, sett
         t_start = time.monotonic()
         while not stop.is_set():
             now_clock = -1
-            t0_bag = t0_wall = None
+            t0_bag: int | None = None
+            t0_wall = 0.0                   # set with t0_bag
             for topic, _, bag_ns, raw in iter_messages(bag, topics=selected):
                 if stop.is_set():
                     break
@@ -209,7 +205,7 @@ def replay(bag, *, rate=1.0, topics=None, clock=True, loop=False, wait=2.0, sett
                         stop.wait(min(due - time.monotonic(), 1.0))     # any gap, in steps
                     if stop.is_set():
                         break
-                if clock and topic in header and len(raw) >= 12:
+                if clock_pub is not None and topic in header and len(raw) >= 12:
                     sec, nsec = _STAMP.unpack_from(raw, 4)
                     ns = sec * 1_000_000_000 + nsec
                     if ns > now_clock:

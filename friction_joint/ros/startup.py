@@ -1,16 +1,5 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 
 """
 A node's start-up: its ROS arguments checked before rcl sees them, every failure one line.
@@ -30,20 +19,29 @@ node must name a policy the node lets be overridden (:data:`QOS_POLICIES`)
 with a valid value (:func:`check_qos_overrides`, before the publishers are
 created) and an entity the node has (:func:`check_overrides_used`, after).
 """
+from __future__ import annotations
+
+from collections.abc import Callable, Iterator, Mapping, Sequence
 import math
 import os
 import re
+from typing import Any, TYPE_CHECKING
 
 from rclpy.exceptions import (InvalidParameterTypeException, InvalidParameterValueException,
                               ParameterException)
 from rclpy.parameter import Parameter
+from rclpy.utilities import remove_ros_args as _remove_ros_args
 
 from ._rclpy import held_stderr, parameter_overrides, RCLError
-from ..exceptions import FrictionJointError, GearConfigError
+from ..exceptions import FrictionJointError, GearConfigError, RecordingError
 from ..gear.strict_yaml import parse_yaml_text
 from ..inputs import check_input
 
-__all__ = ['ros_flags', 'check_ros_args',
+if TYPE_CHECKING:
+    from rclpy.context import Context
+    from rclpy.node import Node
+
+__all__ = ['ros_flags', 'check_ros_args', 'remove_ros_args',
            'check_domain_id', 'MAX_DOMAIN_ID', 'rcl_init', 'init_context',
            'one_line', 'check_qos_overrides',
            'check_overrides_used', 'QOS_POLICIES', 'MAX_QOS_DEPTH', 'QOS_PREFIX']
@@ -70,7 +68,7 @@ _VALUE_FLAGS = ('-r', '--remap', '-e', '--enclave', '--log-level', '--log-file-n
 _NAME = re.compile(r'^[A-Za-z_][A-Za-z0-9_]*(\.[A-Za-z_/][A-Za-z0-9_/]*)*$')
 
 
-def ros_flags(argv):
+def ros_flags(argv: Sequence[str]) -> Iterator[tuple[str, int]]:
     """Yield (flag, index of its value) of the flags with a value in ``--ros-args ... [--]``."""
     i, inside = 0, False
     while i < len(argv):
@@ -108,10 +106,10 @@ def _check_assignment(text):
 
 
 #: the ``-p`` assignments of the last :func:`check_ros_args`: (node or '', name, text)
-_ASSIGNED = []
+_ASSIGNED: list[tuple[str, str, str]] = []
 
 
-def check_ros_args(argv):
+def check_ros_args(argv: Sequence[str]) -> None:
     """
     Check the ROS arguments of ``argv`` before ``rclpy.init`` reads them.
 
@@ -143,7 +141,32 @@ def check_ros_args(argv):
             _ASSIGNED.append((node, name, text))
 
 
-def check_domain_id(environ=None, error=GearConfigError):
+def remove_ros_args(args: Sequence[str]) -> list[str]:
+    """
+    Return ``args`` without the ROS arguments (rclpy's); malformed ones raise an error.
+
+    rcl parses them to find their end (reading every ``--params-file``: a
+    FIFO blocked it, so :func:`check_ros_args` checks them first) and raised
+    ``RCLInvalidROSArgsError`` (after logging a line of its own) on, e.g., ``-p :=1``.
+
+    Raises
+    ------
+    GearConfigError
+        A file named by a ROS argument is no readable regular file.
+    RecordingError
+        rcl cannot parse the ROS arguments.
+
+    """
+    check_ros_args(args)                         # rcl reads --params-file here: no FIFO
+    try:
+        return held_stderr(lambda: _remove_ros_args(args))
+    except RCLError as exc:
+        text = ' '.join(str(exc).split()).split(', at /')[0]
+        raise RecordingError(f'ROS arguments: {text}') from None
+
+
+def check_domain_id(environ: Mapping[str, str] | None = None,
+                    error: type[FrictionJointError] = GearConfigError) -> None:
     """
     Check ``ROS_DOMAIN_ID`` (unset or an integer 0-232); Fast DDS exits on a larger one.
 
@@ -159,7 +182,7 @@ def check_domain_id(environ=None, error=GearConfigError):
                     '(the DDS ports of larger ids do not exist)')
 
 
-def rcl_init(init):
+def rcl_init(init: Callable[[], Any]) -> Any:
     """
     Call ``init()`` (``rclpy.init``) with what rcl writes to stderr held back.
 
@@ -169,7 +192,8 @@ def rcl_init(init):
     return held_stderr(init)
 
 
-def init_context(args, context, error):
+def init_context(args: list[str] | None, context: Context,
+                 error: type[FrictionJointError]) -> None:
     """
     ``rclpy.init`` of ``context`` with ``args`` (checked first); a failure raises ``error``.
 
@@ -190,7 +214,7 @@ _TYPE_ERROR = re.compile(r"parameter '([^']*)' to '(.*)' of type '(\w+)', expect
                          re.S)
 
 
-def one_line(exc):
+def one_line(exc: BaseException) -> str:
     """Return the one-line message of an exception ending a node's start-up."""
     text = ' '.join(str(exc).split()) or type(exc).__name__
     if isinstance(exc, FrictionJointError):
@@ -232,7 +256,7 @@ def _qos_problem(name, value):
     return None
 
 
-def check_qos_overrides(node):
+def check_qos_overrides(node: Node) -> None:
     """
     Check the ``qos_overrides.*`` parameters given for ``node`` (before its entities exist).
 
@@ -270,7 +294,7 @@ def _given(text):
 def _same(given, held):
     if isinstance(held, (list, tuple)) or type(held).__name__ == 'array':
         return (isinstance(given, list) and len(given) == len(held)
-                and all(_same(a, b) for a, b in zip(given, held)))
+                and all(_same(a, b) for a, b in zip(given, held, strict=True)))
     numbers = all(isinstance(v, (int, float)) and not isinstance(v, bool) for v in (given, held))
     if numbers:
         return (given != given and held != held) or math.isclose(given, held, rel_tol=1e-12)
@@ -290,7 +314,7 @@ def _check_applied(node):
                 f'keeps; give a value of type {type(held).__name__}')
 
 
-def check_overrides_used(node):
+def check_overrides_used(node: Node) -> None:
     """
     Check that every ``qos_overrides.*`` given for ``node`` names an entity it has.
 

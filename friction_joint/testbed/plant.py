@@ -1,16 +1,5 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 
 """
 The simulated test bed: joint, lever, thermal model and sensors at a fixed rate.
@@ -97,7 +86,9 @@ class InputLimits:
         self.torque_scale = mgl + self.friction + inertia * self.speed / ACCELERATION_TIME
         self.velocity = self.factor * self.speed
         self.torque = self.factor * self.torque_scale
-        bits = gear.section('sensors')['encoder_bits']
+        sensors = gear.section('sensors')
+        assert sensors is not None  # a section with defaults
+        bits = sensors['encoder_bits']
         self.position = 2.0 * math.pi / 2.0 ** bits / np.finfo(float).eps
         lo, hi = gear.friction.temperature_range
         width = max(hi - lo, 1.0)
@@ -173,6 +164,19 @@ class Sample:
 
     __slots__ = ('t', 'q', 'qd', 'effort', 'xi', 'xi_new', 'tau_link',
                  'q_true', 'qd_true', 'tau_applied', 'tau_r', 'tau_ext', 'xi_true')
+    t: float
+    q: float
+    qd: float
+    effort: float
+    xi: float
+    xi_new: bool
+    tau_link: float
+    q_true: float
+    qd_true: float
+    tau_applied: float
+    tau_r: float
+    tau_ext: float
+    xi_true: float
 
     def __init__(self, **kw: float | bool) -> None:
         for k, v in kw.items():
@@ -205,6 +209,7 @@ class Plant:
                  seed: int | None = None, q0: float = 0.0, ideal_sensors: bool = False) -> None:
         sim = gear.section('simulation')
         sens = gear.section('sensors')
+        assert sim is not None and sens is not None  # a section with defaults
         self.gear = gear
         self.rate = sim['rate']
         self.dt = 1.0 / self.rate
@@ -312,6 +317,7 @@ class Plant:
             Each field of :class:`Sample` (measured and true) over the steps.
 
         """
+        tau_cmd = np.asarray(tau_cmd, dtype=float)
         n = len(tau_cmd)
         contact = np.zeros(n) if tau_contact is None else np.asarray(tau_contact, float)
         names = Sample.__slots__

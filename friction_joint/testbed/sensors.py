@@ -1,16 +1,5 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 
 """
 Sensor models of the simulated test bed.
@@ -87,7 +76,7 @@ class StreamingSOS:
         """Filter one sample; refuses (``ValueError``) what would leave the state non-finite."""
         x_in = x
         new = []
-        for (b0, b1, b2, _, a1, a2), (z0, z1) in zip(self._coef, self._z):
+        for (b0, b1, b2, _, a1, a2), (z0, z1) in zip(self._coef, self._z, strict=True):
             y = b0 * x + z0
             new.append((b1 * x - a1 * y + z1, b2 * x - a2 * y))
             x = y
@@ -95,7 +84,7 @@ class StreamingSOS:
                                          for a, b in new)):
             raise ValueError(f'filter input {x_in} gives a non-finite filter state; '
                              'sample refused, state kept')
-        for z, (a, b) in zip(self._z, new):
+        for z, (a, b) in zip(self._z, new, strict=True):
             z[0] = a
             z[1] = b
         return x
@@ -138,7 +127,7 @@ class VelocityEstimator:
                              f'({rate_hz / 2} Hz)')
         self.filter = StreamingSOS(signal.butter(2, cutoff_hz, fs=rate_hz, output='sos'))
         self.rate = float(rate_hz)
-        self.q_prev = None
+        self.q_prev: float | None = None
 
     def reset(self, q: float, *, qd: float = 0.0) -> None:
         """

@@ -1,16 +1,5 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 
 """
 Corrupt recordings are rejected by name; odd but valid ones (gaps, late messages) are read.
@@ -137,11 +126,12 @@ def test_gaps_and_irregular_sampling_are_read(tmp_path):
 
 def test_shipped_sample_and_simulator_recordings_read(tmp_path):
     from friction_joint import load_gear
-    from friction_joint.experiments.hidden import simulate_recording
+    from friction_joint.experiments.hidden import RecordingOptions, simulate_recording
     rec = read_recording(SAMPLE)
     assert len(rec.joint_states) == 45300 and rec.unordered == {}
     base = load_gear(ROOT / 'config' / 'csd25_base.yaml')
-    simulate_recording(base, tmp_path / 'sim', duration=6.0, seed=5, n_segments=2)
+    simulate_recording(base, tmp_path / 'sim', options=RecordingOptions(
+        duration=6.0, seed=5, n_segments=2))
     sim = read_recording(tmp_path / 'sim', joint_name=base.joint_name)
     assert sim.duration > 5.0 and sim.unordered == {}
 

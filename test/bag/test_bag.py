@@ -1,16 +1,5 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 
 """Reading and writing recordings (friction_joint.bag.reader): offline, no ROS processes."""
 import os
@@ -482,11 +471,11 @@ def test_shipped_sample_is_plain_mcap_with_zstd_chunks_and_crcs():
 
 def test_simulated_compressed_recording_has_the_sample_layout(tmp_path):
     from friction_joint import load_gear
-    from friction_joint.experiments.hidden import simulate_recording
+    from friction_joint.experiments.hidden import RecordingOptions, simulate_recording
 
     base = load_gear(Path(__file__).resolve().parents[2] / 'config' / 'csd25_base.yaml')
-    simulate_recording(base, tmp_path / 'sim', duration=4.0, seed=5, n_segments=2,
-                       link_torque=False, compress=True)
+    simulate_recording(base, tmp_path / 'sim', options=RecordingOptions(
+        duration=4.0, seed=5, n_segments=2, link_torque=False, compress=True))
     assert sorted(p.name for p in (tmp_path / 'sim').iterdir()) == ['metadata.yaml',
                                                                     'sim.mcap']
     assert _chunk_compressions(tmp_path / 'sim' / 'sim.mcap') == {'zstd'}

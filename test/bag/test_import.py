@@ -1,16 +1,5 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 
 """``friction_joint import``: foreign logs (CSV/TSV/NPZ) into recordings, real data included."""
 import json
@@ -153,7 +142,7 @@ def test_csv_irregular_stamps_resampled_and_split_at_gaps(tmp_path, capsys):
     log = tmp_path / 'log.csv'
     with open(log, 'w') as fh:
         fh.write('t_ms,angle,drive\n')
-        for row in zip(t * 1e3, np.degrees(q), tau * 1e3):
+        for row in zip(t * 1e3, np.degrees(q), tau * 1e3, strict=True):
             fh.write(','.join(f'{v:.9g}' for v in row) + '\n')
     rec = tmp_path / 'rec'
     status, out, err = _import(capsys, log, '--out', rec, '--time', 't_ms:ms',
@@ -237,7 +226,7 @@ def test_yaml_mapping_semicolons_and_skip_rows(tmp_path, capsys):
     with open(log, 'w') as fh:
         fh.write('exported by some tool\nsecond preamble line\n')
         fh.write('Zeit [s];Weg [mm];Reibung [N];Other\n')
-        for a, b, c in zip(t, np.sin(t), np.sign(np.cos(t))):
+        for a, b, c in zip(t, np.sin(t), np.sign(np.cos(t)), strict=True):
             fh.write(f'{a:.4f};{b:.6f};{-c:.3f};0\n')
     mapping = tmp_path / 'map.yaml'
     mapping.write_text('time: Zeit [s]\nposition: Weg [mm]\nfriction: Reibung [N]:N\n'
@@ -287,3 +276,51 @@ def test_bad_column_and_unit_and_existing_output(tmp_path, capsys):
     assert status == 2 and 'exists already' in err and '--force' in err
     assert sorted(os.listdir(rec)) == before
     assert _import(capsys, good, '--out', rec, *common, '--torque', 'torque', '--force')[0] == 0
+
+
+@pytest.mark.parametrize('seed', [1, 2, 3])
+def test_results_quoted_back_in_the_logged_units(tmp_path, capsys, seed):
+    """SI numbers of an imported recording are quoted in the units the columns were logged in."""
+    from friction_joint.bag.provenance import import_mapping, ImportedUnits
+    from friction_joint.bag.units import UNITS
+    rng = np.random.default_rng([seed, 404])
+    linear = bool(rng.integers(2))
+    radius = float(rng.uniform(0.01, 2.0)) if linear else None
+    kinds = {q: [u for u, (_, lin) in UNITS[q].items() if lin == linear or q == 'time']
+             for q in ('time', 'position', 'velocity', 'torque')}
+    units = {q: str(rng.choice(kinds[q])) for q in kinds}
+    units['temperature'] = str(rng.choice(list(UNITS['temperature'])))
+    n = 400
+    t = np.arange(n) * 1e-3
+
+    def to_logged(quantity, si):
+        factor, lin = UNITS[quantity][units[quantity]]
+        if lin:
+            factor = factor / radius if quantity in ('position', 'velocity') else factor * radius
+        return si / factor
+
+    w = float(rng.uniform(0.5, 3.0))
+    logged = {'time': to_logged('time', t), 'position': to_logged('position', 0.3 * np.sin(w * t)),
+              'velocity': to_logged('velocity', 0.3 * w * np.cos(w * t)),
+              'torque': to_logged('torque', np.full(n, float(rng.uniform(0.5, 5.0)))),
+              'temperature': np.full(n, {'degC': 31.0, 'K': 304.15, 'degF': 87.8}[
+                  units['temperature']])}
+    z = tmp_path / 'log.npz'
+    np.savez(z, **logged)
+    rec = tmp_path / ('rec.mcap' if seed % 2 else 'rec')
+    argv = [z, '--out', rec] + [a for q in logged for a in (f'--{q}', f'{q}:{units[q]}')]
+    status, out, err = _import(capsys, *argv, *(['--radius', radius] if linear else []))
+    assert status == 0, err
+    quoted = ImportedUnits(import_mapping(rec))
+    r = read_recording(rec)
+    for quantity, si in (('position', r.joint_states.q[7]), ('velocity', r.joint_states.qd[7]),
+                         ('torque', r.joint_states.effort[7]),
+                         ('temperature', r.temperature.xi[0])):
+        text = quoted.quote(quantity, float(si))
+        if text is None:            # logged in SI: nothing to add
+            assert units[quantity] in ('rad', 'rad/s', 'Nm', 'degC'), (quantity, units)
+            continue
+        value, unit = text.split(' ', 1)
+        assert unit == units[quantity], (quantity, text)
+        want = logged[quantity][7] if quantity != 'temperature' else logged[quantity][0]
+        assert float(value) == pytest.approx(want, rel=1e-3), (quantity, text, want)

@@ -1,16 +1,5 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 
 """``friction_joint import``: special files, reading in chunks, the memory budget, a full disk."""
 import errno
@@ -80,7 +69,7 @@ def test_fifo_inputs_end_at_once(tmp_path):
     assert proc.stdout.split() == ['status', '2'] * 3, proc.stdout + proc.stderr
     lines = proc.stderr.strip().splitlines()
     assert len(lines) == 3, proc.stderr
-    for name, line in zip(('fifo.csv', 'fifo.npz', 'fifo.yaml'), lines):
+    for name, line in zip(('fifo.csv', 'fifo.npz', 'fifo.yaml'), lines, strict=True):
         assert str(tmp_path / name) in line and 'FIFO' in line, line
     assert not (tmp_path / 'rec').exists()
 

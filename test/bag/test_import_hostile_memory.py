@@ -1,16 +1,5 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 
 """
 ``friction_joint import`` of large logs: memory bounded by the columns, the same result.
@@ -24,6 +13,7 @@ import math
 import tracemalloc
 
 import friction_joint.bag.blockwise as blockwise
+import friction_joint.bag.consistency as consistency
 import friction_joint.bag.importer as importer
 from friction_joint.bag.importer import IMPORT_BUDGET, import_logs
 import friction_joint.bag.plausible as plausible
@@ -40,6 +30,7 @@ def small_blocks(monkeypatch):
     """Blocks and chunks small against the logs, so that only n-sized arrays count."""
     monkeypatch.setattr(blockwise, 'BLOCK', 4096)
     monkeypatch.setattr(plausible, 'BLOCK', 4096)
+    monkeypatch.setattr(consistency, 'BLOCK', 4096)
     monkeypatch.setattr(tables, 'CHUNK', 1 << 16)
     np.percentile(np.median(np.arange(5.0), overwrite_input=True), 50)   # their lazy imports
 

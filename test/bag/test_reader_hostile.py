@@ -1,16 +1,5 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 
 """
 Hostile recordings (issue 23): special files, corrupt metadata, stamps, clocks, physics.
@@ -132,7 +121,7 @@ def test_special_files_in_a_recording_are_refused_at_once(tmp_path):
     assert proc.returncode == 0, proc.stderr
     results = [json.loads(line) for line in proc.stdout.splitlines()]
     assert len(results) == len(runs)
-    for (case, culprit, out), (status, err) in zip(culprits, results):
+    for (case, culprit, out), (status, err) in zip(culprits, results, strict=True):
         lines = err.strip().splitlines()
         assert status == 2, (case, err)
         assert len(lines) == 1, (case, err)

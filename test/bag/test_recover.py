@@ -1,18 +1,9 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 
 """Recordings cut short: the reader's error, ``friction_joint recover``, staging directories."""
+import errno
+import importlib.util
 import json
 import os
 from pathlib import Path
@@ -30,6 +21,7 @@ import pytest
 import sourcetree
 
 MCAP_CLI = Path(sourcetree.MCAP_CLI)
+CONFIG = Path(__file__).resolve().parents[2] / 'config'
 TOPICS = [('/joint_states', 'sensor_msgs/msg/JointState'),
           ('/joint_temperature', 'sensor_msgs/msg/Temperature')]
 
@@ -206,3 +198,95 @@ def test_a_running_recorder_is_not_taken_for_a_killed_one(tmp_path):
     assert (str(old), 'unknown') in killed_recordings(out)
     with pytest.raises(RecordingError, match='is empty.*nothing to recover'):
         read_recording(old / 'rec' / 'rec.mcap')
+
+
+# --------------------------------------- a missing OUT whose recorder was killed ---
+
+def _fleet_reason(tmp_path, rec, capsys):
+    """Run ``fleet`` on a manifest of one row, ``rec``; return that row's reason."""
+    import csv
+    manifest = tmp_path / 'manifest.csv'
+    manifest.write_text(f'recording,joint,time,travel\n{rec},j01,2026-03-02T18:46:42+00:00,'
+                        '1.0\n')
+    assert main(['fleet', '--manifest', str(manifest), '--model', str(CONFIG / 'csd25.yaml'),
+                 '--out', str(tmp_path / 'fleet'), '--workers', '1', '--quiet']) == 0
+    capsys.readouterr()
+    with open(tmp_path / 'fleet' / 'recordings.csv', encoding='utf-8') as fh:
+        row, = csv.DictReader(fh)
+    assert row['status'] == 'failed'
+    return row['reason']
+
+
+@pytest.mark.parametrize('given', ['rec', 'rec/rec.mcap'])
+def test_every_reader_names_the_killed_recorders_staging_and_the_command(
+        tmp_path, capsys, monkeypatch, given):
+    """``identify rec`` said only 'recording rec does not exist' beside .rec.rec-*.tmp."""
+    staging, out = _killed(tmp_path, 1000, 0)
+    monkeypatch.chdir(tmp_path)
+    command = f'friction_joint recover {staging.name} rec'
+    assert recovery_command(staging) == command
+    base = str(CONFIG / 'csd25_base.yaml')
+    commands = [['identify', given, '--model', base, '--out', 'g.yaml'],
+                ['diagnose', given, '--model', base, '--out', 'd'], ['recover', given, 'out']]
+    if importlib.util.find_spec('rclpy') is not None:        # replay imports rclpy first
+        commands.append(['replay', given])
+    for argv in commands:
+        assert main(argv) == 2, argv
+        err = capsys.readouterr().err.strip()
+        assert '\n' not in err and err.startswith(f'friction_joint {argv[0]}: error: '), err
+        assert f'recording {given} does not exist' in err and 'was killed' in err, err
+        assert err.endswith(f'recover it with: {command}'), err
+    with pytest.raises(RecordingError, match=f'recover it with: {command}$'):
+        read_recording(given)
+    assert f'recover it with: {command}' in _fleet_reason(tmp_path, given, capsys)
+    # the command named works
+    assert main(command.split()[1:]) == 0
+    assert len(read_recording(out).joint_states.t) == 1000 and not staging.exists()
+
+
+def test_missing_recording_while_its_recorder_runs_and_with_several_killed(
+        tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    first, _ = _killed(tmp_path, 500, 0, tag='rec-aaaa1111')
+    second, _ = _killed(tmp_path, 500, 0, tag='rec-bbbb2222')
+    os.utime(first, (1e9, 1e9))                    # the older one
+    with pytest.raises(RecordingError) as err:
+        read_recording('rec')
+    assert f'in {second.name} (1 older staging directory of it beside)' in str(err.value)
+    assert str(err.value).endswith(f'friction_joint recover {second.name} rec')
+    running = tmp_path / '.rec.rec-cccc3333.tmp'
+    running.mkdir()
+    marker = RecorderStaging(running, tmp_path / 'rec', TOPICS)
+    try:
+        with pytest.raises(RecordingError, match=f'does not exist yet: a recorder \\(pid '
+                           f'{os.getpid()}\\) is still writing it in {running.name}; stop it'):
+            read_recording('rec')
+    finally:
+        marker.close()
+    with pytest.raises(RecordingError, match='^recording other does not exist$'):
+        read_recording('other')
+
+
+# ------------------------------------------- a recorder stopped by a write error ---
+
+@pytest.mark.parametrize('code, room', [(errno.ENOSPC, True), (errno.ENOSPC, False),
+                                        (errno.EROFS, False)])
+def test_salvage_seals_when_there_is_room_else_names_the_command(tmp_path, monkeypatch, code,
+                                                                 room):
+    """The recorder's one line after a failed write: sealed into OUT, or how to recover."""
+    from friction_joint.bag import recover
+    staging, out = _killed(tmp_path, 1000, 0)
+    if not room:
+        monkeypatch.setattr(recover.os, 'statvfs', lambda path: os.statvfs_result(
+            (4096, 4096, 100, 0, 0, 100, 0, 0, 0, 255)))
+    line = recover.salvage_recording(staging, out, OSError(code, os.strerror(code)))
+    assert '\n' not in line and line.startswith(f'cannot write {out}: {os.strerror(code)}; '
+                                                'stopped; '), line
+    if room:
+        assert f'the 1000 messages written before it are in {out} (sealed' in line, line
+        assert len(read_recording(out).joint_states.t) == 1000 and not staging.exists()
+    else:
+        then = 'make room, then ' if code == errno.ENOSPC else ''
+        assert line.endswith(f'kept in {staging}: {then}recover it with: '
+                             f'{recovery_command(staging)}'), line
+        assert staging.exists() and not out.exists()

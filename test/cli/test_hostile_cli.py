@@ -1,16 +1,5 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 
 """
 Hostile command lines, round 2: sizes, output errors, options and messages end in one line.
@@ -125,7 +114,7 @@ def test_full_disk_while_staging_results(tmp_path, capsys, monkeypatch):
     out.mkdir()
     (out / 'old.txt').write_text('old')
     rc = main(['experiment', 'chirp', '--model', MODEL, '--truth', TRUTH, '--out', str(out),
-               '--force', '--duration-scale', '0.01'])
+               '--force', '--duration-scale', '0.01', '--quiet'])    # no progress: the error
     _one_line(capsys, rc, 'No space left on device')
     assert sorted(os.listdir(out)) == ['old.txt']
     _no_temporaries(tmp_path)
@@ -266,12 +255,13 @@ def test_recorded_temperature_out_of_range_blames_the_recordings(tmp_path, capsy
     """
     Blame the recordings for temperatures the identified gear cannot have.
 
-    Temperatures just below the reader's limit made the identified gear invalid: that
-    error named the structure file (``csd25_base.yaml``) and asked to lower its order.
+    Temperatures just below the reader's limit (then 1000 degC) made the identified gear
+    invalid: that error named the structure file (``csd25_base.yaml``) and asked to lower
+    its order.  The reader's limit is now 500 degC: the recording is refused, by name.
     """
     rec = _recording(tmp_path / 'hot', xi=999.99)
     rc = main(['identify', rec, '--model', BASE, '--out', str(tmp_path / 'g.yaml'), '--quiet'])
-    line = _one_line(capsys, rc, 'recorded temperatures', 'recordings')
+    line = _one_line(capsys, rc, 'hot', '/joint_temperature', '500')
     assert 'csd25_base' not in line and 'order' not in line, line
     assert not (tmp_path / 'g.yaml').exists()
 
@@ -350,3 +340,52 @@ def test_ctrl_c_while_record_starts_is_one_line(tmp_path, stage):
     assert proc.returncode in (0, 130), err       # 0: it had started and stopped cleanly
     if proc.returncode == 130:
         assert len(err.strip().splitlines()) == 1, err
+
+
+#: sitecustomize of the test below: SIGINT to the process as module $SIGINT_AT starts loading
+SIGINT_HOOK = """
+import os, signal, sys
+
+class _SigintAt:
+    def find_spec(self, name, path=None, target=None):
+        if name == os.environ.get('SIGINT_AT'):
+            os.kill(os.getpid(), signal.SIGINT)
+        return None
+
+sys.meta_path.insert(0, _SigintAt())
+"""
+
+
+@pytest.mark.parametrize('entry', ['-m', 'script'])
+@pytest.mark.parametrize('module', ['friction_joint._version', 'friction_joint.exceptions',
+                                    'friction_joint.cli', 'argparse'])
+def test_ctrl_c_while_the_package_loads_is_one_line(tmp_path, entry, module):
+    """
+    SIGINT as a module of the package's own import loads, before ``main()`` runs.
+
+    It raised ``KeyboardInterrupt`` inside the import: a traceback, exit -2.  Now the
+    package guards SIGINT from its first line in a program of its own (``python -m
+    friction_joint``, the ``friction_joint`` console script): one line, exit 130.
+    """
+    hook = tmp_path / 'hook'
+    hook.mkdir()
+    (hook / 'sitecustomize.py').write_text(SIGINT_HOOK)
+    script = tmp_path / 'bin' / 'friction_joint'            # as the console script is
+    script.parent.mkdir()
+    script.write_text('import sys\nfrom friction_joint.cli import main\nsys.exit(main())\n')
+    env = dict(os.environ, SIGINT_AT=module,
+               PYTHONPATH=os.pathsep.join([str(hook), ROOT, os.environ.get('PYTHONPATH', '')]))
+    out = tmp_path / 'diag'
+    argv = ['-m', 'friction_joint'] if entry == '-m' else [str(script)]
+    proc = subprocess.run([sys.executable, *argv, 'diagnose', 'rec', '--model', BASE, '--out',
+                           str(out)], capture_output=True, text=True, env=env, timeout=120,
+                          stdin=subprocess.DEVNULL, preexec_fn=_default_sigint)
+    assert 'Traceback' not in proc.stderr, proc.stderr
+    assert proc.returncode == 130, proc.stderr
+    assert proc.stderr.strip().splitlines() == ['friction_joint: interrupted'], proc.stderr
+    assert proc.stdout == '' and not out.exists()
+
+
+def _default_sigint():
+    """Give the child Python's default SIGINT (a suite run in the background ignores it)."""
+    signal.signal(signal.SIGINT, signal.SIG_DFL)

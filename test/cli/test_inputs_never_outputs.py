@@ -1,16 +1,5 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 """
 Inputs are never outputs: an ``--out`` that is, contains or lies inside anything a command reads.
 
@@ -27,7 +16,7 @@ import os
 import shutil
 
 from friction_joint.cli import main
-from friction_joint.experiments.fleet import simulate_fleet
+from friction_joint.jobs.fleet_simulation import run_fleet_simulation
 import pytest
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
@@ -65,7 +54,7 @@ def _refused(capsys, rc, *words):
 def tiny_fleet(tmp_path_factory):
     """Simulate a fleet (2 joints x 2 days) as ``experiment fleet --out fleet`` writes it."""
     root = tmp_path_factory.mktemp('tiny')
-    simulate_fleet(root / 'fleet', joints=2, days=2, seed=3, cfg=SHORT)
+    run_fleet_simulation(root / 'fleet', joints=2, days=2, seed=3, cfg=SHORT)
     return root
 
 

@@ -1,16 +1,5 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 
 """
 Paths the commands print are normalised (issue 22): --out DIR/ printed DIR//report.json.
@@ -24,6 +13,7 @@ import types
 from friction_joint.cli import main
 import friction_joint.jobs.diagnose as diagnosis_report
 import friction_joint.jobs.identify as identification_pipeline
+from friction_joint.jobs.runs import IdentifyRun
 import pytest
 
 MODEL = os.path.join(os.path.dirname(__file__), '..', '..', 'config', 'csd25.yaml')
@@ -40,7 +30,7 @@ def test_diagnose_prints_normal_paths(tmp_path, capsys, monkeypatch, suffix):
         path = os.path.join(out, 'report.json')
         with open(path, 'w', encoding='utf-8') as fh:
             json.dump({'named_causes': ['thermal']}, fh)
-        diag = types.SimpleNamespace(report={'named_causes': ['thermal']})
+        diag = types.SimpleNamespace(named_causes=('thermal',))
         return diagnosis_report.DiagnoseRun(diagnosis=diag, written=[path])
     monkeypatch.setattr(diagnosis_report, 'run_diagnose', run_diagnose)
     out = str(tmp_path / 'report') + suffix
@@ -54,7 +44,7 @@ def test_diagnose_prints_normal_paths(tmp_path, capsys, monkeypatch, suffix):
 def test_identify_prints_normal_paths(tmp_path, capsys, monkeypatch):
     def run_identify(paths, model, out, **options):
         report = options['report_dir']
-        return [os.path.join(report, 'identification.json'), out]
+        return IdentifyRun(None, {}, [os.path.join(report, 'identification.json'), out])
     monkeypatch.setattr(identification_pipeline, 'run_identify', run_identify)
     out = str(tmp_path) + '//gear.yaml'
     assert main(['identify', 'rec.mcap', '--model', MODEL, '--out', out, '--report',

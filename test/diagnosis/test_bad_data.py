@@ -1,16 +1,5 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 
 """
 ``diagnose`` on corrupt recordings: an error naming the recording, never a wrong answer.
@@ -27,7 +16,7 @@ import friction_joint
 from friction_joint.bag import write_recording
 from friction_joint.diagnosis.data import load_data
 from friction_joint.exceptions import RecordingError
-from friction_joint.experiments.hidden import simulate_recording
+from friction_joint.experiments.hidden import RecordingOptions, simulate_recording
 import numpy as np
 import pytest
 
@@ -43,7 +32,8 @@ def base():
 @pytest.fixture(scope='module')
 def topics(base):
     """Topics of a short valid recording of the base gear."""
-    out, _ = simulate_recording(base, None, duration=20.0, seed=7, n_segments=2)
+    out, _ = simulate_recording(base, None, options=RecordingOptions(
+        duration=20.0, seed=7, n_segments=2))
     return out
 
 

@@ -1,16 +1,5 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 
 """
 A warm-up recording: the temperature only rises, so ``thermal`` and ``drift`` are one variable.
@@ -21,7 +10,8 @@ are drawn at random (seeded); ``diagnose`` sees the recording and the base.
 import os
 
 from friction_joint.diagnosis import diagnose
-from friction_joint.experiments.hidden import apply_effects, draw_effect, simulate_recording
+from friction_joint.experiments.hidden import (apply_effects, draw_effect, RecordingOptions,
+                                               simulate_recording)
 from friction_joint.gear import load_gear
 import numpy as np
 import pytest
@@ -37,10 +27,9 @@ def test_a_warm_up_names_the_temperature_and_states_the_confound(tmp_path, seed)
     base = load_gear(BASE)
     truth = apply_effects(base, {'thermal': draw_effect(rng, 'thermal')})
     rec = str(tmp_path / 'rec')
-    _, summary = simulate_recording(truth, rec, duration=float(rng.uniform(40, 60)),
-                                    seed=int(rng.integers(1e6)), base_gear=base, warmup=True,
-                                    n_segments=int(rng.integers(2, 4)),
-                                    noise_scale=float(rng.uniform(0.5, 2.0)))
+    _, summary = simulate_recording(truth, rec, options=RecordingOptions(
+        duration=float(rng.uniform(40, 60)), seed=int(rng.integers(1e6)), base_gear=base,
+        warmup=True, n_segments=int(rng.integers(2, 4)), noise_scale=float(rng.uniform(0.5, 2.0))))
     xi = [s['xi_end'] for s in summary['segments']]
     assert xi == sorted(xi)                                  # the temperature only rises
     rep = diagnose([rec], base).report

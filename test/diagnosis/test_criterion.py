@@ -1,16 +1,5 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 
 """
 The criterion of ``diagnose``: power against one bad block, adequacy, confounds, headline.
@@ -21,6 +10,8 @@ Block errors, gains and the bad block's place and size are drawn at random
 from friction_joint.diagnosis.criterion import (adequacy, compare, confounds, headline, holm,
                                                 LARGE_GAIN, n_blocks, prefer)
 from friction_joint.diagnosis.crossval import CVResult
+from friction_joint.diagnosis.result import DiagnosisResult
+from friction_joint.diagnosis.verdicts import CandidateVerdict, Confound
 import numpy as np
 import pytest
 
@@ -78,7 +69,7 @@ def test_adequacy_and_headline_when_the_model_explains_nothing():
     scan = [{'variable': 'time', 'explained': 0.9, 'p_value': 0.001, 'flagged': True}]
     rep = {'named_causes': [], 'candidates': [], 'adequacy': {'base': bad, 'extended': bad},
            'residual_scan': scan}
-    text = headline(rep)
+    text = headline(DiagnosisResult.from_dict(rep))
     assert text.startswith('The model does not explain the data') and 'time' in text
     assert 'Nothing' not in text
 
@@ -93,10 +84,10 @@ def test_a_large_gain_is_never_nothing_missing():
              {'effect': 'e2', 'testable': True, 'gain_raw': 0.01, 'p_value': 0.5,
               'blocks_improved': 5, 'blocks': 10, 'significant': False}]
     rep = {'named_causes': [], 'candidates': cands, 'adequacy': {'base': ok, 'extended': ok}}
-    text = headline(rep)
+    text = headline(DiagnosisResult.from_dict(rep))
     assert 'Nothing' not in text and 'e1' in text and f'{100 * gain:.0f} %' in text
     cands[0]['gain_raw'] = LARGE_GAIN / 2
-    assert headline(rep).startswith('Nothing significant is missing')
+    assert headline(DiagnosisResult.from_dict(rep)).startswith('Nothing significant is missing')
 
 
 def test_confounded_candidates_are_reported_and_the_measured_cause_preferred():
@@ -111,8 +102,10 @@ def test_confounded_candidates_are_reported_and_the_measured_cause_preferred():
     pairs = confounds(variables, ['thermal', 'load', 'gravity', 'position_ripple', 'drift'])
     assert [p['effects'] for p in pairs] == [['thermal', 'drift']]
     assert pairs[0]['rank_correlation'] > 0.9 and 'temperature' in pairs[0]['separate_by']
-    table = {'thermal': {'gain_raw': 0.4}, 'drift': {'gain_raw': 0.45}}
-    assert prefer(['thermal', 'drift'], table, pairs) == 'thermal'
+    table = {'thermal': CandidateVerdict('thermal', gain_raw=0.4),
+             'drift': CandidateVerdict('drift', gain_raw=0.45)}
+    assert prefer(['thermal', 'drift'], table, [Confound.from_dict(p) for p in pairs]) == \
+        'thermal'
     assert prefer(['thermal', 'drift'], table, []) == 'drift'
     sweep = np.linspace(-2.6, 2.6, n)                      # a one-way sweep
     pairs = confounds({'gravity': sweep, 'drift': np.cumsum(np.abs(np.gradient(sweep)))},

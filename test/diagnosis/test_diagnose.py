@@ -1,16 +1,5 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 
 """
 ``friction_joint diagnose`` finds an effect hidden in simulated measured-style data.
@@ -38,7 +27,7 @@ from friction_joint.bag import write_recording
 from friction_joint.effects import EFFECTS
 from friction_joint.exceptions import GearConfigWarning
 from friction_joint.experiments.hidden import (apply_effects, draw_effect, HIDEABLE,
-                                               simulate_recording)
+                                               RecordingOptions, simulate_recording)
 import numpy as np
 import pytest
 
@@ -110,8 +99,8 @@ def test_diagnose_names_the_hidden_effect(case, tmp_path_factory):
     effects = _visible(hidden, link)
     work = tmp_path_factory.mktemp('case')
     rec = work / 'rec'
-    simulate_recording(truth, rec, duration=DURATION, seed=seed, base_gear=base,
-                       link_torque=link)
+    simulate_recording(truth, rec, options=RecordingOptions(
+        duration=DURATION, seed=seed, base_gear=base, link_torque=link))
 
     out = work / 'out'
     res = _diagnose([rec], BASE, out)
@@ -148,7 +137,8 @@ def test_diagnose_names_the_hidden_effect(case, tmp_path_factory):
 def good_topics():
     """Topics of a short, valid recording of the base (made once per module)."""
     base = friction_joint.load_gear(BASE)
-    topics, _ = simulate_recording(base, None, duration=20.0, seed=7, n_segments=2)
+    topics, _ = simulate_recording(base, None, options=RecordingOptions(
+        duration=20.0, seed=7, n_segments=2))
     return topics
 
 

@@ -1,16 +1,5 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 
 """
 ``drift``: friction that changes with accumulated travel, not with temperature.
@@ -30,7 +19,8 @@ from pathlib import Path
 import friction_joint
 from friction_joint.bag import write_recording
 from friction_joint.diagnosis import diagnose
-from friction_joint.experiments.hidden import apply_effects, draw_effect, simulate_recording
+from friction_joint.experiments.hidden import (apply_effects, draw_effect, RecordingOptions,
+                                               simulate_recording)
 from friction_joint.jobs import run_diagnose
 import numpy as np
 
@@ -58,7 +48,8 @@ def test_drift_named_alone(tmp_path):
     rng = np.random.default_rng([MASTER_SEED, 1])
     seed = int(rng.integers(0, 2**31 - 1))
     base = friction_joint.load_gear(BASE)
-    topics, _ = simulate_recording(base, None, duration=30.0, seed=seed, n_segments=1)
+    topics, _ = simulate_recording(base, None, options=RecordingOptions(
+        duration=30.0, seed=seed, n_segments=1))
     drawn = _run_in(topics, base, rng)
     what = f'[master seed {MASTER_SEED}] run-in {drawn}, recording seed {seed}'
     write_recording(tmp_path / 'rec', topics)
@@ -85,8 +76,9 @@ def test_thermal_is_not_drift(tmp_path):
     seed = int(rng.integers(0, 2**31 - 1))
     what = f'[master seed {MASTER_SEED}] hidden {effects}, recording seed {seed}'
     base = friction_joint.load_gear(BASE)
-    topics, summary = simulate_recording(apply_effects(base, effects), None, duration=30.0,
-                                         seed=seed, base_gear=base)
+    topics, summary = simulate_recording(
+        apply_effects(base, effects), None, options=RecordingOptions(
+            duration=30.0, seed=seed, base_gear=base))
     assert summary['temperatures'] == sorted(summary['temperatures']), what
     write_recording(tmp_path / 'rec', topics)
     rep = diagnose([str(tmp_path / 'rec')], base).to_dict()

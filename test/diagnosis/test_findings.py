@@ -1,16 +1,5 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 
 """
 The diagnose report opens with plain-language findings and what to do next.
@@ -37,9 +26,11 @@ import re
 
 import friction_joint
 from friction_joint.bag import read_recording
+from friction_joint.diagnosis.criterion import adequacy, verdict
 from friction_joint.diagnosis.findings import effect_finding, next_step_lines, SENTENCES
-from friction_joint.experiments.hidden import (apply_effect, draw_effect, segment_temperatures,
-                                               simulate_recording)
+from friction_joint.diagnosis.result import DataRanges, DiagnosisResult
+from friction_joint.experiments.hidden import (apply_effect, draw_effect, RecordingOptions,
+                                               segment_temperatures, simulate_recording)
 from friction_joint.experiments.hidden_plant import draw_plant
 from friction_joint.jobs import run_diagnose
 import numpy as np
@@ -83,8 +74,8 @@ def _span(temps):
 
 
 def _change(c, lo, hi):
-    """Change of polynomial c from lo to hi against its value at the middle (as findings)."""
-    return (_poly(c, hi) - _poly(c, lo)) / _poly(c, 0.5 * (lo + hi))
+    """Change of polynomial c from lo to hi against its value at lo (as findings)."""
+    return (_poly(c, hi) - _poly(c, lo)) / _poly(c, lo)
 
 
 # Each check parses the finding of one effect and compares it with the truth.  The
@@ -98,19 +89,19 @@ def _change(c, lo, hi):
 
 def _check_thermal(text, truth, base, ctx):
     m = re.search(r'Thermal: F_c (rises|falls) about (\d+) % and F_v (rises|falls) about '
-                  r'(\d+) % from (-?\d+) to (-?\d+) degC', text)
-    assert m, text
+                  r'(\d+) % from (-?\d+) to (-?\d+) degC \(of the values at (-?\d+) degC', text)
+    assert m and m.group(7) == m.group(5), text
     lo, hi = ctx['rep']['data']['xi_range']
     assert (int(m.group(5)), int(m.group(6))) == (round(lo), round(hi)), (text, lo, hi)
-    fr, mid = truth.friction, 0.5 * (lo + hi)
+    fr = truth.friction
     spread = math.sqrt(2.0 * ctx['segments']) * ctx['e']       # Nm over the span
     for word, said, c, regressor in ((m.group(1), m.group(2), fr.fc, 1.0),
                                      (m.group(3), m.group(4), fr.fv, ctx['v_rms'])):
         true = _change(c, lo, hi)
-        tol = 100 * spread / (_poly(c, mid) * regressor) + 0.5
+        tol = 100 * spread / (_poly(c, lo) * regressor) + 0.5
         assert word == ('rises' if true > 0 else 'falls'), (text, true)
         assert abs(int(said) - 100 * abs(true)) <= tol, (text, true, tol)
-    tol_fc = 100 * spread / _poly(fr.fc, mid) + 0.5
+    tol_fc = 100 * spread / _poly(fr.fc, lo) + 0.5
     assert tol_fc < 100 * abs(_change(fr.fc, lo, hi)), f'tolerance {tol_fc:.1f} % too wide'
     assert 'the base model keeps them constant' in text, text
 
@@ -159,13 +150,14 @@ def test_drawn_effect_finding_states_the_truth(tmp_path, case):
     base = friction_joint.load_gear(BASE)
     effect = str(rng.choice(sorted(CHECKS)))
     size = _draw(rng, base, effect)
-    truth = apply_effect(base, effect, size)
+    truth = apply_effect(base, effect, size=size)
     kwargs, cfg = draw_plant(rng, duration=DURATION, kinds=('rich',), odds=ODDS)
     seed = int(rng.integers(0, 2**31 - 1))
     what = (f'[master seed {MASTER_SEED}, case {case}] {effect} {size}, seed {seed}, '
             f'plant {kwargs} {cfg}')
     rec = tmp_path / 'rec'
-    topics, _ = simulate_recording(truth, rec, seed=seed, base_gear=base, cfg=cfg, **kwargs)
+    topics, _ = simulate_recording(truth, rec, options=RecordingOptions(
+        seed=seed, base_gear=base, cfg=cfg, **kwargs))
     md, rep, _ = _run([rec], tmp_path / 'out')
     assert effect in rep['named_causes'], f'{what}: named {rep["named_causes"]}'
     js, cmd = topics['/joint_states'], topics['/joint_command']
@@ -219,7 +211,7 @@ def test_shipped_sample_report_findings_next_steps_and_drift_agree(tmp_path):
     # sample was made for (its segments' set points, without their jitter)
     fr, (lo, hi) = truth.friction, _span(segment_temperatures(friction_joint.load_gear(BASE)))
     assert max(abs(t - n) for t, n in zip(temps, segment_temperatures(
-        friction_joint.load_gear(BASE)))) <= 0.5, temps
+        friction_joint.load_gear(BASE)), strict=True)) <= 0.5, temps
     assert round(100 * _change(fr.fc, lo, hi)) == stated[0], stated
     assert round(-100 * _change(fr.fv, lo, hi)) == stated[1], stated
     rec = read_recording(str(SAMPLE), joint_name=truth.joint_name)
@@ -259,8 +251,12 @@ def _fake_rep(effect, fit):
             'candidates': [{'effect': effect, 'round': 1, 'explained_torque': 0.1}]}
 
 
-RANGES = {'temperature': (22.0, 38.0), 'speed': (0.03, 2.5), 'load': (0.5, 9.0),
-          'position': (-1.2, 1.3), 'travel': 40.0, 'level': 2.8, 'inertia': 0.05}
+def _result(effect, fit):
+    return DiagnosisResult.from_dict(_fake_rep(effect, fit))
+
+
+RANGES = DataRanges(temperature=(22.0, 38.0), speed=(0.03, 2.5), load=(0.5, 9.0),
+                    position=(-1.2, 1.3), travel=40.0, level=2.8, inertia=0.05)
 
 FITS = {
     'thermal': ({'fc': [1.0, 0.05], 'fv': [0.9, -0.01]}, r'F_c rises about \d+ % and F_v falls'),
@@ -280,13 +276,13 @@ FITS = {
 @pytest.mark.parametrize('effect', sorted(SENTENCES))
 def test_every_effect_kind_has_a_sentence_in_physical_units(effect):
     fit, pattern = FITS[effect]
-    text = effect_finding(effect, _fake_rep(effect, fit), RANGES)
+    text = effect_finding(effect, _result(effect, fit), RANGES)
     assert re.search(pattern, text), text
     assert 'nan' not in text and text.endswith('held out.'), text
 
 
 def test_unknown_effect_gets_the_generic_sentence():
-    text = effect_finding('backlash', _fake_rep('backlash', {}), RANGES)
+    text = effect_finding('backlash', _result('backlash', {}), RANGES)
     assert text.startswith('Backlash: missing from the base model; explains 0.1 Nm'), text
 
 
@@ -294,7 +290,7 @@ def test_gravity_finding_with_the_corrected_lever():
     """A named gravity effect states the corrected m g l and zero angle against the base's."""
     fit = {'gravity': {'sin': 0.3, 'cos': 0.4, 'lever': {
         'mgl': 12.0, 'angle_offset': 0.1, 'mgl_base': 10.0, 'angle_offset_base': 0.0}}}
-    text = effect_finding('gravity', _fake_rep('gravity', fit), RANGES)
+    text = effect_finding('gravity', _result('gravity', fit), RANGES)
     assert 'm g l is 12 Nm (+20 %) instead of 10 Nm in the base model' in text, text
     assert 'zero at 0.1 rad instead of 0 rad' in text, text
 
@@ -308,7 +304,10 @@ def test_next_steps_say_what_to_record_for_the_untestable():
                                'gravity': 'a linear device (imported with a radius) has no '
                                           'gravity torque'},
                 'confounds': []})
-    text = '\n'.join(next_step_lines(rep, 'out/', ['rec']))
+    fit = adequacy(np.array([1.0, -1.0, 1.2]), np.array([0.99, -1.0, 1.21]), 1.0)
+    rep['adequacy'] = {'base': fit, 'extended': fit}
+    result = DiagnosisResult.from_dict(rep)
+    text = '\n'.join(next_step_lines(verdict(result), result, 'out/', ['rec']))
     assert '--model out/extended.yaml --out out_check' in text, text
     assert 'asymmetry (the joint slides in the negative direction' in text, text
     assert 'move in both directions' in text, text

@@ -1,16 +1,5 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 
 """
 ``diagnose`` bridges short gaps in the stamps and splits at long ones.
@@ -33,7 +22,8 @@ import friction_joint
 from friction_joint.bag import write_recording
 from friction_joint.bag.stamps import BRIDGE_SAMPLES, GAP, split_pieces
 from friction_joint.diagnosis.data import load_data
-from friction_joint.experiments.hidden import apply_effect, draw_effect, simulate_recording
+from friction_joint.experiments.hidden import (apply_effect, draw_effect, RecordingOptions,
+                                               simulate_recording)
 import numpy as np
 import pytest
 
@@ -55,10 +45,11 @@ def punch_holes(topics, seed, n=80, shortest=2, longest=20):
     dt = float(np.median(np.diff(t)))
     drop = np.zeros(len(t), dtype=bool)
     starts = rng.choice(np.arange(200, len(t) - 200), size=n, replace=False)
-    for s, k in zip(starts, rng.integers(shortest, longest + 1, size=n)):
+    for s, k in zip(starts, rng.integers(shortest, longest + 1, size=n), strict=True):
         drop[s:s + k] = True
     edges = np.flatnonzero(np.diff(np.r_[0, drop.astype(int), 0]))
-    spans = [(t[a] - 0.5 * dt, t[b - 1] + 0.5 * dt) for a, b in zip(edges[::2], edges[1::2])]
+    spans = [(t[a] - 0.5 * dt, t[b - 1] + 0.5 * dt)
+             for a, b in zip(edges[::2], edges[1::2], strict=True)]
     out = {}
     for name, spec in topics.items():
         tt = np.asarray(spec['t'])
@@ -68,7 +59,7 @@ def punch_holes(topics, seed, n=80, shortest=2, longest=20):
                 keep &= ~((tt > a) & (tt < b))
         out[name] = {k: (v[keep] if isinstance(v, np.ndarray) and v.shape[:1] == tt.shape else v)
                      for k, v in spec.items()}
-    return out, np.array([b - a for a, b in zip(edges[::2], edges[1::2])])
+    return out, np.array([b - a for a, b in zip(edges[::2], edges[1::2], strict=True)])
 
 
 @pytest.fixture(scope='module')
@@ -76,9 +67,9 @@ def recordings(tmp_path_factory):
     """Gap-free, holed and holed + one long gap recordings of one simulated run."""
     d = tmp_path_factory.mktemp('gaps')
     base = friction_joint.load_gear(BASE)
-    truth = apply_effect(base, 'thermal', draw_effect(np.random.default_rng(SEED), 'thermal'))
-    topics, _ = simulate_recording(truth, None, duration=30.0, seed=SEED, base_gear=base,
-                                   n_segments=2)
+    truth = apply_effect(base, 'thermal', size=draw_effect(np.random.default_rng(SEED), 'thermal'))
+    topics, _ = simulate_recording(truth, None, options=RecordingOptions(
+        duration=30.0, seed=SEED, base_gear=base, n_segments=2))
     holed, runs = punch_holes(topics, SEED)
     t = holed['/joint_states']['t']
     mid = float(t[len(t) // 4])                     # inside the first segment

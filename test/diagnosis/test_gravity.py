@@ -1,16 +1,5 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 
 """
 The ``gravity`` candidate: a lever, payload or link whose gravity model is off.
@@ -26,7 +15,8 @@ import os
 
 from friction_joint.diagnosis import diagnose, EFFECTS
 from friction_joint.diagnosis.gravity import gravity_untestable, linear_device
-from friction_joint.experiments.hidden import apply_effects, draw_effect, simulate_recording
+from friction_joint.experiments.hidden import (apply_effects, draw_effect, RecordingOptions,
+                                               simulate_recording)
 from friction_joint.gear import load_gear
 import numpy as np
 import pytest
@@ -43,11 +33,10 @@ def test_a_wrong_lever_is_named_gravity_and_corrected(tmp_path, seed):
     size = draw_effect(rng, 'gravity')
     truth = apply_effects(base, {'gravity': size})
     rec = str(tmp_path / 'rec')
-    simulate_recording(truth, rec, duration=float(rng.uniform(30, 45)),
-                       seed=int(rng.integers(1e6)),
-                       base_gear=base, link_torque=False, n_segments=2,
-                       noise_scale=float(rng.uniform(0.5, 2.0)),
-                       gain_scale=float(rng.uniform(0.7, 1.5)))
+    simulate_recording(truth, rec, options=RecordingOptions(
+        duration=float(rng.uniform(30, 45)), seed=int(rng.integers(1e6)), base_gear=base,
+        link_torque=False, n_segments=2, noise_scale=float(rng.uniform(0.5, 2.0)),
+        gain_scale=float(rng.uniform(0.7, 1.5))))
     rep = diagnose([rec], base).report
     assert rep['named_causes'] == ['gravity'], (size, rep['headline'])
     got = rep['extended_fit']['gravity']['lever']
@@ -110,8 +99,9 @@ def test_a_model_that_explains_less_than_the_friction_says_so(tmp_path):
     truth = base.replace({'lever': {'mass': mass,
                                     'angle_offset': float(rng.uniform(-0.3, 0.3))}})
     rec = str(tmp_path / 'rec')
-    simulate_recording(truth, rec, duration=30.0, seed=int(rng.integers(1e6)), base_gear=base,
-                       link_torque=False, n_segments=2)
+    simulate_recording(truth, rec, options=RecordingOptions(
+        duration=30.0, seed=int(rng.integers(1e6)), base_gear=base, link_torque=False,
+        n_segments=2))
     effects = [e for e in EFFECTS if e != 'gravity']       # a candidate set without the cause
     rep = diagnose([rec], base, effects=effects).report
     assert not rep['adequacy']['extended']['explains']
@@ -126,9 +116,10 @@ def test_a_short_one_way_sweep_through_gravity(tmp_path):
     base = load_gear(BASE)
     nolever = base.replace({'lever': {'mass': 0.0}})
     rec = str(tmp_path / 'rec')
-    simulate_recording(base, rec, duration=float(rng.uniform(6, 10)), seed=int(rng.integers(1e6)),
-                       base_gear=base, kinds=['sweep_oneway'], n_segments=1, link_torque=False,
-                       cfg={'publish_rate': float(rng.uniform(200, 400))})
+    simulate_recording(base, rec, options=RecordingOptions(
+        duration=float(rng.uniform(6, 10)), seed=int(rng.integers(1e6)), base_gear=base,
+        kinds=['sweep_oneway'], n_segments=1, link_torque=False,
+        cfg={'publish_rate': float(rng.uniform(200, 400))}))
     rep = diagnose([rec], nolever).report
     assert rep['named_causes'] == ['gravity'], rep['headline']
     got = rep['extended_fit']['gravity']['lever']

@@ -1,16 +1,5 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 
 """
 Nonlinear parameters between grid points are fitted continuously (variable projection).
@@ -28,7 +17,8 @@ import friction_joint
 from friction_joint.diagnosis import crossval, structures
 from friction_joint.diagnosis.data import load_data
 from friction_joint.diagnosis.pipeline import diagnose
-from friction_joint.experiments.hidden import apply_effects, EFFECT_RANGES, simulate_recording
+from friction_joint.experiments.hidden import (apply_effects, EFFECT_RANGES, RecordingOptions,
+                                               simulate_recording)
 from friction_joint.experiments.hidden_plant import draw_plant
 import numpy as np
 import pytest
@@ -61,7 +51,8 @@ def _recording(tmp_path, case, *, plant):
     kwargs, cfg = (draw_plant(rng, duration=(30.0, 45.0), odds=ODDS) if plant
                    else ({'duration': 30.0}, None))
     rec = tmp_path / 'rec'
-    simulate_recording(truth, rec, seed=seed, base_gear=base, cfg=cfg, **kwargs)
+    simulate_recording(truth, rec, options=RecordingOptions(
+        seed=seed, base_gear=base, cfg=cfg, **kwargs))
     what = f'[master seed {MASTER_SEED}] delta_v {dv:.4f}, seed {seed}, plant {kwargs} {cfg}'
     return base, rec, dv, what
 

@@ -1,16 +1,5 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 
 """
 A ripple close to, but not at, the tooth period 2 N is found at its own period.
@@ -21,7 +10,8 @@ The offset from 2 N, the amplitude, phase and the recording are drawn at random
 import os
 
 from friction_joint.diagnosis import diagnose
-from friction_joint.experiments.hidden import apply_effects, draw_effect, simulate_recording
+from friction_joint.experiments.hidden import (apply_effects, draw_effect, RecordingOptions,
+                                               simulate_recording)
 from friction_joint.gear import load_gear
 import numpy as np
 import pytest
@@ -39,8 +29,9 @@ def test_a_ripple_just_off_the_tooth_period_is_fitted_at_its_own(tmp_path, seed)
     size['cycles_ratio'] = 2.0 * (1.0 + rng.choice([-1, 1]) * rng.uniform(0.006, 0.02))
     truth = apply_effects(base, {'position_ripple': size})
     rec = str(tmp_path / 'rec')
-    simulate_recording(truth, rec, duration=float(rng.uniform(30, 45)),
-                       seed=int(rng.integers(1e6)), base_gear=base, n_segments=2)
+    simulate_recording(truth, rec, options=RecordingOptions(
+        duration=float(rng.uniform(30, 45)), seed=int(rng.integers(1e6)), base_gear=base,
+        n_segments=2))
     rep = diagnose([rec], base).report
     assert rep['named_causes'] == ['position_ripple'], (size, rep['headline'])
     got = rep['extended_fit']['position_ripple']['cycles_per_rev']

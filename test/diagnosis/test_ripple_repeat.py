@@ -1,16 +1,5 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 
 """
 A ripple must repeat: a position torque slower than a third of the stroke is never a ripple.
@@ -29,7 +18,7 @@ import friction_joint
 from friction_joint.diagnosis.pipeline import diagnose
 from friction_joint.diagnosis.structures import ripple_cycles
 from friction_joint.diagnosis.testability import untestable
-from friction_joint.experiments.hidden import draw_effect, simulate_recording
+from friction_joint.experiments.hidden import draw_effect, RecordingOptions, simulate_recording
 import numpy as np
 import pytest
 
@@ -52,7 +41,7 @@ def test_slow_position_torque_is_no_ripple(case, tmp_path):
     rng = np.random.default_rng([MASTER_SEED, 100 + case])
     base = friction_joint.load_gear(BASE)
     seed = int(rng.integers(0, 2**31 - 1))
-    topics, _ = simulate_recording(base, None, duration=30.0, seed=seed)
+    topics, _ = simulate_recording(base, None, options=RecordingOptions(duration=30.0, seed=seed))
     stroke = _stroke(topics)
     period = float(rng.uniform(0.55, 0.95)) * stroke
     size = draw_effect(rng, 'position_ripple')
@@ -61,7 +50,8 @@ def test_slow_position_torque_is_no_ripple(case, tmp_path):
         'cycles_per_rev': 2.0 * math.pi / period, 'amplitude': [amplitude],
         'phase': [size['phase']]}}})
     rec = tmp_path / 'rec'
-    simulate_recording(truth, rec, duration=30.0, seed=seed, base_gear=base)
+    simulate_recording(truth, rec, options=RecordingOptions(
+        duration=30.0, seed=seed, base_gear=base))
     what = (f'[master seed {MASTER_SEED}] seed {seed}: position torque {amplitude:.3g} Nm of '
             f'period {period:.3g} rad on a stroke of {stroke:.3g} rad')
     diag = diagnose([str(rec)], base)

@@ -1,16 +1,5 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 
 """
 Coarse encoders: noise scales measured as they are, pre-sliding seen after reversals.
@@ -39,7 +28,8 @@ import friction_joint
 from friction_joint._filters import zero_phase_derivatives
 from friction_joint.diagnosis import diagnose, load_data
 from friction_joint.exceptions import GearConfigWarning
-from friction_joint.experiments.hidden import apply_effects, draw_effect, simulate_recording
+from friction_joint.experiments.hidden import (apply_effects, draw_effect, RecordingOptions,
+                                               simulate_recording)
 import numpy as np
 import pytest
 
@@ -82,7 +72,8 @@ def test_coarse_encoder_scales_and_presliding(case, hidden, tmp_path):
     base, truth, res, seed, what = _truth(case, hidden)
     what = f'[master seed {MASTER_SEED}] case {case}: {what}, recording seed {seed}'
     rec = tmp_path / 'rec'
-    simulate_recording(truth, rec, duration=DURATION, seed=seed, base_gear=base)
+    simulate_recording(truth, rec, options=RecordingOptions(
+        duration=DURATION, seed=seed, base_gear=base))
     with warnings.catch_warnings():
         warnings.simplefilter('ignore')
         data = load_data([str(rec)], base)

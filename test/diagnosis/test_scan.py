@@ -1,16 +1,5 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 
 """
 The open residual scan points at an effect outside the candidate list.
@@ -30,7 +19,7 @@ import friction_joint
 from friction_joint.bag import write_recording
 from friction_joint.diagnosis import diagnose, EFFECTS
 from friction_joint.diagnosis.scan import SCAN_ALPHA
-from friction_joint.experiments.hidden import simulate_recording
+from friction_joint.experiments.hidden import RecordingOptions, simulate_recording
 import numpy as np
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -42,7 +31,7 @@ def _scan(tmp_path, case, periodic, effects=None):
     rng = np.random.default_rng([MASTER_SEED, case])
     seed = int(rng.integers(0, 2**31 - 1))
     base = friction_joint.load_gear(BASE)
-    topics, _ = simulate_recording(base, None, duration=30.0, seed=seed)
+    topics, _ = simulate_recording(base, None, options=RecordingOptions(duration=30.0, seed=seed))
     drawn = {}
     if periodic:
         longest_ripple = 2 * math.pi / base.gear_ratio        # 2 pi / (k N), k >= 1

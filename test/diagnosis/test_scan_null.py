@@ -1,16 +1,5 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 
 """
 The residual scan's null holds on one-way sweeps and slowly drifting residuals.
@@ -163,3 +152,18 @@ def test_too_few_blocks_untestable():
     for e in scan['table']:
         assert e['p_value'] is None and not e['flagged'] and e['untestable'], e
     assert any('blocks' in e['untestable'] for e in scan['table']), scan['table']
+
+
+def test_the_scan_says_what_it_tests_without_changing_it():
+    """A progress line per variable tested, in order; the result is the same as without."""
+    rng = np.random.default_rng([MASTER_SEED, 35])
+    n = int(rng.uniform(10.0, 30.0) / BIN)
+    data, r = _data(_two_way(rng, n)), _slow_noise(rng, n)
+    lines = []
+    told = residual_scan(data, r, progress=lines.append)
+    assert told['table'] == residual_scan(data, r)['table']
+    assert all(line.startswith('residual scan: ') for line in lines), lines
+    tested = [line.split(': ')[1].split(' (')[0] for line in lines]
+    assert tested[:4] == ['time', 'position', 'velocity', 'acceleration'], tested
+    assert tested[-1].startswith('dwell'), tested
+    assert lines[-1].endswith(f'({len(lines)} of {len(lines)})'), lines

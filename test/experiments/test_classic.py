@@ -1,16 +1,5 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 
 """
 The classic LuGre experiments (friction_joint.experiments.classic) against independent references.
@@ -30,6 +19,7 @@ from friction_joint.exceptions import GearConfigWarning
 from friction_joint.experiments import classic, classic_report
 from friction_joint.gear import passivity_bound
 import friction_joint.jobs.classic as classic_job
+from friction_joint.results import ExperimentResult
 import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
@@ -134,7 +124,7 @@ def test_presliding_displacement_matches_radau():
     rhs, jac = lugre_rhs(lambda t, x: (float(np.interp(t, knots_t, knots_f)), 0.0))
     t_cmp = np.round(0.01 * np.arange(1, int(round(knots_t[-1] / 0.01)) + 1), 12)
     y0, xs = [0.0, 0.0, 0.0], []
-    for t0, t1 in zip(knots_t[:-1], knots_t[1:]):       # ramp by ramp: kinks at the knots
+    for t0, t1 in zip(knots_t[:-1], knots_t[1:], strict=True):   # ramp by ramp: kinks at the knots
         te = t_cmp[(t_cmp > t0 + 1e-9) & (t_cmp <= t1 + 1e-9)]
         sol = solve_ivp(rhs, (t0, t1), y0, method='Radau', t_eval=te, jac=jac,
                         rtol=1e-8, atol=1e-14)
@@ -166,7 +156,7 @@ def test_lag_loops_widen_monotonically_with_frequency():
     # with velocity) it is lower while the velocity decreases (first half of
     # the period, from the velocity maximum) than while it increases, as
     # Canudas et al. report
-    for v, f in zip(res.series['v'], res.series['friction']):
+    for v, f in zip(res.series['v'], res.series['friction'], strict=True):
         k = int(np.argmin(v))
         vm = 0.5 * (v.min() + v.max())
         f_dec = np.interp(vm, v[:k + 1][::-1], f[:k + 1][::-1])
@@ -184,12 +174,12 @@ def test_breakaway_force_falls_with_force_rate():
     s = classic.breakaway().summary
     fb = s['breakaway_force']
     assert all(f is not None for f in fb)
-    assert all(a > b for a, b in zip(fb, fb[1:])), fb      # strictly decreasing
+    assert all(a > b for a, b in zip(fb, fb[1:], strict=False)), fb      # strictly decreasing
     assert fb[0] == pytest.approx(FS, abs=0.03)             # slow ramp: near F_s
     assert fb[-1] < 1.1 and fb[-1] > FC                     # 30 N/s: near F_c
     # the applied force at that instant falls too
     fa = s['applied_force_at_breakaway']
-    assert all(a > b for a, b in zip(fa, fa[1:]))
+    assert all(a > b for a, b in zip(fa, fa[1:], strict=False))
 
 
 def test_breakaway_peak_matches_radau():
@@ -250,7 +240,7 @@ def test_stick_slip_matches_radau(stick_slip_reference):
     # within 2e-10 m; the integrator before the exact-Jacobian LuGre step was 0.05, 0.13,
     # 0.21, 0.30 ms off (first order in the sigma1 dz/dt term).  The reference itself
     # is converged to about 1 us, hence the bound
-    for a, b in zip(s['slip_onsets'], ref['slip_onsets']):
+    for a, b in zip(s['slip_onsets'], ref['slip_onsets'], strict=True):
         assert abs(a - b) < 5e-6
     assert s['x_end'] == pytest.approx(ref['x_end'], abs=1e-7)
     assert s['v_max'] == pytest.approx(ref['v_max'], rel=1e-3)     # Radau samples only its steps
@@ -328,7 +318,8 @@ def test_summary_markdown_gives_outputs_with_units(presliding_result):
 
 def test_a_result_is_an_object_with_plain_json_and_a_figure(presliding_result):
     from matplotlib.figure import Figure
-    assert isinstance(presliding_result, classic.ClassicResult)
+    assert isinstance(presliding_result, ExperimentResult)
+    assert list(presliding_result.figures) == ['presliding.png']
     assert presliding_result.name == 'presliding'
     doc = json.loads(json.dumps(presliding_result.to_dict(), allow_nan=False))
     assert doc['stiffness'] == presliding_result.summary['stiffness']

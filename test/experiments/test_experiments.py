@@ -1,27 +1,19 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 
 """The paper's evaluation experiments through the command line, shortened with --duration-scale."""
 import inspect
 import json
 import os
+import time
 
 from friction_joint.cli import main
 from friction_joint.experiments import runner
-from friction_joint.experiments._common import ExperimentData, reversal_peak_window
+from friction_joint.experiments._common import reversal_peak_window
 from friction_joint.experiments.compensation import compensation
+import friction_joint.jobs.experiment as experiment_job
 from friction_joint.jobs.experiment import run_experiment
+from friction_joint.results import ExperimentResult
 import numpy as np
 import pytest
 
@@ -168,17 +160,29 @@ def test_progress_reaches_the_experiments_that_take_it(tmp_path, monkeypatch):
 
     def stub(model, truth, duration_scale=1.0, *, gains=None, progress=None):
         progress('warm-up to 27 degC by self-heating')
-        return ExperimentData('stub', {'experiment': 'compensation'})
+        return ExperimentResult('stub', {'experiment': 'compensation'})
     monkeypatch.setitem(runner.EXPERIMENTS, 'compensation',
                         runner.EXPERIMENTS['compensation']._replace(func=stub))
     said = []
     run_experiment('compensation', MODEL, TRUTH, tmp_path / 'out', progress=said.append)
     assert said == ['warm-up to 27 degC by self-heating']
-    # an experiment without the parameter runs as before
+    # an experiment without the parameter runs as before; the job says that it runs once it
+    # has run QUIET_FOR s (a quick run, or one refused at once, stays silent)
     monkeypatch.setitem(runner.EXPERIMENTS, 'compensation', runner.EXPERIMENTS[
-        'compensation']._replace(func=lambda model, truth, scale: ExperimentData('stub', {})))
+        'compensation']._replace(func=lambda model, truth, scale: ExperimentResult('stub', {})))
+    said = []
     run_experiment('compensation', MODEL, TRUTH, tmp_path / 'out2', progress=said.append)
-    assert len(said) == 1
+    assert said == []
+    monkeypatch.setattr(experiment_job, 'QUIET_FOR', 0.05)
+
+    def slow(model, truth, scale):
+        time.sleep(0.5)
+        return ExperimentResult('stub', {})
+    monkeypatch.setitem(runner.EXPERIMENTS, 'compensation', runner.EXPERIMENTS[
+        'compensation']._replace(func=slow))
+    run_experiment('compensation', MODEL, TRUTH, tmp_path / 'out3', progress=said.append)
+    assert said[0].startswith('compensation: still simulating on the test bed after'), said
+    assert said[1].startswith('compensation: simulated in ') and len(said) == 2, said
 
 
 def test_missing_model_file_exits_2_without_output(tmp_path, capsys):

@@ -1,16 +1,5 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 
 """
 The hidden ``gravity`` effect: the truth's lever differs from the base's (mass, angle offset).
@@ -23,8 +12,8 @@ import math
 import os
 
 import friction_joint
-from friction_joint.experiments.hidden import (apply_effect, draw_effect, EFFECT_RANGES,
-                                               HIDEABLE, simulate_recording)
+from friction_joint.experiments.hidden import (apply_effect, draw_effect, EFFECT_RANGES, HIDEABLE,
+                                               RecordingOptions, simulate_recording)
 from friction_joint.experiments.hidden_plant import relative_size
 import numpy as np
 import pytest
@@ -43,12 +32,12 @@ def _derivatives(topics):
     bb, aa = signal.butter(2, 0.02 / dt, fs=1.0 / dt)       # 20 Hz at 1 kHz
     edge = int(round(0.1 / dt))
     out = []
-    for a, b in zip(np.r_[0, cut], np.r_[cut, len(t)]):
+    for a, b in zip(np.r_[0, cut], np.r_[cut, len(t)], strict=True):
         qf = signal.filtfilt(bb, aa, q[a:b])
         qd = np.gradient(qf, dt)
         cols = (q[a:b], qd, np.gradient(qd, dt), signal.filtfilt(bb, aa, effort[a:b]))
         out.append([c[edge:-edge] for c in cols])
-    return [np.concatenate(c) for c in zip(*out)]
+    return [np.concatenate(c) for c in zip(*out, strict=True)]
 
 
 def _gravity_fit(q, qd, r):
@@ -69,10 +58,12 @@ def test_gravity_truth_without_link_torque_shows_the_lever_error(seed):
     rng = np.random.default_rng(seed)
     base = friction_joint.load_gear(BASE)
     size = draw_effect(rng, 'gravity', strength=float(rng.uniform(0.0, 1.0)))
-    truth = apply_effect(base, 'gravity', size)
+    truth = apply_effect(base, 'gravity', size=size)
     topics, _ = simulate_recording(
-        truth, None, duration=float(rng.uniform(15.0, 25.0)), seed=int(rng.integers(2**31)),
-        base_gear=base, link_torque=False, noise_scale=float(np.exp(rng.uniform(-0.7, 0.7))))
+        truth, None, options=RecordingOptions(
+            duration=float(rng.uniform(15.0, 25.0)), seed=int(rng.integers(2**31)),
+            base_gear=base, link_torque=False,
+            noise_scale=float(np.exp(rng.uniform(-0.7, 0.7)))))
     assert '/link_torque' not in topics
     q, qd, qdd, effort = _derivatives(topics)
     # expected error: a sin q + b cos q = truth lever torque - base lever torque
@@ -102,7 +93,7 @@ def test_gravity_sizes_are_drawn_in_their_ranges():
     mass, offsets, changes = base.section('lever')['mass'], [], []
     for _ in range(40):
         size = draw_effect(rng, 'gravity')
-        truth = apply_effect(base, 'gravity', size)
+        truth = apply_effect(base, 'gravity', size=size)
         change = truth.section('lever')['mass'] / mass - 1.0
         assert lo_c <= abs(change) <= hi_c and lo_a <= abs(truth.lever_offset) <= hi_a
         assert truth.friction == base.friction and truth.inertia == base.inertia
@@ -111,7 +102,7 @@ def test_gravity_sizes_are_drawn_in_their_ranges():
     # both signs of both, and a continuum of sizes
     assert min(offsets) < 0 < max(offsets) and min(changes) < 0 < max(changes)
     assert len({round(abs(o), 6) for o in offsets}) == len(offsets)
-    weak = apply_effect(base, 'gravity', draw_effect(rng, 'gravity', strength=0.0))
+    weak = apply_effect(base, 'gravity', size=draw_effect(rng, 'gravity', strength=0.0))
     strong = draw_effect(rng, 'gravity', strength=1.0)
     assert abs(weak.lever_offset) == pytest.approx(lo_a)
     assert strong['change'] == pytest.approx(hi_c) and strong['angle'] == pytest.approx(hi_a)

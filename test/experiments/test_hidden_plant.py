@@ -1,16 +1,5 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 
 """
 The plant nuisances of the hidden-effect simulator: what real robot data look like.
@@ -24,7 +13,8 @@ import math
 import warnings
 
 import friction_joint
-from friction_joint.experiments.hidden import plan_segment, SEGMENT, simulate_recording
+from friction_joint.experiments.hidden import (plan_segment, RecordingOptions, SEGMENT,
+                                               simulate_recording)
 from friction_joint.experiments.hidden_plant import draw_plant, RUN_KINDS
 import numpy as np
 
@@ -66,8 +56,8 @@ def test_coarse_encoder_counts_per_turn():
     assert all(1000 <= 2 ** b <= 20000 for b in bits)
     assert len(set(bits)) >= 3
     b = bits[0]
-    topics, _ = simulate_recording(_base(), None, duration=3.0, seed=3, n_segments=1,
-                                   command=False, encoder_bits=b)
+    topics, _ = simulate_recording(_base(), None, options=RecordingOptions(
+        duration=3.0, seed=3, n_segments=1, command=False, encoder_bits=b))
     q = np.unique(topics['/joint_states']['q'])
     step = np.min(np.diff(q))
     counts = 2.0 * math.pi / step
@@ -83,12 +73,12 @@ def test_warmup_temperature_never_falls():
                             odds={'warmup': 1.0})
     assert plant['warmup'] is True
     base = _base()
-    topics, summary = simulate_recording(base, None, seed=int(rng.integers(1000)), cfg=cfg,
-                                         link_torque=False, command=False, **plant)
+    topics, summary = simulate_recording(base, None, options=RecordingOptions(
+        seed=int(rng.integers(1000)), cfg=cfg, link_torque=False, command=False, **plant))
     xi = topics['/joint_temperature']['xi']
     assert np.all(np.diff(xi) >= 0.0), 'the warm-up temperature falls'
     seg = summary['segments']
-    for a, b in zip(seg, seg[1:]):
+    for a, b in zip(seg, seg[1:], strict=False):
         assert b['xi_start'] > a['xi_end'] > a['xi_start']
     # it spans most of the base's temperature range (a warm-up, not self-heating)
     lo, hi = base.friction.temperature_range

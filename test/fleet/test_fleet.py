@@ -1,16 +1,5 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 """
 ``friction_joint fleet`` on a simulated fleet, on a LocalCluster with 2 worker processes.
 
@@ -31,9 +20,9 @@ import shutil
 
 from friction_joint.cli import main
 from friction_joint.exceptions import InputFileError
-from friction_joint.experiments.fleet import simulate_fleet
 from friction_joint.fleet import local_cluster, read_manifest
 from friction_joint.jobs import run_fleet
+from friction_joint.jobs.fleet_simulation import run_fleet_simulation
 import pytest
 
 MODEL = 'config/csd25.yaml'
@@ -58,9 +47,9 @@ def _write_manifest(path, rows):
 def fleet(tmp_path_factory):
     root = tmp_path_factory.mktemp('fleet')
     sim = root / 'sim'
-    with local_cluster(2) as (address, executor):
-        truth = simulate_fleet(sim, joints=JOINTS, days=DAYS, seed=SEED, executor=executor,
-                               cfg=SHORT)
+    with local_cluster(workers=2) as (address, executor):
+        truth = run_fleet_simulation(sim, joints=JOINTS, days=DAYS, seed=SEED,
+                                     executor=executor, cfg=SHORT).truth
         rows, first = _manifests(sim)
         rc1 = main(['fleet', '--manifest', str(sim / 'first.csv'), '--model', MODEL, '--out',
                     str(root / 'out'), '--scheduler', address, '--quiet'])

@@ -1,16 +1,5 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 """
 ``friction_joint fleet`` against a hostile manifest and a poisoned cache.
 
@@ -30,6 +19,7 @@ poisoned ``cache.json``:
 """
 import base64
 import csv
+import dataclasses
 import html.parser
 import json
 import math
@@ -40,12 +30,12 @@ import warnings
 
 from friction_joint.cli import main
 from friction_joint.exceptions import CacheWarning, InputFileError
-from friction_joint.experiments.fleet import simulate_fleet
 from friction_joint.fleet import local_cluster
-from friction_joint.fleet.recording import FIT_VERSION, result_problem
+from friction_joint.fleet.recording import FIT_VERSION, RecordingResult, result_problem
 from friction_joint.fleet.report import csv_cell, FORMULA_START
 from friction_joint.gear import load_gear
 from friction_joint.jobs.fleet import _read_cache, CACHE_NAME
+from friction_joint.jobs.fleet_simulation import run_fleet_simulation
 from friction_joint.report_html import markdown_text, markdown_to_html, write_html_report
 from hypothesis import given, HealthCheck, settings, strategies as st
 import pytest
@@ -138,7 +128,7 @@ def assert_inert(page, own_images, secrets=()):
 def monitored(tmp_path_factory):
     """Simulate the tiny fleet and monitor it once: DIR holds the four results' cache."""
     root = tmp_path_factory.mktemp('hostile')
-    simulate_fleet(root / 'fleet', joints=2, days=2, seed=5, cfg=SHORT)
+    run_fleet_simulation(root / 'fleet', joints=2, days=2, seed=5, cfg=SHORT)
     rc = main(['fleet', '--manifest', str(root / 'fleet' / 'manifest.csv'), '--model', MODEL,
                '--out', str(root / 'out'), '--workers', '1', '--quiet'])
     assert rc == 0
@@ -258,7 +248,7 @@ def test_fuzz_csv_cells_never_start_a_formula(text):
 @pytest.fixture(scope='module')
 def scheduler():
     """Start one worker for the module's recomputations (no cluster start per run)."""
-    with local_cluster(1) as (address, _):
+    with local_cluster(workers=1) as (address, _):
         yield address
 
 
@@ -417,7 +407,23 @@ def test_fuzz_cache_entries_are_refused_or_usable(sound_entry, data):
         rows = [ManifestEntry(2 + k, f'r{k}', f'/r{k}', 'j1',
                               datetime.datetime(2026, 3, 2 + k, tzinfo=datetime.timezone.utc))
                 for k in range(2)]
-        assess_fleet(rows, [entry, sound_entry], gear)
+        assess_fleet(rows, [RecordingResult.from_dict(entry),
+                            RecordingResult.from_dict(sound_entry)], gear)
+
+
+def test_a_result_round_trips_its_plain_form_key_for_key(sound_entry):
+    """The cache's entries (and a Dask task's results) are the same bytes after the dataclass."""
+    ok = RecordingResult.from_dict(sound_entry)
+    assert ok.ok and isinstance(ok.terms, tuple) and not ok.cached
+    assert json.dumps(ok.to_dict()) == json.dumps(sound_entry)
+    failed = {'path': '/r', 'status': 'failed', 'reason': 'corrupt', 'version': FIT_VERSION,
+              'time_s': 0.5}
+    assert json.dumps(RecordingResult.from_dict(failed).to_dict()) == json.dumps(failed)
+    died = {'path': '/r', 'status': 'failed', 'reason': 'its worker died'}
+    back = RecordingResult.from_dict(died, cached=True)
+    assert back.to_dict() == died and back.version is None and back.cached
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        ok.status = 'failed'
 
 
 @settings(max_examples=200, deadline=None, derandomize=True, database=None)
@@ -464,3 +470,15 @@ def test_diagnose_report_of_a_payload_path_is_inert(tmp_path, monkeypatch):
     figures = [f for f in os.listdir(tmp_path / 'out') if f.endswith('.png')]
     assert_inert(page, own_images=len(figures))
     assert name in _page_dom(page)[1]                     # shown as written
+
+
+def test_the_summary_is_said_once(monitored, tmp_path, capsys):
+    """One closing summary on stdout naming the wearing joints; stderr has timings, no repeat."""
+    out = _site(monitored, tmp_path)
+    rc = main(['fleet', '--manifest', str(monitored['root'] / 'fleet' / 'manifest.csv'),
+               '--model', MODEL, '--out', str(out), '--workers', '1', '--force'])
+    assert rc == 0
+    said = capsys.readouterr()
+    summary = [line for line in (said.out + said.err).splitlines() if ' wearing' in line]
+    assert len(summary) == 1 and summary[0] in said.out, summary
+    assert any(line.startswith('done in ') for line in said.err.splitlines()), said.err

@@ -1,16 +1,5 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 """
 ``fleet`` and ``experiment fleet``: options and manifests checked before use.
 
@@ -135,7 +124,7 @@ def test_silent_port_times_out(site, capsys, monkeypatch):
         _one_line(capsys, _fleet('--scheduler', f'tcp://127.0.0.1:{port}'), 'no answer within')
     finally:
         close()
-    assert time.monotonic() - t0 < 30
+    assert time.monotonic() - t0 < 120          # a deadline (not a rate): it did not hang
     assert not (site / 'out').exists()
 
 
@@ -189,12 +178,13 @@ def test_too_many_recordings_refused_before_any_work(site, capsys, monkeypatch):
 
 
 def test_a_real_million_row_manifest_is_refused_quickly(site, capsys):
+    """Refused at the first row beyond the bound, before the rest is read (not a timing)."""
     rows = ''.join(f'recordings/r{k:07d}.mcap,robot07/j3,2026-03-02T10:00:00\n'
-                   for k in range(1000000))
+                   for k in range(300000))
+    rows += 'a malformed row beyond the bound\n' * 700000     # never reached
     (site / 'm.csv').write_text('recording,joint,time\n' + rows, encoding='utf-8')
-    t0 = time.monotonic()
-    _one_line(capsys, _fleet(), 'm.csv', 'more than 250000 recordings')
-    assert time.monotonic() - t0 < 60 and not (site / 'out').exists()
+    line = _one_line(capsys, _fleet(), 'm.csv', 'more than 250000 recordings')
+    assert 'row 250002' in line and not (site / 'out').exists(), line
 
 
 @pytest.mark.parametrize('travel', ['1_000', '١٢', '１２', '1e999', 'nan', '-1', '0x10', '1,5'])
@@ -222,10 +212,9 @@ def test_a_recording_listed_twice_is_refused(site, capsys, second):
     (['--joints', '0'], ('>= 1 joint',)), (['--days', '1'], ('>= 2 days',)),
 ])
 def test_simulated_fleet_bounded_before_any_work(tmp_path, capsys, argv, words):
-    t0 = time.monotonic()
     rc = main(['experiment', 'fleet', '--out', str(tmp_path / 'fleet'), '--quiet', *argv])
     _one_line(capsys, rc, *words)
-    assert time.monotonic() - t0 < 10 and os.listdir(tmp_path) == []
+    assert os.listdir(tmp_path) == []        # refused before any work: nothing simulated
 
 
 # ------------------------------------------------------------------------ fuzz ---

@@ -1,16 +1,5 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 
 """Gear parameter files: loading, validation errors that name the key, round trip."""
 import copy
@@ -117,6 +106,15 @@ def test_not_a_parameter_file(tmp_path):
         load_gear(p)
     with pytest.raises(GearConfigError, match='cannot read'):
         load_gear(tmp_path / 'missing.yaml')
+
+
+def test_a_path_source_is_kept_as_its_string():
+    """A gear built with a pathlib source equals the one built with its string (its name)."""
+    from pathlib import Path
+    by_path = gear_from_dict(copy.deepcopy(BASE), source=Path('gears') / 'j1.yaml')
+    by_name = gear_from_dict(copy.deepcopy(BASE), source=str(Path('gears') / 'j1.yaml'))
+    assert isinstance(by_path.source, str) and by_path == by_name
+    assert gear_from_dict(copy.deepcopy(BASE)).source is None
 
 
 def test_passivity_violation_warns_but_loads():

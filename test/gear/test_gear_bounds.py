@@ -1,16 +1,5 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 
 """
 Gear values bounded to physical ranges before they reach an exponent, a division or an allocation.
@@ -79,6 +68,9 @@ def _rejected(path, *words):
     ('    thermal:\n      ambient: 1.0e300\n', 'thermal.ambient'),
     ('    thermal:\n      initial: -274.0\n', 'thermal.initial'),
     ('    lever:\n      mass: 1.0e300\n      length: 1.0e300\n', 'lever'),
+    ('    lever:\n      angle_offset: 1.0e20\n', 'lever.angle_offset'),
+    ('    lever:\n      angle_offset: 90.0\n', 'lever.angle_offset'),
+    ('    lever:\n      angle_offset: -6.3\n', 'lever.angle_offset'),
     ('    friction.position_ripple:\n      cycles_per_rev: 1.0e300\n      amplitude: [0.1]\n',
      'friction.position_ripple.cycles_per_rev'),
 ])
@@ -93,6 +85,8 @@ def test_out_of_range_value_is_one_line_naming_file_and_key(tmp_path, extra, key
     '    simulation:\n      rate: 1.0e6\n',
     '    simulation:\n      rate: 100.0\n    sensors:\n      velocity_cutoff: 20.0\n',
     '    friction.velocity_scale: 160.0\n',
+    '    lever:\n      angle_offset: -3.14159\n',
+    '    lever:\n      angle_offset: 6.28\n',
 ])
 def test_physical_values_still_accepted(tmp_path, extra):
     """Coarse and fine encoders, slow and fast loops, a gear ratio as velocity scale load."""
@@ -166,3 +160,31 @@ def test_model_fifo_refused_at_once(tmp_path):
     proc = _run(['identify', RECORDING, '--model', str(fifo), '--out', str(tmp_path / 'g.yaml')],
                 timeout=60)
     _one_line(proc, 'fifo.yaml', 'FIFO')
+
+
+def _offset_model(tmp_path, offset):
+    with open(BASE, encoding='utf-8') as fh:
+        text = fh.read()
+    assert '      length: 0.14\n' in text
+    text = text.replace('      length: 0.14\n',
+                        f'      length: 0.14\n      angle_offset: {offset}\n')
+    model = tmp_path / 'm.yaml'
+    model.write_text(text, encoding='utf-8')
+    return model
+
+
+def test_identify_and_fleet_refuse_an_angle_offset_beyond_a_turn(tmp_path, capsys):
+    """``lever.angle_offset: 1.0e20`` gave identify exit 0 and an absurd fc; fleet took it."""
+    model = _offset_model(tmp_path, '1.0e20')
+    out = tmp_path / 'g.yaml'
+    rc = main(['identify', RECORDING, '--model', str(model), '--out', str(out),
+               '--presliding', 'skip', '--quiet'])
+    _one_line_in_process(capsys, rc, 'm.yaml', 'lever.angle_offset', '1e+20')
+    assert not out.exists()
+    manifest = tmp_path / 'fleet.csv'
+    manifest.write_text(f'recording,joint,time\n{RECORDING},j1,2026-03-02T14:05:00\n',
+                        encoding='utf-8')
+    rc = main(['fleet', '--manifest', str(manifest), '--model', str(model), '--out',
+               str(tmp_path / 'fleet_out'), '--quiet'])
+    _one_line_in_process(capsys, rc, 'm.yaml', 'lever.angle_offset')
+    assert not (tmp_path / 'fleet_out').exists()

@@ -1,16 +1,5 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 
 """
 Identification of the static friction model (seed Section V-A, steps 1-2).
@@ -64,7 +53,8 @@ def draw_truth(seed):
     rng = np.random.default_rng(seed)
     f = base.friction
     ch = {p: [float(c) * s for c in getattr(f, p)]
-          for p, s in zip(('fc', 'fv', 'vs', 'fs'), 1.0 + 0.06 * rng.standard_normal(4))}
+          for p, s in zip(('fc', 'fv', 'vs', 'fs'), 1.0 + 0.06 * rng.standard_normal(4),
+                          strict=True)}
     ch['delta_v'] = [f.delta_v[0] + 0.02 * float(rng.standard_normal())] + list(f.delta_v[1:])
     ch['fc_load'] = [float(rng.uniform(0.01, 0.03))]
     return base.replace({'friction': ch, 'simulation': {'seed': int(seed)}})
@@ -119,7 +109,8 @@ def api_runs(tmp_path_factory):
     for seed in API_SEEDS:
         d = tmp_path_factory.mktemp(f'api{seed}')
         truth = draw_truth(seed)
-        topics, _ = simulate_identification(truth, SCALE, cfg=SMALL, presliding=False)
+        topics, _ = simulate_identification(truth, duration_scale=SCALE, cfg=SMALL,
+                                            presliding=False)
         bag = write_recording(d / 'bag', topics)
         runs.append((seed, truth, identify_recordings([bag], STRUCTURE, presliding='skip')))
     return runs
@@ -298,10 +289,12 @@ def test_error_no_plateaus(tmp_path, capsys):
     assert 'no constant-velocity plateaus' in err and 'both directions' in err
 
 
-def test_error_one_direction(tmp_path, capsys):
-    bag = synthetic_recording(tmp_path / 'bag', [abs(v) for v in BOTH[::2]])
+def test_error_one_direction_without_a_load_sensor(tmp_path, capsys):
+    bag = synthetic_recording(tmp_path / 'bag', [abs(v) for v in BOTH[::2]], link=False)
     err = _identify_fails(tmp_path, bag, capsys)
     assert 'all have positive velocity' in err and 'negative velocities' in err
+    assert 'both directions' in err and 'load sensor on /link_torque' in err
+    assert len(err.strip().splitlines()) == 1
 
 
 def test_error_missing_temperature(tmp_path, capsys):

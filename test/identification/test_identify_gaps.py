@@ -1,16 +1,5 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 
 """
 ``identify`` bridges short gaps in the stamps and splits at long ones.
@@ -52,12 +41,13 @@ def punch_holes(topics, seed, n=80, shortest=2, longest=20):
     dt = float(np.median(np.diff(t)))
     drop = np.zeros(len(t), dtype=bool)
     starts = rng.choice(np.arange(200, len(t) - 200), size=n, replace=False)
-    for s, k in zip(starts, rng.integers(shortest, longest + 1, size=n)):
+    for s, k in zip(starts, rng.integers(shortest, longest + 1, size=n), strict=True):
         drop[s:s + k] = True
     edges = np.flatnonzero(np.diff(np.r_[0, drop.astype(int), 0]))
-    spans = [(t[a] - 0.5 * dt, t[b - 1] + 0.5 * dt) for a, b in zip(edges[::2], edges[1::2])]
+    spans = [(t[a] - 0.5 * dt, t[b - 1] + 0.5 * dt)
+             for a, b in zip(edges[::2], edges[1::2], strict=True)]
     return _cut(topics, spans, len(t) // 10), np.array([b - a for a, b in
-                                                        zip(edges[::2], edges[1::2])])
+                                                        zip(edges[::2], edges[1::2], strict=True)])
 
 
 def _cut(topics, spans, min_len=0):
@@ -79,7 +69,8 @@ def runs(tmp_path_factory):
     with warnings.catch_warnings():
         warnings.simplefilter('ignore', GearConfigWarning)
         truth = load_gear(TRUTH).replace({'simulation': {'seed': SEED}})
-    topics, _ = simulate_identification(truth, 0.1, cfg={'n_temperatures': 3, 'n_speeds': 10},
+    topics, _ = simulate_identification(truth, duration_scale=0.1,
+                                        cfg={'n_temperatures': 3, 'n_speeds': 10},
                                         presliding=True)
     holed, holes = punch_holes(topics, SEED)
     t = holed['/joint_states']['t']
@@ -113,10 +104,10 @@ def test_identify_bridges_short_gaps(runs):
           f'fc_load {100 * load:.2f} %')
     assert diff < 0.005 and abs(load) < 0.02
     assert len(b.plateaus) >= len(a.plateaus) - 2
-    assert a.presliding['status'] == b.presliding['status'] == 'done'
+    assert a.presliding.status == b.presliding.status == 'done'
     tol = {'sigma0': 0.05, 'k_total': 0.10, 'c': 0.10}
     for model, keys in (('lugre', ('sigma0',)), ('gms', ('k_total', 'c'))):
-        pa, pb = a.presliding['models'][model], b.presliding['models'][model]
+        pa, pb = a.presliding.models[model], b.presliding.models[model]
         assert pa['status'] == pb['status'] == 'done', (pa.get('reason'), pb.get('reason'))
         assert pb['segments_across_gaps_left_out'] > 0 and pa['segments_across_gaps_left_out'] == 0
         for k in keys:

@@ -1,16 +1,5 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 
 """
 Identification checked over joints drawn at random, not one truth file.
@@ -189,7 +178,7 @@ def test_two_standard_errors_cover_the_truth():
             if name in said or name == 'fs_ratio':
                 continue
             truth = [tf.delta_s] if name == 'delta_s' else list(getattr(tf, name) or [])
-            for i, (v, se) in enumerate(zip(vals, ident.standard_errors[name])):
+            for i, (v, se) in enumerate(zip(vals, ident.standard_errors[name], strict=True)):
                 assert np.isfinite(se) and se > 0.0, (seed, name)
                 covered.append(abs(v - (truth[i] if i < len(truth) else 0.0)) <= 2.0 * se)
     print(f'\ntruth within +-2 SE: {sum(covered)}/{len(covered)}')

@@ -1,16 +1,5 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 
 """
 Identification step 3: pattern search, pre-sliding fits (friction_joint.identification.presliding).
@@ -34,7 +23,8 @@ from friction_joint.exceptions import ExcitationError, GearConfigWarning
 from friction_joint.exceptions import PreslidingDataError
 from friction_joint.gear import load_gear
 from friction_joint.identification import (EXPERIMENT_ADVICE, fit_presliding, pattern_search,
-                                           presliding_rmse, presliding_segments)
+                                           presliding_rmse, presliding_segments,
+                                           PreslidingOptions)
 from friction_joint.testbed.plant import Plant
 import numpy as np
 import pytest
@@ -117,7 +107,8 @@ def _fit(rec, start, model, velocity='qd_zp'):
     with warnings.catch_warnings():
         warnings.simplefilter('ignore', GearConfigWarning)       # sigma1 may land above the bound
         return fit_presliding(rec['t'], rec[velocity], rec['tau_r'], rec['xi'], rec['tau_link'],
-                              start, model=model, segments=segs, q=rec['q'])
+                              start, segments=segs, q=rec['q'],
+                              options=PreslidingOptions(model=model))
 
 
 def _held_out_rmse(rec, gears, model):
@@ -254,7 +245,7 @@ def test_segments_start_settled_and_hold_reversals(lugre_case):
     qd = rec['qd_zp']
     segs = presliding_segments(rec['t'], qd, gear=start, model='lugre', xi=rec['xi'])
     assert len(segs) >= 4
-    for a, b in zip(segs, segs[1:]):
+    for a, b in zip(segs, segs[1:], strict=False):
         assert a.stop <= b.start
     for s in segs:
         assert s.init == 'sliding' and s.reversals >= 1
@@ -291,7 +282,8 @@ def test_fit_of_one_free_parameter(gms_case):
     true, _, start, rec, _ = gms_case
     segs = presliding_segments(rec['t'], rec['qd_zp'], gear=start, model='gms', xi=rec['xi'])
     fit = fit_presliding(rec['t'], rec['qd_zp'], rec['tau_r'], rec['xi'], rec['tau_link'], start,
-                         model='gms', segments=segs, q=rec['q'], free=('k_total',))
+                         segments=segs, q=rec['q'],
+                         options=PreslidingOptions(model='gms', free=('k_total',)))
     assert fit.params['k_total'] == pytest.approx(true['k_total'], rel=0.1)
     assert fit.params['c'] == start.friction.gms.c and list(fit.rel_stderr) == ['k_total']
     assert fit.report['batched_calls'] < fit.report['evaluations']
@@ -315,7 +307,7 @@ def test_no_reversal_names_the_missing_experiment():
         presliding_segments(t, qd, gear=MODEL)
     with pytest.raises(ExcitationError, match='no velocity reversal'):
         fit_presliding([t[:3000], t[3000:]], [qd[:3000], qd[3000:]], [tau[:3000], tau[3000:]],
-                       30.0, 0.0, MODEL, model='gms')
+                       30.0, 0.0, MODEL, options=PreslidingOptions(model='gms'))
 
 
 def test_standstill_and_fast_reversals_are_excitation_errors():

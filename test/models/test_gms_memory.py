@@ -1,16 +1,5 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 
 """
 GMS pre-sliding memory: reversal stiffness, Masing rule, non-local memory (seed eq. 11-13).
@@ -85,7 +74,8 @@ def test_stiffness_after_reversal_is_sum_of_element_stiffnesses(friction, limits
     # sticking: element i slips again after a travel of 2 d_i
     slope = (elastic[k + 1:k + 2 * a] - elastic[k:k + 2 * a - 1]) / -H
     travel = np.arange(1, 2 * a)                  # steps since the reversal
-    for lo, hi in zip(np.r_[0, np.sort(2 * limits)], np.r_[np.sort(2 * limits), 2 * a]):
+    bounds = np.r_[0, np.sort(2 * limits), 2 * a]
+    for lo, hi in zip(bounds[:-1], bounds[1:], strict=True):
         inside = (travel > lo + 1) & (travel < hi - 1)   # away from the break points
         expected = K[2 * limits > lo + 1].sum()
         np.testing.assert_allclose(slope[inside], expected, rtol=1e-9, atol=1e-6)

@@ -1,16 +1,5 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 
 """
 Order of the joint integrator in every term, sigma1 dz/dt included.
@@ -169,7 +158,7 @@ def _gms_event_reference(gear, u, t_eval):
         t, y = sol.t[-1], sol.y[:, -1].copy()
         if sol.status != 1:
             break
-        for (i, _), hit in zip(events, sol.t_events):
+        for (i, _), hit in zip(events, sol.t_events, strict=True):
             if len(hit) and i < 0:
                 stick[:], sdir = True, -sd
             elif len(hit):

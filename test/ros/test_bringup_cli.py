@@ -1,16 +1,5 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 
 """
 The ROS runtime as a user runs it: ``friction_joint bringup`` and nodes started by hand.
@@ -21,6 +10,7 @@ loop runs next to two busy processes (started and ended by PID here).
 """
 import contextlib
 import os
+import signal
 import subprocess
 import sys
 import time
@@ -70,13 +60,14 @@ def test_bringup_through_the_command_line_records_the_loop(mode, ros_env, tmp_pa
     """
     out, log_dir = tmp_path / 'rec', tmp_path / 'logs'
     duration = 2.0
-    proc = roshelpers.Proc([PY, '-m', 'friction_joint', 'bringup', '--model', MODEL,
-                            '--truth', TRUTH, '--duration', str(duration), '--mode', mode,
-                            '--record', str(out), '--log-dir', str(log_dir)], ros_env)
-    try:
-        rc = proc.wait(timeout=600)
-    finally:
-        proc.stop()
+    with busy_machine(2):           # realtime must keep the joint under control under load
+        proc = roshelpers.Proc([PY, '-m', 'friction_joint', 'bringup', '--model', MODEL,
+                                '--truth', TRUTH, '--duration', str(duration), '--mode', mode,
+                                '--record', str(out), '--log-dir', str(log_dir)], ros_env)
+        try:
+            rc = proc.wait(timeout=600)
+        finally:
+            proc.stop()
     assert rc == 0, proc.describe() + logs(log_dir)
     assert f'recording in {out}' in proc.stdout
     rec = read_recording(str(out))
@@ -98,11 +89,22 @@ def test_bringup_through_the_command_line_records_the_loop(mode, ros_env, tmp_pa
         assert answered.all(), topic
         if mode == 'lockstep':
             assert len(arr.t) == len(stamps), topic
-        else:
-            assert len(arr.t) >= 0.5 * len(stamps), topic
-    # and the joint followed the reference 0.4 sin(1.5 t) without running away
+    # and the joint followed the reference 0.4 sin(1.5 t) without running away, however
+    # few states the loaded machine let the controller answer (a share that is the
+    # benchmark's business, bench_nodes.py): the simulation waits for the controller
     q = np.asarray(states.q)
-    assert np.all(np.abs(q) < 1.0) and np.ptp(q) > 0.2, (q.min(), q.max())
+    assert np.all(np.abs(q) < 0.4 + 0.1) and np.ptp(q) > 0.2, (q.min(), q.max())
+    # every node says what it achieved, and bringup's closing summary repeats it with the
+    # recording's count per topic
+    text = logs(log_dir)
+    assert 'realtime run:' in text and 'watchdog trips 0' in text, text
+    assert text.count('answered ') >= 3, text
+    said = proc.stdout.splitlines()
+    assert any(line.startswith('bringup: joint_sim: realtime run:') for line in said), said
+    for node in ('controller', 'estimator'):
+        assert any(line.startswith(f'bringup: {node}: answered ') for line in said), said
+    counts = next(line for line in said if line.startswith(f'bringup: recording {out}: '))
+    assert f'/joint_states {len(stamps)}' in counts, counts
 
 
 def test_hand_started_nodes_with_their_defaults_stay_bounded_on_a_loaded_machine(
@@ -239,7 +241,7 @@ def test_bringup_stops_with_one_line_when_a_node_ends_at_start(ros_env, tmp_path
 
 @pytest.mark.parametrize('signum', [15, 1])
 def test_bringup_forwards_sigterm_and_reaps_its_nodes(signum, ros_env, ros_node, tmp_path):
-    """SIGTERM / SIGHUP to bringup stops every node (none orphaned) and keeps the recording."""
+    """SIGTERM / SIGHUP to bringup: every node stopped, the recording kept, exit 143 / 129."""
     from sensor_msgs.msg import JointState
     got = []
     ros_node.node.create_subscription(JointState, '/joint_states', got.append,
@@ -257,7 +259,9 @@ def test_bringup_forwards_sigterm_and_reaps_its_nodes(signum, ros_env, ros_node,
         rc = proc.wait(timeout=180)
     finally:
         proc.stop()
-    assert rc != 0
+    assert rc == 128 + signum, proc.describe()
+    name = signal.Signals(signum).name
+    assert proc.stderr.strip().splitlines()[-1] == f'friction_joint bringup: stopped by {name}'
     assert not [k for k in kids if alive(k)], 'orphaned nodes'
     rec = read_recording(str(out))                    # finalised: readable, the loop in it
     assert len(rec.joint_states.t) == len(rec.joint_command.t) > 0
@@ -304,7 +308,8 @@ def test_hand_started_recording_has_every_message_from_the_first_step(mode, spaw
                  for topic in ('link_torque', 'joint_command', 'external_torque')}
         assert first['link_torque'] == k[0], (first, k[0])
         # the realtime controller answers the newest state: under load it may skip a few
-        # (counted as stale), but the recording starts with its first answer
+        # (counted as stale), but the simulation waits for its answers (at most max_lead,
+        # 0.02 s, ahead of them) and the recording starts with its first answer
         assert first['external_torque'] == k[0], (first, k[0])
         assert k[0] <= first['joint_command'] <= k[0] + 20, (first, k[0])
 

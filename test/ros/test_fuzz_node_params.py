@@ -1,16 +1,5 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 
 """
 Fuzz the nodes' parameters: at start-up (``-p name:=value``) and at run time (a set request).
@@ -73,7 +62,7 @@ def declared():
     finally:
         release_domain(env['ROS_DOMAIN_ID'])
     result = {}
-    for node, res in zip(GEARS, out['startup']):
+    for node, res in zip(GEARS, out['startup'], strict=True):
         assert res['rc'] == 0 and res['params'], res
         result[node] = res['params']
     return result
@@ -131,7 +120,7 @@ def _same(want, got):
     if isinstance(got, str) and got in ('nan', 'inf', '-inf'):
         got = float(got)
     if isinstance(want, list) and isinstance(got, list):
-        return len(want) == len(got) and all(_same(a, b) for a, b in zip(want, got))
+        return len(want) == len(got) and all(_same(a, b) for a, b in zip(want, got, strict=True))
     if _number(want) and _number(got):
         return (want != want and got != got) or math.isclose(want, got, rel_tol=1e-12)
     return type(want) is type(got) and want == got
@@ -160,7 +149,7 @@ def test_fuzzed_parameters_at_start_up_and_run_time(declared, ros_env):
            'gears': GEARS}
     out = _child(doc, ros_env)
     bad = []
-    for (node, name, value), res in zip(start, out['startup']):
+    for (node, name, value), res in zip(start, out['startup'], strict=True):
         lines = [ln for ln in res['stderr'].splitlines() if ln.strip()]
         if res['rc'] == 0:
             given = _parsed(_text(value))
@@ -175,7 +164,7 @@ def test_fuzzed_parameters_at_start_up_and_run_time(declared, ros_env):
             bad.append(f'{node} -p {name}:={_text(value)}: exit {res["rc"]}, stderr '
                        f'{res["stderr"][-400:]!r}')
     runtime = [c for c in run if not (isinstance(c[2], list) and not c[2])]
-    for (node, name, value), res in zip(runtime, out['runtime']):
+    for (node, name, value), res in zip(runtime, out['runtime'], strict=True):
         if not res['alive'] or res['successful'] is None:
             bad.append(f'{node} set {name}={value!r}: {res}')
         elif res['successful']:

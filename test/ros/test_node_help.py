@@ -1,16 +1,5 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 
 """
 ``--help`` of every executable works without a gear file (issue 22).
@@ -113,3 +102,21 @@ def test_help_into_a_closed_pipe_is_quiet():
     res = subprocess.run(f'"{PY}" -m friction_joint.ros.nodes.estimator --help | true',
                          shell=True, capture_output=True, text=True, timeout=60)
     assert res.stderr == ''
+
+
+@pytest.mark.parametrize('node', NODES)
+def test_help_points_at_documents_that_exist(node):
+    """Every document and README section a node's help names exists (and has the recipe)."""
+    import re
+    root = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+    out = ' '.join(_run([PY, '-m', f'friction_joint.ros.nodes.{node}', '--help']).stdout.split())
+    docs = re.findall(r'\b(docs/[\w./-]+\.md)', out)
+    assert docs and all(os.path.exists(os.path.join(root, d)) for d in docs), docs
+    with open(os.path.join(root, 'README.md'), encoding='utf-8') as fh:
+        readme = fh.read()
+    sections = re.findall(r'README \("([^"]+)"\)', out)
+    assert sections, out
+    for section in sections:
+        assert f'## {section}\n' in readme, section
+        body = readme.split(f'## {section}\n', 1)[1].split('\n## ', 1)[0]
+        assert f'{node} ' in body or f'/{node}' in body, (node, section)

@@ -1,16 +1,5 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 
 """
 The nodes read a gear file as the command line does; bad files and parameters end in one line.
@@ -140,7 +129,7 @@ def test_other_params_files_and_arguments_pass_through(tmp_path, ros_env):
     prepared, cleanup = prepare_ros_args(args)
     try:
         assert len(prepared) == len(args)
-        changed = [i for i, (a, b) in enumerate(zip(args, prepared)) if a != b]
+        changed = [i for i, (a, b) in enumerate(zip(args, prepared, strict=True)) if a != b]
         assert changed == [6, 8]                    # the two params files, nothing else
         files = [prepared[i] for i in changed]
         assert all(os.path.isfile(f) for f in files)

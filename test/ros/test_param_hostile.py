@@ -1,16 +1,5 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 
 """
 Hostile node parameters (issue 23): one line and exit 2 at start-up, a reason at run time.
@@ -102,6 +91,9 @@ STARTUP = [
     ('controller', ['-p', 'rate:=-3.0'], ['parameter rate']),
     ('estimator', ['-p', 'beta:=1e308'], ['beta', '1e+308']),
     ('estimator', ['-p', 'beta:=20000.0'], ['beta', 'Nyquist']),
+    ('joint_sim', ['-p', 'lever.angle_offset:=1e308'], ['lever.angle_offset', 'turn']),
+    ('controller', ['-p', 'lever.angle_offset:=1e308'], ['lever.angle_offset', 'turn']),
+    ('estimator', ['-p', 'lever.angle_offset:=-90.0'], ['lever.angle_offset', 'degrees']),
 ]
 
 

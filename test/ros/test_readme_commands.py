@@ -1,16 +1,5 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 
 """
 The README's command blocks, extracted from the README and run on a fresh copy of the tree.
@@ -75,7 +64,7 @@ def test_readme_blocks_are_marked_and_well_formed():
     scripts = set()
     with open(os.path.join(ROOT, 'setup.py'), encoding='utf-8') as fh:
         scripts.update(re.findall(r"'([a-z_]+) = friction_joint", fh.read()))
-    for kind, text in blocks:
+    for _kind, text in blocks:
         check = subprocess.run(['bash', '-n'], input=text, text=True, capture_output=True)
         assert check.returncode == 0, (text, check.stderr)
         for name in re.findall(r'\.venv/bin/([A-Za-z_]+)', text):
@@ -169,7 +158,8 @@ def check_outputs(clone):
     first = {topic: np.round(np.asarray(getattr(run1, topic).t) * 1000.0).astype(np.int64)[0]
              for topic in ('link_torque', 'joint_command', 'external_torque')}
     assert first['link_torque'] == first['external_torque'] == k[0], (first, k[0])
-    # the realtime controller answers the newest state: under load it may skip a few
+    # the realtime controller answers the newest state: under load it may skip a few, but
+    # the simulation waits for its answers (at most max_lead, 0.02 s, ahead of them)
     assert k[0] <= first['joint_command'] <= k[0] + 20, (first, k[0])
     q = np.asarray(run1.joint_states.q)
     assert np.all(np.abs(q) < 1.0) and np.ptp(q) > 0.2, (q.min(), q.max())

@@ -1,16 +1,5 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 
 """
 Shared pieces of the nodes: message helpers, stamp pairing, the input gate, the main loop.
@@ -30,24 +19,34 @@ throttles), and the count is logged when the node is destroyed
 is processed is counted and logged the same way; it never ends the node
 (except the types a node names in ``fatal``).
 """
+from __future__ import annotations
+
 import collections
+from collections.abc import Callable
+import contextlib
 import math
 import time
+from typing import Any, TYPE_CHECKING
 
 from .usage import exit_on_help
 from .._rclpy import guard_clock, RCLError, take_all, Waiter
-from ..parameters import declare_node_params, describe, prepare_ros_args, REJECT_LOG_PERIOD
+from ..parameters import declare_follower_params, MODES, prepare_ros_args, REJECT_LOG_PERIOD
 from ..qos import dds_environ
 from ..startup import check_domain_id, check_overrides_used, one_line, rcl_init
 
-__all__ = ['stamp_to_ns', 'ns_to_stamp', 'joint_index', 'finite', 'take_queued',
-           'StampPairing', 'StampOrder', 'Rejects', 'PairedInput', 'run_node',
-           'REJECT_LOG_PERIOD', 'STAMP_HORIZON', 'Lossless', 'PUBLISH_WAIT',
-           'MAX_STAMP_LEAD', 'EXECUTOR_EVERY', 'MODES', 'declare_follower_params']
+if TYPE_CHECKING:
+    from builtin_interfaces.msg import Time
+    from rclpy.subscription import Subscription
+    from sensor_msgs.msg import JointState
 
-#: s a stopping node waits for reliable subscribers (a recorder on a loaded machine) to
-#: acknowledge its last samples; returns at once when they have
-ACK_TIMEOUT = 15.0
+__all__ = ['stamp_to_ns', 'ns_to_stamp', 'joint_index', 'finite', 'take_queued', 'StampPairing',
+           'StampOrder', 'Rejects', 'PairedInput', 'run_node', 'REJECT_LOG_PERIOD', 'MODES',
+           'STAMP_HORIZON', 'Lossless', 'PUBLISH_WAIT', 'MAX_STAMP_LEAD', 'EXECUTOR_EVERY',
+           'declare_follower_params']
+
+#: s a node that ended its run waits for reliable subscribers (a loaded recorder) to acknowledge
+#: its last samples; one stopped by a signal waits STOP_ACK_TIMEOUT s (a killed peer never does)
+ACK_TIMEOUT, STOP_ACK_TIMEOUT = 15.0, 0.5
 
 #: s between the executor turns (parameter services) of a node that takes its input directly
 EXECUTOR_EVERY = 0.05
@@ -60,35 +59,7 @@ STAMP_HORIZON = 10.0
 PUBLISH_WAIT = 60.0
 
 
-#: the loop modes of the simulator; controller and estimator take the same parameter
-MODES = ('realtime', 'lockstep')
-_MODE_DESCRIPTOR = ('loop mode of the simulator this node runs with: realtime (answer the '
-                    'newest state, sync off) or lockstep (answer every state, sync on); '
-                    'decides sync unless sync is set')
-
-
-def declare_follower_params(node, defaults, validators, descriptors):
-    """
-    Declare ``mode`` and then a controller's or estimator's own parameters.
-
-    ``sync`` defaults to ``mode == 'lockstep'``: a node started by hand with
-    its defaults next to a realtime simulator answers the newest state (a
-    synchronised node would hold every state until the temperature of its
-    stamp arrives, which a realtime simulator sends at the sensor's rate: a
-    delay that destabilises the loop).  A ``sync`` the user sets wins.
-    Returns ``{name: value}`` including ``mode``.
-    """
-    mode = declare_node_params(
-        node, {'mode': 'realtime'},
-        {'mode': lambda v: None if v in MODES else f'must be {" or ".join(MODES)}'},
-        {'mode': describe(_MODE_DESCRIPTOR)})['mode']
-    values = declare_node_params(node, dict(defaults, sync=mode == 'lockstep'), validators,
-                                 descriptors)
-    values['mode'] = mode
-    return values
-
-
-def take_queued(sub, cls):
+def take_queued(sub: Subscription, cls: type) -> list[Any]:
     """
     Return the messages already queued on subscription ``sub`` (oldest first).
 
@@ -98,17 +69,17 @@ def take_queued(sub, cls):
     return [msg for msg, _ in take_all(sub, cls)]
 
 
-def stamp_to_ns(stamp):
+def stamp_to_ns(stamp: Time) -> int:
     return stamp.sec * 1_000_000_000 + stamp.nanosec
 
 
-def ns_to_stamp(ns, stamp):
+def ns_to_stamp(ns: int, stamp: Time) -> Time:
     """Fill a builtin_interfaces/Time from integer nanoseconds."""
     stamp.sec, stamp.nanosec = divmod(int(ns), 1_000_000_000)
     return stamp
 
 
-def joint_index(msg, joint):
+def joint_index(msg: JointState, joint: str) -> int | None:
     """Index of ``joint`` in a JointState's name list, or None."""
     try:
         return list(msg.name).index(joint)
@@ -116,7 +87,7 @@ def joint_index(msg, joint):
         return None
 
 
-def finite(*values):
+def finite(*values: float) -> bool:
     return all(math.isfinite(v) for v in values)
 
 
@@ -134,15 +105,15 @@ class StampPairing:
     and counted in ``dropped``.
     """
 
-    def __init__(self, sync, max_pending=10000):
+    def __init__(self, sync: bool, max_pending: int = 10000) -> None:
         self.sync = sync
-        self.temps = {}
-        self.latest = None
-        self.pending = {}
+        self.temps: dict[int, float] = {}
+        self.latest: float | None = None
+        self.pending: dict[int, Any] = {}
         self.max_pending = max_pending
         self.dropped = 0
 
-    def temperature(self, ns, xi):
+    def temperature(self, ns: int, xi: float) -> list[tuple[int, Any, float]]:
         """Record a temperature; returns states now ready [(ns, payload, xi)]."""
         self.latest = xi
         if not self.sync:
@@ -156,7 +127,7 @@ class StampPairing:
         self._trim()
         return ready
 
-    def state(self, ns, payload):
+    def state(self, ns: int, payload: Any) -> list[tuple[int, Any, float]]:
         """Offer a state; returns [(ns, payload, xi)] ready to process."""
         if not self.sync and self.latest is not None:
             return [(ns, payload, self.latest)]
@@ -219,33 +190,33 @@ class StampOrder:
     """
     Answer states in stamp order; refuse a lone outlier, follow a new timeline.
 
-    A state continues the stream when its stamp equals the last answered one
-    (answered again) or is newer by at most ``horizon`` ns.  Any other state
-    (older, or far ahead) is held as a candidate: ``confirm`` candidates that
-    continue one another are a new timeline (a replay that loops, a restarted
-    simulator, a clock that jumped): the node restarts on it and answers them;
-    a state that continues the old stream instead refuses the candidates as
-    outliers.  One state stamped far ahead therefore never silences a node.
+    A state continues the stream when its stamp equals the last answered one (answered
+    again) or is newer by at most ``horizon`` ns.  Any other state (older, or far ahead) is
+    held as a candidate: ``confirm`` candidates that continue one another are a new timeline
+    (a replay that loops, a restarted simulator, a clock that jumped): the node restarts on
+    it and answers them; a state that continues the old stream instead refuses the
+    candidates as outliers.  One state stamped far ahead therefore never silences a node.
     """
 
-    def __init__(self, horizon=STAMP_HORIZON, confirm=3):
+    def __init__(self, horizon: float = STAMP_HORIZON, confirm: int = 3) -> None:
         self.horizon = int(horizon * 1e9)
         self.confirm = confirm
-        self.last = None
-        self.held = []
-        self.held_last = None
+        self.last: int | None = None
+        self.held: list[Any] = []
+        self.held_last: int | None = None
 
     def _continues(self, last, ns):
         return last is None or last <= ns <= last + self.horizon
 
-    def offer(self, ns, item):
+    def offer(self, ns: int, item: Any) -> tuple[bool, list[Any], int]:
         """Return ``(restart, ready items, refused count)`` for the state ``item`` at ``ns``."""
         refused = 0
         if self._continues(self.last, ns):
             refused, self.held = len(self.held), []
             self.last = ns
             return False, [item], refused
-        if self.held and not (self.held_last < ns <= self.held_last + self.horizon):
+        if self.held and self.held_last is not None and \
+                not (self.held_last < ns <= self.held_last + self.horizon):
             refused, self.held = len(self.held), []
         self.held.append(item)
         self.held_last = ns
@@ -266,12 +237,11 @@ class Rejects:
     """
 
     rejected = 0
-    fatal = ()
+    fatal: tuple[type[BaseException], ...] = ()
 
     def _log_due(self, key, period):
         """Return whether the throttled log line ``key`` is due (checked before rclpy's)."""
-        now = time.monotonic()
-        due = self.__dict__.setdefault('_log_next', {})
+        now, due = time.monotonic(), self.__dict__.setdefault('_log_next', {})
         if now < due.get(key, -math.inf):
             return False
         due[key] = now + period
@@ -282,15 +252,14 @@ class Rejects:
         self.rejected += 1
         counts = self.__dict__.setdefault('_reject_counts', collections.Counter())
         counts[what] += 1
-        detail = f': {why}' if why else ''
-        line = f'ignored {what}{detail} (rejected so far: {self.rejected})'
+        line = f'ignored {what}{": " + why if why else ""} (rejected so far: {self.rejected})'
         if counts[what] == 1:              # the first of each kind, whatever came before it
             self.get_logger().warning(line)
         elif self._log_due('rejected', REJECT_LOG_PERIOD):
             # rclpy's own throttle stays as a second guard (half the period: never in the way)
             self.get_logger().warning(line, throttle_duration_sec=0.5 * REJECT_LOG_PERIOD)
 
-    def guarded(self, what, handler, msg):
+    def guarded(self, what: str, handler: Callable[[Any], None], msg: Any) -> None:
         """Run ``handler(msg)``; an exception (not in ``fatal``) is counted, logged, survived."""
         try:
             handler(msg)
@@ -299,15 +268,17 @@ class Rejects:
         except Exception as exc:                # noqa: BLE001 - no message may end the node
             self._reject(f'{what} whose processing failed', f'{type(exc).__name__}: {exc}')
 
-    def rejects_report(self):
+    def rejects_report(self) -> str:
         """Return the one-line summary of the refused messages."""
         counts = self.__dict__.get('_reject_counts') or collections.Counter()
         detail = '; '.join(f'{n} x {what}' for what, n in counts.most_common())
         return f'rejected {self.rejected} input messages' + (f' ({detail})' if detail else '')
 
     def destroy_node(self):
-        """Log the count of refused messages, then destroy the node."""
-        self.get_logger().info(self.rejects_report())
+        """Log the run's summary and the count of refused messages, then destroy the node."""
+        for line in (getattr(self, 'run_summary', str)(), self.rejects_report()):
+            if line:
+                self.get_logger().info(line)
         return super().destroy_node()
 
 
@@ -323,7 +294,7 @@ class PairedInput(Rejects):
     subscription callbacks; they never raise.
     """
 
-    state_fields = ('position', 'velocity')
+    state_fields: tuple[str, ...] = ('position', 'velocity')
     #: the InputLimits quantity of each JointState field
     QUANTITY = {'position': 'position', 'velocity': 'velocity', 'effort': 'torque'}
 
@@ -385,8 +356,8 @@ class PairedInput(Rejects):
 
     order = None
 
-    def dispatch(self, ns, state, xi):
-        """Hand a paired state to ``process`` in stamp order (see :class:`StampOrder`)."""
+    def dispatch(self, ns, state, xi, answer=True):
+        """Hand a paired state to ``process`` in stamp order (:class:`StampOrder`); return it."""
         if self.order is None:
             self.order = StampOrder()
         last = self.order.last
@@ -400,8 +371,9 @@ class PairedInput(Rejects):
                 f'the state stamps jumped from {last * 1e-9:.6f} s to {ready[0][0] * 1e-9:.6f} s '
                 f'and continue there ({len(ready)} states): restarting on the new timeline')
             self.restart()
-        for item in ready:
+        for item in ready if answer else ():    # answer False: the caller picks what to answer
             self.process(*item)
+        return ready
 
     def restart(self):
         """Start afresh on a new timeline of stamps (override: reset the node's state)."""
@@ -414,7 +386,7 @@ class PairedInput(Rejects):
             self._reject(f'a joint state without {"/".join(self.state_fields)} for {self.joint}')
             return None
         values = tuple(float(a[i]) for a in arrays)
-        for field, value in zip(self.state_fields, values):
+        for field, value in zip(self.state_fields, values, strict=True):
             why = self.limits.check(self.QUANTITY[field], value)
             if why:
                 self._reject(f'an implausible /joint_states {field}', why)
@@ -480,25 +452,25 @@ class _ClockCheck:
         return True
 
 
-def run_node(factory, name, args=None, drain=True):
+def run_node(factory: Callable[[], Any], name: str, args: list[str] | None = None,
+             drain: bool = True) -> int | str:
     """
     Run a node as the ``main()`` body: init, spin, quiet end on Ctrl-C / SIGTERM.
 
     ``-h``/``--help`` before ``--ros-args`` prints the usage and exits 0 (no gear file needed,
     :mod:`~friction_joint.ros.nodes.usage`). The first SIGINT/SIGTERM stops the node *after* it
     has processed what is already queued (``drain``; e.g. an estimator behind a simulator that
-    has finished), so no answer is lost; a second signal exits at once. Every start-up failure
+    has finished), so no answer is lost; a second signal exits at once; the node ends within
+    about ``STOP_ACK_TIMEOUT`` s more, with status 0, or 128 + the signal's number when it cut
+    short a run of finite length (the node's ``interrupted()`` says so). Every start-up failure
     (a bad parameter or ROS argument, an rcl error, anything the node's constructor raises; see
     :mod:`~friction_joint.ros.startup`) and any error that ends the loop is one line on stderr
     and exit status 2. A node may end itself by raising ``SystemExit(0)`` from a callback. A
     node with a ``spin_step(executor)`` method runs its own loop: it is called instead of
     ``executor.spin_once``. ``factory`` may also return a composition: an object with ``nodes``
     (the nodes, all added to the one executor) and ``spin_step`` (see
-    :mod:`~friction_joint.ros.nodes.composed`).
-
-    The single-threaded executor is used: ``rclpy.experimental.EventsExecutor``
-    is faster but was seen to stop delivering messages to one of two
-    subscriptions on these wheels.
+    :mod:`~friction_joint.ros.nodes.composed`). The executor is single-threaded
+    (``rclpy.experimental.EventsExecutor``, faster, lost one of two subscriptions here).
     """
     exit_on_help(factory, name, args)     # before rclpy.init: no gear file needed
     import signal
@@ -533,7 +505,7 @@ def run_node(factory, name, args=None, drain=True):
             cleanup()                     # rcl has parsed the copies at init
     old = {s: signal.signal(s, on_signal) for s in (signal.SIGINT, signal.SIGTERM)}
     node = executor = None
-    status = 0
+    status: int | str = 0
     started = False
     try:
         try:
@@ -552,6 +524,8 @@ def run_node(factory, name, args=None, drain=True):
         spin = getattr(node, 'spin_step', None) or (lambda ex: ex.spin_once(timeout_sec=0.1))
         while not stop and rclpy.ok():
             spin(executor)
+        if stop and getattr(node, 'interrupted', lambda: False)():
+            status = 128 + stop[0]
         t_end = time.monotonic() + 30.0
         if drain:                          # the input only: a flood of parameter requests
             for member in nodes:           # must not hold a stopping node
@@ -581,17 +555,16 @@ def run_node(factory, name, args=None, drain=True):
             for member in nodes:
                 Node.destroy_node(member)
             nodes = []
-        if rclpy.ok():
-            from rclpy.duration import Duration
-            for pub in (p for member in nodes for p in member.publishers):
-                # let reliable peers take the last samples
-                try:
-                    acked = pub.wait_for_all_acked(Duration(seconds=ACK_TIMEOUT))
-                except Exception:                # noqa: BLE001 - best effort on the way out
-                    acked = True
-                if not acked:
-                    print(f'{name}: {pub.topic_name}: samples not acknowledged by every '
-                          f'subscriber within {ACK_TIMEOUT:g} s of stopping', file=sys.stderr)
+        wait = STOP_ACK_TIMEOUT if stop else ACK_TIMEOUT
+        t_end, late = time.monotonic() + wait, []     # one deadline for all the publishers
+        for pub in (p for member in nodes for p in member.publishers if rclpy.ok()):
+            from rclpy.duration import Duration       # reliable peers take the last samples
+            with contextlib.suppress(Exception):      # best effort on the way out
+                left = Duration(seconds=max(0.0, t_end - time.monotonic()))
+                late += [] if pub.wait_for_all_acked(left) else [pub.topic_name]
+        if late:
+            print(f'{name}: {", ".join(late)}: samples not acknowledged by every subscriber '
+                  f'within {wait:g} s of stopping', file=sys.stderr)
         if executor is not None:
             executor.shutdown()
         for member in nodes:

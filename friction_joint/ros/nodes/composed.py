@@ -1,16 +1,5 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 
 """
 ``composed``: ``joint_sim``, ``controller`` and ``estimator`` in one process (lockstep).
@@ -42,6 +31,8 @@ import sys
 import time
 
 from geometry_msgs.msg import WrenchStamped
+from rclpy.executors import Executor
+from sensor_msgs.msg import JointState
 
 from .common import EXECUTOR_EVERY, run_node, take_queued
 from .controller import ControllerNode
@@ -101,7 +92,7 @@ class Composition:
         self.controller.pub = _Relay(self.controller.pub, self.commands.append)
         self.next_turn = 0.0
 
-    def deliver(self, state):
+    def deliver(self, state: JointState) -> None:
         """Hand a published state (and the temperatures before it) to the followers."""
         temps, self.temps[:] = list(self.temps), []
         for node in self.followers:
@@ -109,8 +100,13 @@ class Composition:
                 node.on_temperature(msg)
             node.on_state(state)
 
-    def spin_step(self, executor):
-        """One turn: hand the queued commands to the simulator, or turn the executor."""
+    def spin_step(self, executor: Executor) -> None:
+        """
+        One turn: hand the queued commands to the simulator, or turn the executor.
+
+        Returns after each executor turn (every ``EXECUTOR_EVERY`` s), so that ``run_node``
+        sees a signal: each step queues the next command, the loop never runs dry by itself.
+        """
         sim = self.sim
         if not self.commands or sim.done:
             executor.spin_once(timeout_sec=0.05 if not sim.started or sim.done else 0.0)
@@ -123,9 +119,14 @@ class Composition:
                 for msg in take_queued(sim.sub_contact, WrenchStamped):
                     sim.on_contact(msg)
                 executor.spin_once(timeout_sec=0.0)
+                return
+
+    def interrupted(self) -> bool:
+        """Whether the simulated run has not reached its ``duration`` (see ``run_node``)."""
+        return self.sim.interrupted()
 
 
-def main(args=None):
+def main(args: list[str] | None = None) -> int | str:
     return run_node(Composition, 'composed', args, drain=False)
 
 

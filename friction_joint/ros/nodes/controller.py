@@ -1,16 +1,5 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 
 """
 ``controller``: the joint controller of eq. 17 as a ROS 2 node.
@@ -46,12 +35,15 @@ clock is refused, counted and logged (throttled) and gets no command; with
 ``sync:=false`` the newest queued state that passes the gate is answered.
 The count is logged at shutdown.
 """
+from collections.abc import Sequence
 import math
 import sys
+from typing import Any
 
 from rclpy.node import Node
 from sensor_msgs.msg import JointState, Temperature
 
+from .answers import Answers
 from .common import (declare_follower_params, Lossless, PairedInput, run_node, StampPairing,
                      take_queued)
 from .ranges import (between, check_controller_params, RISE_TIME_BOUNDS, sample_rate,
@@ -109,7 +101,7 @@ DESCRIPTORS = {
 }
 
 
-class ControllerNode(PairedInput, Node):
+class ControllerNode(Answers, PairedInput, Node):
     """Wires :class:`~friction_joint.control.controller.Controller` to topics."""
 
     def __init__(self):
@@ -157,7 +149,7 @@ class ControllerNode(PairedInput, Node):
         return Controller(self.gear, self.kp, self.kd, friction=self.p['friction_ff'],
                           dt=self.dt, ff_velocity=self.p['ff_velocity'])
 
-    def apply(self, name, value):
+    def apply(self, name: str, value: Any) -> None:
         self.p[name] = value
         if name in ('friction_ff', 'ff_velocity'):
             self.ctrl = self._controller()
@@ -170,28 +162,28 @@ class ControllerNode(PairedInput, Node):
         if self.p['sync']:
             super().handle_state(msg)
             return
-        # real time: answer the newest state that passes the gate; the older ones are stale
-        queued = [msg] + take_queued(self.sub_state, JointState)
-        for i in range(len(queued) - 1, -1, -1):
-            state = self.gate_state(queued[i])
-            if state is None:
-                continue
-            if i:
-                self.stale += i
-                if self._log_due('stale', 5.0):
-                    self.get_logger().warning(
-                        f'skipped {self.stale} stale joint states so far (the loop is behind: '
-                        'answering the newest)', throttle_duration_sec=2.5)
-            for item in self.pair.state(*state):
-                self.dispatch(*item)
-            return
+        # real time: answer the newest state that passes the gate; the older ones are stale.
+        # Every one is offered to the stamp order (a new timeline is confirmed by a few states
+        # in a row, however many a loaded machine queues at once); only the newest is answered
+        states = [s for s in map(self.gate_state, [msg] + take_queued(self.sub_state, JointState))
+                  if s is not None]
+        if len(states) > 1:
+            self.stale += len(states) - 1
+            if self._log_due('stale', 5.0):
+                self.get_logger().warning(
+                    f'skipped {self.stale} stale joint states so far (the loop is behind: '
+                    'answering the newest)', throttle_duration_sec=2.5)
+        ready = [r for state in states for item in self.pair.state(*state)
+                 for r in self.dispatch(*item, answer=False)]
+        if ready:
+            self.process(*ready[-1])
 
-    def restart(self):
+    def restart(self) -> None:
         """Restart on a new timeline of stamps: the reference and the feed-forward afresh."""
         self.t0 = self.last_ns = self.last_cmd = None
         self.ctrl = self._controller()
 
-    def process(self, ns, state, xi):
+    def process(self, ns: int, state: Sequence[float], xi: float) -> None:
         if ns == self.last_ns:                   # the same state again: same answer
             self.pub.publish(self.last_cmd)
             return
@@ -212,10 +204,11 @@ class ControllerNode(PairedInput, Node):
         cmd.velocity = [qd_d]
         cmd.effort = [tau]
         self.last_ns, self.last_cmd = ns, cmd
+        self.count_answer()
         self.pub.publish(cmd)
 
 
-def main(args=None):
+def main(args: list[str] | None = None) -> int | str:
     return run_node(ControllerNode, 'controller', args)
 
 

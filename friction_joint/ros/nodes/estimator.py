@@ -1,16 +1,5 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 
 """
 ``estimator``: the disturbance observer of eq. 4/15 as a ROS 2 node.
@@ -39,11 +28,15 @@ or older than the last state answered is refused, counted and logged
 (throttled) and gets no answer; the observer's state is never touched by it.
 The count is logged at shutdown.
 """
+from collections.abc import Sequence
 import sys
+from typing import Any
 
 from rclpy.node import Node
+from rclpy.publisher import Publisher
 from sensor_msgs.msg import JointState, Temperature
 
+from .answers import Answers
 from .common import declare_follower_params, Lossless, PairedInput, run_node, StampPairing
 from .ranges import (BETA_BOUNDS, between, check_estimator_params, sample_rate,
                      SAMPLE_RATE_BOUNDS, warm_up_temperature)
@@ -78,12 +71,12 @@ DESCRIPTORS = {
 }
 
 
-class EstimatorNode(PairedInput, Node):
+class EstimatorNode(Answers, PairedInput, Node):
     """Wires :class:`~friction_joint.control.observer.DisturbanceObserver` to topics."""
 
     state_fields = ('position', 'velocity', 'effort')
 
-    def __init__(self):
+    def __init__(self) -> None:
         super().__init__('estimator')
         self.p = declare_follower_params(self, DEFAULTS, VALIDATORS, DESCRIPTORS)
         self.gear = declare_gear(self, own=list(self.p))
@@ -95,12 +88,12 @@ class EstimatorNode(PairedInput, Node):
         self.observer(0.0, 0.0, 0.0, warm_up_temperature(self.gear))    # compile the kernels
         self.observer = self._observer()
         self.pair = StampPairing(self.p['sync'])
-        self.last_ns = None
-        self.last_msg = None
+        self.last_ns: int | None = None
+        self.last_msg: JointState | None = None
         qos, opts = stream_qos(), overridable()
-        self.pub = self.create_publisher(JointState, 'external_torque',
-                                         stream_qos(lossless=self.p['sync']),
-                                         qos_overriding_options=opts)
+        self.pub: Publisher | Lossless = self.create_publisher(
+            JointState, 'external_torque', stream_qos(lossless=self.p['sync']),
+            qos_overriding_options=opts)
         if self.p['sync']:                  # lossless: wait out a killed subscriber
             self.pub = Lossless(self, self.pub)
         self.sub_state = self.create_subscription(JointState, 'joint_states', self.on_state, qos,
@@ -120,19 +113,19 @@ class EstimatorNode(PairedInput, Node):
                                    friction=self.p['friction'],
                                    gravity=self.p['gravity'])
 
-    def apply(self, name, value):
+    def apply(self, name: str, value: Any) -> None:
         self.p[name] = value
         est = self.observer.estimate
         self.observer = self._observer()
         self.observer.reset(tau_ext=est)
         self.get_logger().info(f'{name} set to {value!r}')
 
-    def restart(self):
+    def restart(self) -> None:
         """Restart on a new timeline of stamps (a replay that loops): a fresh observer."""
         self.observer = self._observer()
         self.last_ns = self.last_msg = None
 
-    def process(self, ns, state, xi):
+    def process(self, ns: int, state: Sequence[float], xi: float) -> None:
         if self.last_ns is not None and ns <= self.last_ns:
             if ns == self.last_ns:
                 self.pub.publish(self.last_msg)
@@ -147,10 +140,11 @@ class EstimatorNode(PairedInput, Node):
         out.name = [self.joint]
         out.effort = [estimate]
         self.last_ns, self.last_msg = ns, out
+        self.count_answer()
         self.pub.publish(out)
 
 
-def main(args=None):
+def main(args: list[str] | None = None) -> int | str:
     return run_node(EstimatorNode, 'estimator', args)
 
 

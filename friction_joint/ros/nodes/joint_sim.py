@@ -1,16 +1,5 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 
 """
 ``joint_sim``: the simulated Harmonic Drive joint (the plant) as a ROS 2 node.
@@ -41,6 +30,10 @@ Modes (parameter ``mode``):
     late is run at once (at most ``MAX_CATCH_UP`` in a row, then the schedule
     restarts from now: the simulated time slips behind the wall clock, which
     is counted and logged; no sample is skipped and the stamps stay regular).
+    **Pacing**: the joint runs at most ``max_lead`` s ahead of the controller's
+    answers, then waits up to ``lead_wait`` s for it (the simulated clock slows)
+    (:class:`~friction_joint.testbed.pacing.Pacing`).  The closing log line
+    gives the achieved rate, answered share, waits, slip and watchdog trips.
 ``lockstep``
     Simulated time.  The node publishes the state of step k (stamp k dt,
     plus /clock and the temperature sample with the same stamp) and advances
@@ -56,10 +49,9 @@ Modes (parameter ``mode``):
 
     **Flow control** (``follow``, ``window``): the controller is in the loop,
     so it can never fall behind; a node that only listens (the estimator)
-    could, until its input queue overflows.  ``follow`` names topics
-    (comma-separated, resolved like the node's own) on which followers echo
-    the state stamps they have processed (the estimator's
-    ``external_torque``).  The node does not advance past step k while a
+    could, until its input queue overflows.  ``follow`` names topics (comma-separated,
+    resolved like the node's own) on which followers echo the state stamps they have
+    processed (the estimator's ``external_torque``).  The node does not advance past step k while a
     follower's newest echo is older than step k - ``window``; it waits for it
     (logged after 5 s, then every 5 s), so no follower holds more than
     ``window`` unprocessed states and none is lost by construction.  At the
@@ -69,7 +61,8 @@ Modes (parameter ``mode``):
 Own parameters: mode, publish_rate, duration, xi0 (NaN: the gear file's
 thermal.initial), q0, seed (-1: simulation.seed), friction_model ('' : the
 gear file's friction.model), resend_period, wait_subscribers, start_delay,
-follow, window, wait_recorder, command_timeout, timeout_reaction.
+follow, window, wait_recorder, command_timeout, timeout_reaction, max_lead,
+lead_wait.
 ``wait_subscribers`` and ``start_delay`` hold the first tick in realtime
 mode too (a state published before its subscribers have matched is lost to
 them).  In lockstep the state the loop waits on is re-sent every
@@ -94,25 +87,22 @@ damping torque J q̇ / ``BRAKE_TIME`` that stops it; see
 :mod:`~friction_joint.testbed.watchdog`).  The trip and the
 return of valid commands are logged.
 
-Implausible input is **rejected, keeping the last valid value**: a
-``/joint_command`` effort or a ``/contact_torque`` that is not finite or
-beyond the plausible torque of the gear
-(:class:`~friction_joint.testbed.plant.InputLimits`: 10 x (m g l + peak
-friction + J V / 0.1 s), about 600 Nm for the CSD-25; logged at start) is
-counted, logged (throttled) and not applied: the plant goes on with the last
-valid command (until the watchdog trips) and contact torque.  In lockstep a
-refused command stamped for
-the current step still advances the step (with the last valid command), so
-the loop never stalls on it.  The count is logged at shutdown (see
-:mod:`~friction_joint.ros.nodes.common`).  Only a finite state leaving the
-finite range (an unstable closed loop) ends the node, with
-:class:`~friction_joint.exceptions.SimulationError`.
+Implausible input is **rejected, keeping the last valid value**: a ``/joint_command`` effort or
+a ``/contact_torque`` that is not finite or beyond the plausible torque of the gear
+(:class:`~friction_joint.testbed.plant.InputLimits`: 10 x (m g l + peak friction + J V / 0.1
+s), about 600 Nm for the CSD-25; logged at start) is counted, logged (throttled) and not
+applied: the plant goes on with the last valid command (until the watchdog trips) and contact
+torque. In lockstep a refused command stamped for the current step still advances the step
+(with the last valid command), so the loop never stalls on it. The count is logged at shutdown
+(see :mod:`~friction_joint.ros.nodes.common`). Only a finite state leaving the finite range (an
+unstable closed loop) ends the node, with :class:`~friction_joint.exceptions.SimulationError`.
 """
 import math
 import sys
 import time
 
 from geometry_msgs.msg import WrenchStamped
+from rclpy.executors import Executor
 from rclpy.node import Node
 from rosgraph_msgs.msg import Clock
 from sensor_msgs.msg import JointState, Temperature
@@ -126,8 +116,7 @@ from ..parameters import declare_gear, declare_node_params, parameter_guard
 from ..qos import CLOCK_QOS, overridable, READY_QOS, READY_TOPIC, stream_qos
 from ..startup import check_overrides_used
 from ...exceptions import SimulationError
-from ...testbed.plant import InputLimits, Plant
-from ...testbed.watchdog import CommandWatchdog
+from ...testbed import CommandWatchdog, InputLimits, Pacing, Plant, Sample
 
 __all__ = ['JointSimNode', 'main']
 
@@ -137,6 +126,8 @@ MAX_CATCH_UP = 20
 SPIN_EVERY = 20
 #: lockstep: seconds to wait at the end for the followers to echo the last state
 FINAL_WAIT = 20.0
+#: realtime pacing: s between looks at the command queue while waiting for the controller
+PACE_POLL = 0.002
 
 #: ``wait_recorder:=loop``: the topics of the closed loop a recording must have from its start
 LOOP_TOPIC_NAMES = ('joint_states', 'joint_temperature', 'link_torque', 'joint_command',
@@ -151,7 +142,8 @@ class JointSimNode(Rejects, Node):
     commanded = False                # lockstep: the command of the current step has come
     progress = 0.0                   # lockstep: monotonic time of the last step
     resent = 0                       # lockstep: states re-sent while the loop stalled
-    _messages = None                 # the outgoing messages (see messages())
+    stall_at: float | None = None    # lockstep: the progress time of the last stall logged
+    _messages: tuple[Clock, Temperature, WrenchStamped, JointState] | None = None  # messages()
 
     def __init__(self):
         super().__init__('joint_sim')
@@ -232,6 +224,9 @@ class JointSimNode(Rejects, Node):
             self.next_tick = None
             self.slipped = 0
             self.t0_ns = None                       # ROS time of step 0 (realtime stamps)
+            self.pace = Pacing(round(self.p['max_lead'] * self.plant.rate), self.p['lead_wait'])
+            self.cmd_waiter = None
+            self.wall_start = None
         check_overrides_used(self)                  # a qos_overrides.* naming no entity
         self.get_logger().info(
             f'{self.p["mode"]} simulation of {self.joint} ({self.plant.joint.model} friction, '
@@ -239,15 +234,15 @@ class JointSimNode(Rejects, Node):
             f'command and contact torque: |torque| <= {self.limits.torque:.4g} Nm')
 
     # ---------------------------------------------------------------- input
-    def on_command(self, msg):
+    def on_command(self, msg: JointState) -> None:
         """Take a /joint_command message (gated; never raises but ``fatal``)."""
         self.guarded('a /joint_command message', self.handle_command, msg)
 
-    def on_contact(self, msg):
+    def on_contact(self, msg: WrenchStamped) -> None:
         """Take a /contact_torque message (gated; never raises)."""
         self.guarded('a /contact_torque message', self.handle_contact, msg)
 
-    def handle_command(self, msg):
+    def handle_command(self, msg: JointState) -> None:
         i = joint_index(msg, self.joint)
         if i is None:
             self._reject('a /joint_command not naming ' + self.joint)
@@ -265,6 +260,8 @@ class JointSimNode(Rejects, Node):
         else:
             self.tau_cmd = float(msg.effort[i])
             self.watchdog.command(self.plant.k)
+            if not self.lockstep:
+                self.pace.answered(self.command_step(msg))
         if self.lockstep and not self.done:
             if stamp_to_ns(msg.header.stamp) != self.stamp_ns(self.plant.k):
                 return                          # a stale or duplicate command
@@ -272,25 +269,32 @@ class JointSimNode(Rejects, Node):
             self.commanded = True
             self.try_advance()
 
-    def command_age(self, msg):
+    def command_age(self, msg: JointState) -> float | None:
         """Return the age (s) of the state a realtime command answers (None: unstamped)."""
         ns = stamp_to_ns(msg.header.stamp)
         if self.lockstep or ns <= 0 or self.t0_ns is None:
             return None
         return (self.t0_ns + self.stamp_ns(self.plant.k) - ns) * 1e-9
 
-    def on_echo(self, topic, msg):
+    def command_step(self, msg: JointState) -> int:
+        """Return the step of the state a realtime command answers (unstamped: the current)."""
+        ns = stamp_to_ns(msg.header.stamp)
+        if ns <= 0 or self.t0_ns is None:
+            return self.plant.k
+        return round((ns - self.t0_ns) * self.plant.rate * 1e-9)
+
+    def on_echo(self, topic: str, msg: JointState) -> None:
         """Take a follower's echo (flow control): its newest processed state stamp."""
         self.followers[topic] = max(self.followers[topic], stamp_to_ns(msg.header.stamp))
         if self.blocked_since is not None:
             self.try_advance()
 
-    def lagging(self, k):
+    def lagging(self, k: int) -> list[str]:
         """Return the followers whose newest echo is older than step ``k - window``."""
         need = self.stamp_ns(k - self.p['window'])
         return [t for t, ns in self.followers.items() if ns < need]
 
-    def handle_contact(self, msg):
+    def handle_contact(self, msg: WrenchStamped) -> None:
         tz = msg.wrench.torque.z
         why = self.limits.check('torque', tz)
         if why:
@@ -299,11 +303,11 @@ class JointSimNode(Rejects, Node):
             return
         self.contact = float(tz)
 
-    def on_ready(self, msg):
+    def on_ready(self, msg: String) -> None:
         """Take the recorder's readiness announcement (the topics it has matched)."""
         self.recorded = {t for t in msg.data.split(',') if t}
 
-    def recorder_topics(self):
+    def recorder_topics(self) -> set[str]:
         """Return the resolved topics of ``wait_recorder`` ('loop': the loop's topics)."""
         spec = self.p['wait_recorder'].strip()
         names = LOOP_TOPIC_NAMES if spec == 'loop' else [t.strip() for t in spec.split(',')]
@@ -313,7 +317,7 @@ class JointSimNode(Rejects, Node):
         return topics
 
     # ---------------------------------------------------------------- watchdog
-    def drive_torque(self, qd):
+    def drive_torque(self, qd: float) -> float:
         """Return the drive's torque (:class:`CommandWatchdog`); log a trip and a resume."""
         tau, event = self.watchdog.torque(self.plant.k, self.tau_cmd, qd)
         if event == 'tripped':
@@ -328,11 +332,11 @@ class JointSimNode(Rejects, Node):
         return tau
 
     # ---------------------------------------------------------------- output
-    def stamp_ns(self, k):
+    def stamp_ns(self, k: int) -> int:
         """Return the simulated time of step k in ns, rounded per step (no drift)."""
         return round(k * 1e9 / self.plant.rate)
 
-    def messages(self):
+    def messages(self) -> tuple[Clock, Temperature, WrenchStamped, JointState]:
         """Return the four outgoing messages, built once (a publish serializes at once)."""
         if self._messages is None:
             t = Temperature()
@@ -345,7 +349,7 @@ class JointSimNode(Rejects, Node):
             self._messages = (Clock(), t, w, js)
         return self._messages
 
-    def publish(self, s, temperature):
+    def publish(self, s: Sample, temperature: float) -> None:
         ns = self.stamp_ns(self.plant.k)
         if not self.lockstep:
             if self.t0_ns is None:
@@ -369,7 +373,7 @@ class JointSimNode(Rejects, Node):
         self.pub_state.publish(js)
 
     # ---------------------------------------------------------------- stepping
-    def try_advance(self):
+    def try_advance(self) -> None:
         """Advance on the command of the current step unless a follower lags (flow control)."""
         if not self.commanded:
             return
@@ -384,7 +388,7 @@ class JointSimNode(Rejects, Node):
         self.commanded = False
         self.advance()
 
-    def advance(self):
+    def advance(self) -> None:
         self.progress = time.monotonic()
         s = self.plant.step(self.drive_torque(self.plant.last.qd), tau_contact=self.contact)
         if self.n_end and self.plant.k >= self.n_end:
@@ -393,7 +397,7 @@ class JointSimNode(Rejects, Node):
         if self.done:
             self.get_logger().info(f'simulated {self.plant.t:.3f} s; done')
 
-    def ready(self):
+    def ready(self) -> bool:
         """Return whether ``wait_subscribers`` have matched ``start_delay`` s ago."""
         now = time.monotonic()
         if self.ready_since is None:
@@ -412,7 +416,7 @@ class JointSimNode(Rejects, Node):
                                    f'{self.p["start_delay"]:g} s')
         return now - self.ready_since >= self.p['start_delay']
 
-    def on_resend(self):
+    def on_resend(self) -> None:
         if self.done:
             self.finish()
         if self.blocked_since is not None:
@@ -427,7 +431,7 @@ class JointSimNode(Rejects, Node):
             self.last_sent = now
             self.publish(self.plant.last, temperature=True)
 
-    def resend_stalled(self):
+    def resend_stalled(self) -> None:
         """Re-send the current state every ``resend_period`` while the loop stalls."""
         now = time.monotonic()
         stalled = now - max(self.progress, self.last_sent or 0.0)
@@ -436,14 +440,14 @@ class JointSimNode(Rejects, Node):
         self.last_sent = now
         self.resent += 1
         self.publish(self.plant.last, temperature=True)
-        waiting = now - self.progress
-        if waiting > 5.0 and self._log_due('stalled', 5.0):
+        waiting, first = now - self.progress, self.stall_at != self.progress
+        if first or (waiting > 5.0 and self._log_due('stalled', 5.0)):   # each stall's first
+            self.stall_at = self.progress
             what = ('the followers' if self.blocked_since is not None
                     else f'the command of step {self.plant.k}')
             self.get_logger().warning(
-                f'no progress for {waiting:.0f} s: waiting for {what}; re-sending the state '
-                f'every {self.p["resend_period"]:g} s ({self.resent} re-sent so far)',
-                throttle_duration_sec=2.5)
+                f'no progress for {waiting:.1f} s: waiting for {what}; re-sending the state '
+                f'every {self.p["resend_period"]:g} s ({self.resent} re-sent so far)')
 
     def warn_blocked(self):
         """Log (throttled) which followers the simulation is waiting for."""
@@ -454,11 +458,14 @@ class JointSimNode(Rejects, Node):
             self.get_logger().warning(
                 f'step {self.plant.k} waits {waiting:.0f} s for {lag}', throttle_duration_sec=2.5)
 
-    def finish(self):
+    def interrupted(self) -> bool:
+        """Whether a run of finite ``duration`` has not reached it (see ``run_node``)."""
+        return bool(self.n_end) and not self.done
+
+    def finish(self) -> None:
         """End the node once every follower has echoed the last state (or FINAL_WAIT)."""
         now = time.monotonic()
-        if self.final_since is None:
-            self.final_since = now
+        self.final_since = self.final_since or now
         behind = [t for t, ns in self.followers.items() if ns < self.stamp_ns(self.plant.k)]
         if behind and now - self.final_since < FINAL_WAIT:
             return
@@ -470,7 +477,7 @@ class JointSimNode(Rejects, Node):
                                    f'{", ".join(self.followers)}')
         raise SystemExit(0)
 
-    def spin_step(self, executor):
+    def spin_step(self, executor: Executor) -> None:
         """One turn of the node's main loop (called by ``run_node``)."""
         if self.lockstep:
             self.lockstep_turn(executor)
@@ -481,7 +488,11 @@ class JointSimNode(Rejects, Node):
             return
         now = time.monotonic()
         if self.next_tick is None:
-            self.next_tick = now
+            self.next_tick = self.wall_start = now
+            if self.count_publishers(self.sub_command.topic_name):
+                self.pace.expect(self.plant.k)      # a controller is there: wait for it
+        if self.hold_for_controller(now):
+            return
         if now < self.next_tick:
             time.sleep(min(self.next_tick - now, 0.1))
             return
@@ -503,7 +514,38 @@ class JointSimNode(Rejects, Node):
         if self.ticks % SPIN_EVERY == 0:
             executor.spin_once(timeout_sec=0.0)
 
-    def lockstep_turn(self, executor):
+    def hold_for_controller(self, now):
+        """Return whether the tick waits for a lagging controller (realtime pacing)."""
+        held, waited, gave_up = self.pace.hold(self.plant.k + self.per_tick, now)
+        if waited:
+            self.next_tick += waited
+        if gave_up:
+            self.get_logger().warning(
+                f'the controller answered no state for {self.p["lead_wait"]:g} s at t = '
+                f'{self.plant.t:.3f} s: running on without it (the watchdog decides) until a '
+                'command answers a recent state')
+        if not held:
+            return False
+        self.cmd_waiter = self.cmd_waiter or Waiter(self, [self.sub_command])
+        self.cmd_waiter.wait(PACE_POLL)
+        for msg in take_queued(self.sub_command, JointState):
+            self.on_command(msg)
+        return True
+
+    def run_summary(self) -> str:
+        """Return the closing line: achieved rate, answered share, waits, slips, trips."""
+        trips = f'watchdog trips {self.watchdog.trips}'
+        if self.lockstep:
+            return (f'lockstep run: {self.plant.k} steps ({self.plant.t:.3f} s simulated), '
+                    f'{self.resent} states re-sent while the loop stalled, {trips}')
+        wall = time.monotonic() - self.wall_start if self.wall_start is not None else 0.0
+        return (f'realtime run: {self.ticks} states in {wall:.2f} s of wall time '
+                f'({self.ticks / max(wall, 1e-9):.0f} Hz of publish_rate '
+                f'{self.p["publish_rate"]:g} Hz), {self.plant.t:.3f} s simulated; '
+                f'{self.pace.describe(self.ticks)}; slipped {self.slipped * self.period:.3f} s '
+                f'behind the wall clock; {trips}')
+
+    def lockstep_turn(self, executor: Executor) -> None:
         """
         Lockstep: wait on the subscriptions, take the messages without an executor turn.
 
@@ -528,8 +570,8 @@ class JointSimNode(Rejects, Node):
             self.next_turn = now + EXECUTOR_EVERY
             executor.spin_once(timeout_sec=0.0)
 
-    def on_tick(self):
-        s = None
+    def on_tick(self) -> None:
+        s = self.plant.last
         for _ in range(self.per_tick):
             s = self.plant.step(self.drive_torque(self.plant.last.qd), tau_contact=self.contact)
         self.ticks += 1
@@ -539,7 +581,7 @@ class JointSimNode(Rejects, Node):
             raise SystemExit(0)
 
 
-def main(args=None):
+def main(args: list[str] | None = None) -> int | str:
     return run_node(JointSimNode, 'joint_sim', args, drain=False)
 
 

@@ -1,16 +1,5 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 
 """
 Physical ranges of the nodes' own parameters and the check that enforces them.
@@ -19,10 +8,17 @@ The bounds come from physics and from what ROS can carry, not from one gear:
 a time a stamp can hold, a wait a person would make, a rate a device can
 sample at.  :func:`between` is the validator the nodes' tables use.
 """
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
 import math
+from typing import Any, TYPE_CHECKING
 
 from ...exceptions import GearConfigError
 from ...gear.schema import RATE_BOUNDS
+
+if TYPE_CHECKING:
+    from ...gear import GearParams
 
 __all__ = ['between', 'DURATION_BOUNDS', 'WAIT_BOUNDS', 'RESEND_BOUNDS', 'RISE_TIME_BOUNDS',
            'INERTIA_FACTOR', 'MIN_RISE_STEPS', 'PUBLISH_RATE_BOUNDS', 'SAMPLE_RATE_BOUNDS',
@@ -52,7 +48,7 @@ INERTIA_FACTOR = 1000.0
 MIN_RISE_STEPS = 10
 
 
-def topics_problem(text, allow=()):
+def topics_problem(text: str, allow: Sequence[str] = ()) -> str | None:
     """
     Return why the comma-separated topic names ``text`` are not valid ROS topic names, or None.
 
@@ -72,7 +68,8 @@ def topics_problem(text, allow=()):
     return None
 
 
-def between(value, bounds, unit, zero=None):
+def between(value: float, bounds: tuple[float, float, str], unit: str,
+            zero: str | None = None) -> str | None:
     """
     Return why ``value`` is outside ``bounds = (lo, hi, why)``, or None.
 
@@ -95,12 +92,16 @@ def _fail(name, why):
     raise GearConfigError(f'parameter {name}: {why}')
 
 
-def sample_rate(p, gear):
+def sample_rate(p: Mapping[str, Any], gear: GearParams) -> float:
     """Return the sample rate of a controller or estimator: ``rate``, or ``simulation.rate``."""
-    return p['rate'] or gear.section('simulation')['rate']
+    if p['rate']:
+        return p['rate']
+    sim = gear.section('simulation')
+    assert sim is not None  # a section with defaults
+    return sim['rate']
 
 
-def warm_up_temperature(gear):
+def warm_up_temperature(gear: GearParams) -> float:
     """
     Return the temperature a node's first, compiling call uses: the middle of the gear's range.
 
@@ -111,7 +112,7 @@ def warm_up_temperature(gear):
     return 0.5 * (lo + hi)
 
 
-def check_controller_params(p, gear):
+def check_controller_params(p: Mapping[str, Any], gear: GearParams) -> None:
     """
     Check a controller's gains against its gear and sample rate, before anything is built.
 
@@ -135,7 +136,7 @@ def check_controller_params(p, gear):
               f"the gear's inertia {j:g} kg m^2 (0: the gear's)")
 
 
-def check_estimator_params(p, gear):
+def check_estimator_params(p: Mapping[str, Any], gear: GearParams) -> None:
     """
     Check an observer's cut-off against its sample rate (below Nyquist, ``pi rate``).
 

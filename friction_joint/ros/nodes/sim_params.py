@@ -1,16 +1,5 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 
 """
 The parameters of ``joint_sim``: defaults, validators, descriptors and the checks against the gear.
@@ -18,10 +7,15 @@ The parameters of ``joint_sim``: defaults, validators, descriptors and the check
 Every parameter is bounded to a physical range before anything is allocated:
 the static bounds (:data:`VALIDATORS`, also the ranges ``ros2 param describe``
 shows) and, once the gear is known, :func:`check_sim_params` (``publish_rate``
-at most ``simulation.rate``, ``command_timeout`` at least one step, ``xi0``
+at most ``simulation.rate``, ``command_timeout`` at least one step and longer than
+``max_lead``, ``xi0``
 and ``q0`` within the plausible temperature and position of the gear).
 """
+from __future__ import annotations
+
+from collections.abc import Mapping
 import math
+from typing import Any, TYPE_CHECKING
 
 from .ranges import (between, DURATION_BOUNDS, PUBLISH_RATE_BOUNDS, RESEND_BOUNDS,
                      topics_problem, WAIT_BOUNDS)
@@ -30,12 +24,17 @@ from ...exceptions import GearConfigError
 from ...gear.schema import INT64_RANGE
 from ...testbed.watchdog import REACTIONS
 
+if TYPE_CHECKING:
+    from ...gear import GearParams
+    from ...testbed import InputLimits
+
 __all__ = ['DEFAULTS', 'VALIDATORS', 'DESCRIPTORS', 'check_sim_params']
 
 DEFAULTS = {'mode': 'realtime', 'publish_rate': 1000.0, 'duration': 0.0, 'xi0': float('nan'),
             'q0': 0.0, 'seed': -1, 'friction_model': '', 'resend_period': 0.2,
             'wait_subscribers': 1, 'start_delay': 0.5, 'follow': '', 'window': 300,
-            'wait_recorder': '', 'command_timeout': 0.05, 'timeout_reaction': 'zero'}
+            'wait_recorder': '', 'command_timeout': 0.05, 'timeout_reaction': 'zero',
+            'max_lead': 0.02, 'lead_wait': 0.5}
 VALIDATORS = {
     'mode': lambda v: (None if v in ('realtime', 'lockstep')
                        else "must be 'realtime' or 'lockstep'"),
@@ -54,6 +53,8 @@ VALIDATORS = {
     'command_timeout': lambda v: between(v, WAIT_BOUNDS, 's', zero='no watchdog'),
     'timeout_reaction': lambda v: (None if v in REACTIONS
                                    else f'must be {" or ".join(REACTIONS)}'),
+    'max_lead': lambda v: between(v, WAIT_BOUNDS, 's', zero='never wait for the controller'),
+    'lead_wait': lambda v: between(v, WAIT_BOUNDS, 's', zero='never wait for the controller'),
 }
 
 
@@ -89,10 +90,18 @@ DESCRIPTORS = {
                                 'least one simulation step), s', low=0.0, high=WAIT_BOUNDS[1]),
     'timeout_reaction': describe('the drive on a command timeout: zero (torque off, the joint '
                                  'coasts) or brake (a damping torque that stops the joint)'),
+    'max_lead': describe('realtime: simulated seconds the joint may run ahead of the newest '
+                         'state a valid command answered; beyond it the simulation waits '
+                         'for the controller (its clock slows; 0: never waits, as hardware)',
+                         low=0.0, high=WAIT_BOUNDS[1]),
+    'lead_wait': describe('realtime: wall seconds the simulation waits for a lagging '
+                          'controller before it runs on without it (the watchdog decides)',
+                          low=0.0, high=WAIT_BOUNDS[1]),
 }
 
 
-def check_sim_params(p, xi0, gear, limits):
+def check_sim_params(p: Mapping[str, Any], xi0: float, gear: GearParams,
+                     limits: InputLimits) -> None:
     """
     Check the simulator's parameters ``p`` (and ``xi0``) against the gear.
 
@@ -102,7 +111,9 @@ def check_sim_params(p, xi0, gear, limits):
         ``parameter NAME: problem`` (one line).
 
     """
-    rate = gear.section('simulation')['rate']
+    sim = gear.section('simulation')
+    assert sim is not None  # a section with defaults
+    rate = sim['rate']
     if p['publish_rate'] > rate:
         raise GearConfigError(f"parameter publish_rate: {p['publish_rate']:g} Hz is faster than "
                               f'the simulation (simulation.rate {rate:g} Hz of the gear)')
@@ -110,6 +121,15 @@ def check_sim_params(p, xi0, gear, limits):
         raise GearConfigError(f"parameter command_timeout: {p['command_timeout']:g} s is shorter "
                               f'than one simulation step ({1.0 / rate:g} s); 0 turns the '
                               'watchdog off')
+    timeout, lead = p['command_timeout'], p['max_lead']
+    if p['mode'] == 'realtime' and 0 < timeout <= lead:
+        raise GearConfigError(f'parameter max_lead: {lead:g} s is not shorter than '
+                              f'command_timeout ({timeout:g} s): every command answering the '
+                              'newest state the simulation may hold would be stale')
+    if p['mode'] == 'realtime' and 0 < lead < 1.0 / p['publish_rate']:
+        raise GearConfigError(f'parameter max_lead: {lead:g} s is shorter than one tick '
+                              f"(1 / publish_rate = {1.0 / p['publish_rate']:g} s); 0 turns "
+                              'the pacing off')
     if not math.isnan(xi0):
         why = limits.check('temperature', xi0)
         if why:

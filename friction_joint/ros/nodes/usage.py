@@ -1,16 +1,5 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 
 """
 ``-h`` / ``--help`` of the node executables, answered without a gear file and before rclpy.init.
@@ -21,17 +10,22 @@ summary and first paragraph of the node module's docstring), its own
 parameters with their defaults, meaning and ranges, and how to pass the gear
 file, then exits 0.  The parameter list is built by the node's own declare
 function (:func:`~friction_joint.ros.parameters.declare_node_params` or
-:func:`~friction_joint.ros.nodes.common.declare_follower_params`) on a
+:func:`~friction_joint.ros.parameters.declare_follower_params`) on a
 stand-in that records what is declared, from the module's ``DEFAULTS`` and
 ``DESCRIPTORS``: one source of truth for the node, ``ros2 param describe``
 and this text.  Only the arguments before ``--ros-args`` are looked at (rcl
 owns the rest); no argument parser is involved.
 """
+from __future__ import annotations
+
+from collections.abc import Callable, Sequence
 import math
 import os
 import re
 import sys
 import textwrap
+from types import ModuleType
+from typing import Any
 
 __all__ = ['help_requested', 'node_usage', 'exit_on_help', 'HELP_FLAGS', 'EXAMPLE_GEARS']
 
@@ -42,7 +36,7 @@ EXAMPLE_GEARS = {'joint_sim': 'config/csd25_truth.yaml', 'controller': 'config/c
 _WIDTH = 79
 
 
-def help_requested(args=None):
+def help_requested(args: Sequence[str] | None = None) -> bool:
     """Return True if ``-h`` or ``--help`` comes before ``--ros-args`` in ``args`` (sys.argv)."""
     argv = list(sys.argv if args is None else args)
     if '--ros-args' in argv:
@@ -100,7 +94,7 @@ def _range(descriptor):
 
 def _parameters(module, name):
     """Return [(name, default, description)] of the node's own parameters."""
-    from ..parameters import declare_node_params
+    from ..parameters import declare_follower_params, declare_node_params
     defaults = getattr(module, 'DEFAULTS', None)
     if defaults is None:
         return []
@@ -108,7 +102,6 @@ def _parameters(module, name):
     if 'mode' in defaults:
         declare_node_params(stand_in, defaults, module.VALIDATORS, module.DESCRIPTORS)
     else:                                   # a follower: mode first, sync defaults from it
-        from .common import declare_follower_params
         declare_follower_params(stand_in, defaults, module.VALIDATORS, module.DESCRIPTORS)
     rows = []
     for pname, value, desc in stand_in.declared:
@@ -117,7 +110,7 @@ def _parameters(module, name):
     return rows
 
 
-def node_usage(module, name):
+def node_usage(module: ModuleType, name: str) -> str:
     """Return the ``--help`` text of the node ``name`` defined in ``module``."""
     fill = textwrap.TextWrapper(width=_WIDTH, break_on_hyphens=False)
     indent = textwrap.TextWrapper(width=_WIDTH, initial_indent='    ',
@@ -145,12 +138,14 @@ def node_usage(module, name):
         'one from a recording. For example:')
     lines += ['', f'    {name} {example}',
               f'    python -m friction_joint.ros.nodes.{name} {example}', '']
-    lines += fill.wrap('Remap the namespace with -r __ns:=/arm1; see docs/ros.md '
-                       'for the topics, the loop modes and a three-terminal example.')
+    lines += fill.wrap('Remap the namespace with -r __ns:=/arm1; see docs/ros.md for the '
+                       'topics and the loop modes, and the README ("Run the nodes '
+                       'yourself") for the recipe, one terminal per node.')
     return '\n'.join(lines)
 
 
-def exit_on_help(factory, name, args=None):
+def exit_on_help(factory: Callable[[], Any], name: str,
+                 args: Sequence[str] | None = None) -> None:
     """
     Print the usage of the node and exit 0 if the command line asks for help.
 

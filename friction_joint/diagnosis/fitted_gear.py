@@ -1,16 +1,5 @@
+# SPDX-License-Identifier: Apache-2.0
 # Copyright 2026 friction_joint maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
 
 """
 Gear files of fitted diagnosis structures: for simulation and the validated ``extended.yaml``.
@@ -26,26 +15,39 @@ physically is reported as such and never aborts the report.
 from __future__ import annotations
 
 import dataclasses
-from typing import TYPE_CHECKING
+from typing import Any, TYPE_CHECKING, TypedDict
 import warnings
 
 import numpy as np
 
 from . import structures as dm
 from .crossval import fit_all
-from .gravity import corrected_lever
+from .gravity import corrected_lever, pose_lever
 from ..exceptions import GearConfigError, GearConfigWarning
 from ..gear import gear_from_dict, GMSParams, LuGreParams, passivity_bound, RippleParams
 
 if TYPE_CHECKING:
+    from numpy.typing import NDArray
+
     from ..gear import GearParams
 
-__all__ = ['sim_gear', 'extended_gear', 'extended_model', 'PASSIVITY_MARGIN']
+__all__ = ['sim_gear', 'extended_gear', 'extended_model', 'PASSIVITY_MARGIN', 'ExtendedFit']
 
 
-def sim_gear(base, s, coef):
+class ExtendedFit(TypedDict):
+    """The extended model of :func:`extended_model` (its keys are documented there)."""
+
+    gear: GearParams
+    structure: dm.CandidateStructure
+    coef: dict[str, Any]
+    kept: int
+    reason: str | None
+
+
+def sim_gear(base: GearParams, s: dm.CandidateStructure, coef: dict[str, Any]) -> GearParams:
     """Return an unvalidated GearParams for simulation (coefficients as fitted)."""
     f = base.friction
+    kw: dict[str, Any]
     kw = {'fc': tuple(coef['fc']), 'fv': tuple(coef['fv']), 'fc_load': tuple(coef['fc_load']),
           'fv_load': tuple(coef['fv_load']), 'fs': None, 'vs': None, 'fs_load': ()}
     if s.nfs:
@@ -74,20 +76,21 @@ def sim_gear(base, s, coef):
                                inertia=base.inertia + coef.get('d_inertia', 0.0))
 
 
-def _ctx_ratios(base):
+def _ctx_ratios(base: GearParams) -> NDArray[np.float64]:
     g = base.friction.gms
-    r = np.asarray(g.k, float) if g is not None else dm.GMS_RATIOS
-    return r / r.sum()
+    r: NDArray[np.float64] = np.asarray(g.k, float) if g is not None else dm.GMS_RATIOS
+    return r / float(r.sum())
 
 
-def _ctx_alpha(base):
+def _ctx_alpha(base: GearParams) -> list[float]:
     g = base.friction.gms
     if g is not None:
         return list(g.alpha)
     return [1.0 / len(dm.GMS_RATIOS)] * len(dm.GMS_RATIOS)
 
 
-def extended_gear(base, s, coef, ctx):
+def extended_gear(base: GearParams, s: dm.CandidateStructure, coef: dict[str, Any],
+                  ctx: dm.Context) -> GearParams:
     """
     Return the validated gear file of the extended model (base sections kept).
 
@@ -97,6 +100,7 @@ def extended_gear(base, s, coef, ctx):
         The fitted model is not physical (e.g. a polynomial below zero in its range).
 
     """
+    fr: dict[str, Any]
     fr = {'fc': coef['fc'], 'fv': coef['fv'], 'fc_load': coef['fc_load'],
           'fv_load': coef['fv_load']}
     if s.nfs:
@@ -107,8 +111,10 @@ def extended_gear(base, s, coef, ctx):
         fr['position_ripple'] = coef['position_ripple']
     if s.offset:
         fr['offset'] = coef['offset']
-    changes = {'friction': fr}
-    if s.gravity:
+    changes: dict[str, Any] = {'friction': fr}
+    if s.gravity and 'pose' in coef['gravity']:
+        changes['lever'], coef['gravity']['pose'] = pose_lever(base, coef['gravity']['pose'])
+    elif s.gravity:
         changes['lever'], coef['gravity']['lever'] = corrected_lever(base, coef['gravity'])
     if s.inertia:
         changes['inertia'] = base.inertia + coef['d_inertia']
@@ -144,7 +150,7 @@ def extended_gear(base, s, coef, ctx):
 PASSIVITY_MARGIN = 0.9
 
 
-def _validated(base, changes, quiet=False):
+def _validated(base: GearParams, changes: dict[str, Any], quiet: bool = False) -> GearParams:
     new = base.replace(changes)
     data_d = new.to_dict()['/**']['ros__parameters']
     with warnings.catch_warnings():
@@ -154,7 +160,7 @@ def _validated(base, changes, quiet=False):
 
 
 def extended_model(base: GearParams, structures: list[dm.CandidateStructure], ctx: dm.Context,
-                   y: np.ndarray) -> dict:
+                   y: NDArray[np.float64]) -> ExtendedFit:
     """
     Fit the last physical structure of a greedy sequence on all data; never raises.
 
@@ -171,7 +177,7 @@ def extended_model(base: GearParams, structures: list[dm.CandidateStructure], ct
 
     Returns
     -------
-    dict
+    ExtendedFit
         ``gear`` (validated GearParams), ``structure``, ``coef``, ``kept`` (how
         many additions the gear has: ``len(structures) - 1`` unless the last
         extensions cannot be fitted physically) and ``reason`` (None, or why the
