@@ -350,7 +350,7 @@ class _StalledFuture:
         self._fut = fut
         self.guard = guard
 
-    def result(self):
+    def result(self, timeout=None):
         raise _Stalled(self.guard)
 
     def release(self):
@@ -362,6 +362,22 @@ def _timed(func, *args, **kwargs):
     t0 = time.perf_counter()
     result = func(*args, **kwargs)
     return time.perf_counter() - t0, result
+
+
+def _fetch(fut, guard):
+    """
+    Return a finished task's result, fetched from the worker that holds it.
+
+    A task done is not yet a result here: its data stays on its worker, and a worker
+    stopped (SIGSTOP) or hung after finishing never sends it.  Past ``guard`` s the
+    fetch counts as stalled (:class:`_Stalled`) like a task that never finished.
+    """
+    try:
+        return fut.result(timeout=guard)
+    except TimeoutError:
+        if not fut.done() or fut.status != 'finished':
+            raise
+        raise _Stalled(guard) from None
 
 
 def _completed(futures, guard):
@@ -437,7 +453,7 @@ def map_recordings(func: Callable[..., Any], paths: Sequence[str], *, args: Sequ
         for fut in _completed(futures, lambda: stall_guard(durations, stall_timeout)):
             i = index[fut.key]
             try:
-                seconds, res = fut.result()
+                seconds, res = _fetch(fut, stall_guard(durations, stall_timeout))
                 durations.append(seconds)
             except _Stalled as exc:
                 stalled.append(exc.args[0])

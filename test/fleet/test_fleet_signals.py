@@ -20,10 +20,11 @@ import os
 import signal
 import subprocess
 import sys
+import threading
 import time
 
 from friction_joint.cli import main
-from friction_joint.fleet.cluster import stall_guard, STALL_MIN, STALL_TIMEOUT
+from friction_joint.fleet.cluster import map_recordings, stall_guard, STALL_MIN, STALL_TIMEOUT
 import pytest
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
@@ -138,6 +139,7 @@ def test_a_stopped_worker_fires_the_stall_guard_with_one_line(fleet, tmp_path):
         rows = list(csv.DictReader(fh))
     failed = [r for r in rows if r['status'] != 'ok']
     assert len(rows) == 12 and failed, rows
+    assert all('the cluster is stuck' in r['reason'] for r in failed), failed
     assert f'{len(failed)} recording(s) reported failed' in warning[0]
 
 
@@ -206,3 +208,39 @@ def test_stall_guard_scales_with_the_task_times():
     assert stall_guard([0.1, 0.2, 9.0]) == STALL_MIN == 60         # median 0.2 s: the floor
     assert stall_guard([10.0, 12.0, 11.0]) == 220.0                # 20 x the median
     assert stall_guard([10.0], stall_timeout=5) == 5.0
+
+
+def test_a_worker_stopped_holding_a_finished_result_is_a_stall_not_a_hang():
+    """
+    A worker stopped after its task finished, before the result was fetched: a stall.
+
+    The data of a finished task stays on its worker; fetching it from a stopped worker
+    waited for ever (the command hung past the stall guard).  One worker runs a short
+    task, then a 1 s one; on the first result the worker is stopped once the second
+    has had time to finish (or not: either way it is a stall).
+    """
+    stopped = []
+
+    def stop_worker(index, result):
+        if not stopped:
+            time.sleep(2.0)
+            stopped.extend(workers(os.getpid()))
+            for pid in stopped:
+                os.kill(pid, signal.SIGSTOP)
+
+    box = {}
+    run = threading.Thread(target=lambda: box.update(out=map_recordings(
+        time.sleep, [0.0, 1.0], workers=1, stall_timeout=3, on_result=stop_worker)),
+        daemon=True)
+    run.start()
+    try:
+        run.join(DEADLINE)
+        assert not run.is_alive(), 'map_recordings did not end past its stall guard'
+    finally:
+        for pid in stopped:
+            if alive(pid):
+                os.kill(pid, signal.SIGKILL)
+    out = box['out']
+    assert len(stopped) == 1 and out['stalled'] == 1 and out['stall_guard'] == 3.0, out
+    assert out['results'][0] is None and out['results'][1]['status'] == 'failed', out
+    assert 'the cluster is stuck' in out['results'][1]['reason']
