@@ -20,7 +20,9 @@ and optionally ``travel``: the joint's odometer at the recording (rad of
 output travel since a fixed start, non-decreasing per joint), as a robot
 controller counts it: a plain decimal number (ASCII digits, no ``_``
 separators).  Further columns are kept as metadata.  No field holds a NUL
-byte, and a recording path or joint id no other control character.  A
+byte, and a recording path or joint id no other control character and no
+invisible formatting character (a bidirectional override that shows ``j01`` for
+``j10``, a zero-width space that makes two ids look the same).  A
 recording is listed once, also through a symlink or another spelling of its
 path; at most :data:`MAX_ROWS` are listed, in a file of at most
 :data:`MANIFEST_LIMIT` bytes.  A manifest that breaks a rule is a one-line
@@ -52,6 +54,9 @@ TIME_RANGE = (datetime.datetime(1970, 1, 1, tzinfo=datetime.timezone.utc),
               datetime.datetime(2200, 1, 1, tzinfo=datetime.timezone.utc))
 _DECIMAL = re.compile(r'[+-]?(?:[0-9]+(?:\.[0-9]*)?|\.[0-9]+)(?:[eE][+-]?[0-9]+)?', re.ASCII)
 _CONTROL = re.compile(r'[\x00-\x1f\x7f-\x9f]')
+#: invisible formatting: zero-width characters, bidirectional marks, overrides
+#: and isolates, the word joiner, the byte order mark
+_INVISIBLE = re.compile('[\u200b-\u200f\u202a-\u202e\u2060-\u2069\ufeff]')
 #: most recordings a manifest may list: a run holds every one's result in memory (a few kB
 #: each), so a larger fleet is split into several manifests (refused before any work)
 MAX_ROWS = 250000
@@ -195,6 +200,11 @@ def read_manifest(path: str | os.PathLike[str]) -> list[ManifestEntry]:
             if _CONTROL.search(rec[col]):
                 raise InputFileError(f'{path}: row {k}: {col} {rec[col]!r} holds a control '
                                      'character (a tab, a line break, an escape)')
+            hidden = _INVISIBLE.search(rec[col])
+            if hidden:
+                raise InputFileError(f'{path}: row {k}: {col} {rec[col]!r} holds an invisible '
+                                     f'formatting character (U+{ord(hidden.group()):04X}: a '
+                                     'bidirectional override or a zero-width character)')
         try:
             when = _parse_time(rec['time'])
         except (ValueError, OverflowError):

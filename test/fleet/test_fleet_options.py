@@ -162,6 +162,9 @@ def test_workers_bounded_by_the_machine(site, capsys, workers, words):
     ('re\x07c,j1,2026-03-02T10:00:00', ('row 2', 'control character')),
     ('rec,j\x1b[31m1,2026-03-02T10:00:00', ('row 2', 'joint', 'control character')),
     ('rec,j\x9b1,2026-03-02T10:00:00', ('row 2', 'joint', 'control character')),
+    ('rec,j\u202e10,2026-03-02T10:00:00', ('row 2', 'joint', 'U+202E', 'invisible')),
+    ('rec,j\u200b1,2026-03-02T10:00:00', ('row 2', 'joint', 'U+200B', 'invisible')),
+    ('re\u2066c,j1,2026-03-02T10:00:00', ('row 2', 'recording', 'U+2066', 'invisible')),
 ])
 def test_bad_manifest_rows_are_one_line(site, capsys, row, words):
     (site / 'm.csv').write_text(f'recording,joint,time\n{row}\n', encoding='utf-8')
