@@ -197,6 +197,19 @@ def test_travel_must_be_a_plain_decimal(site, capsys, travel):
     _one_line(capsys, _fleet(), 'm.csv', 'row 2', 'travel')
 
 
+@pytest.mark.parametrize('header, row, words', [
+    ('recording,joint,time,travel', 'rec,j1,2026-03-02T10:00:00,' + '9' * 100000, 'travel'),
+    ('recording,joint,time', 'rec,j1,' + '2' * 100000, 'time'),
+    ('recording,joint,time', 'rec,j\x07' + 'x' * 100000 + ',2026-03-02T10:00:00', 'joint'),
+    ('recording,' + ','.join('c%d' % i for i in range(30000)), 'rec', 'no column'),
+])
+def test_a_huge_field_is_shown_clipped(site, capsys, header, row, words):
+    """The line named a 100000-digit travel in full: it shows 60 characters and the length."""
+    (site / 'm.csv').write_text(f'{header}\n{row}\n', encoding='utf-8')
+    line = _one_line(capsys, _fleet(), 'm.csv', words, 'characters)')
+    assert len(line) < 600, len(line)
+
+
 @pytest.mark.parametrize('second', ['link', './rec', 'rec/', 'rec/../rec'])
 def test_a_recording_listed_twice_is_refused(site, capsys, second):
     os.symlink('rec', site / 'link')
