@@ -233,6 +233,23 @@ def test_simulated_fleet_bounded_before_any_work(tmp_path, capsys, argv, words):
     assert os.listdir(tmp_path) == []        # refused before any work: nothing simulated
 
 
+@pytest.mark.parametrize('name, argv, words', [
+    ('fleet', ['--duration-scale', '-1'], '--duration-scale'),
+    ('fleet', ['--gains', 'paper'], '--gains'),
+    ('fleet', ['--model', 'config/csd25.yaml', '--duration-scale', '0'],
+     '--model, --duration-scale'),
+    ('chirp', ['--joints', '5'], '--joints'),
+    ('identification', ['--seed', '3', '--days', '2'], '--days, --seed'),
+])
+def test_an_option_the_experiment_does_not_use_is_refused(tmp_path, capsys, name, argv,
+                                                          words):
+    """``experiment fleet --duration-scale -1`` and ``chirp --joints 5`` were silently run."""
+    models = [] if name == 'fleet' else ['--model', MODEL, '--truth', MODEL]
+    rc = main(['experiment', name, '--out', str(tmp_path / 'x'), '--quiet', *models, *argv])
+    _one_line(capsys, rc, words, f'not an option of experiment {name}')
+    assert os.listdir(tmp_path) == []
+
+
 # ------------------------------------------------------------------------ fuzz ---
 
 _CELLS = ['rec', 'link', './rec', 'missing.mcap', '', ' ', 'j1', 'j2', '2026-03-02T10:00:00',
