@@ -24,9 +24,9 @@ orders of magnitude beyond both the position's rate and its own spread is
 not (a velocity on the motor side of a 1:160 gear is still accepted).
 
 Whatever its spread, a sample beyond :data:`MAX_MAGNITUDE` (1e12 in the signal's
-SI unit: N m, rad, rad/s, degC) is absurd too: a signal scaled as a whole by a
-corrupt unit or a flipped exponent bit (a torque of 1e300 N m) has a spread of its
-own size, and a fit's squares of it overflow.
+SI unit: N m, rad, rad/s; a temperature has its own range) is absurd too: a
+signal scaled as a whole by a corrupt unit or a flipped exponent bit (a torque
+of 1e300 N m) has a spread of its own size, and a fit's squares of it overflow.
 
 Generous on purpose: only values that no sensor, unit or excitation explains
 are rejected (a float64 with a flipped exponent bit is off by a factor of
@@ -211,7 +211,8 @@ def check_samples(label: str, t: ArrayLike, fields: dict[str, ArrayLike], *,
         return _rate(t, q, a, b, origin)
     for name, x in fields.items():
         x = np.asarray(x, dtype=float)
-        _check_magnitude(label, name, t, x, origin)
+        if name != 'xi':                # a temperature has its range (consistency.py)
+            _check_magnitude(label, name, t, x, origin)
         factor = FACTOR if name != velocity else VELOCITY_FACTOR
         bad, med, spread = _implausible(x, rate if name == velocity else None, factor)
         if not len(bad):
