@@ -74,7 +74,7 @@ def parse_orders(text: str | None) -> str | dict[str, int] | None:
         key, _, val = item.partition('=')
         key = key.strip()
         try:
-            if not re.fullmatch(r'\s*[0-9]+\s*', val):    # int() reads other scripts' digits
+            if not re.fullmatch(r'\s*[+-]?[0-9]+\s*', val):    # int() reads other scripts' digits
                 raise ValueError(val)
             order = int(val)
         except ValueError:
