@@ -23,6 +23,11 @@ rest is plausible where the position moves with it (``R`` large), a velocity
 orders of magnitude beyond both the position's rate and its own spread is
 not (a velocity on the motor side of a 1:160 gear is still accepted).
 
+Whatever its spread, a sample beyond :data:`MAX_MAGNITUDE` (1e12 in the signal's
+SI unit: N m, rad, rad/s; a temperature has its own range) is absurd too: a
+signal scaled as a whole by a corrupt unit or a flipped exponent bit (a torque
+of 1e300 N m) has a spread of its own size, and a fit's squares of it overflow.
+
 Generous on purpose: only values that no sensor, unit or excitation explains
 are rejected (a float64 with a flipped exponent bit is off by a factor of
 2^32 or more).  Signals with fewer than ``2k + 1`` samples, or with ``S = 0``
@@ -44,13 +49,15 @@ if TYPE_CHECKING:
 
     from .topics import Recording
 
-__all__ = ['FACTOR', 'VELOCITY_FACTOR', 'RATE_WINDOW', 'implausible', 'check_values',
-           'check_samples']
+__all__ = ['FACTOR', 'VELOCITY_FACTOR', 'MAX_MAGNITUDE', 'RATE_WINDOW', 'implausible',
+           'check_values', 'check_samples']
 
 #: a sample further than this many robust spreads from the median is absurd
 FACTOR = 1e6
 #: a velocity further than this many times max(its spread, the position's rate) is absurd
 VELOCITY_FACTOR = 1e3
+#: no joint, sensor or unit reaches this magnitude in SI units (a fit squares the samples)
+MAX_MAGNITUDE = 1e12
 #: samples either side over which a velocity is compared with the position's differences
 RATE_WINDOW = 5
 #: samples judged at a time (the temporaries of a check are this long, but for one scratch
@@ -204,6 +211,8 @@ def check_samples(label: str, t: ArrayLike, fields: dict[str, ArrayLike], *,
         return _rate(t, q, a, b, origin)
     for name, x in fields.items():
         x = np.asarray(x, dtype=float)
+        if name != 'xi':                # a temperature has its range (consistency.py)
+            _check_magnitude(label, name, t, x, origin)
         factor = FACTOR if name != velocity else VELOCITY_FACTOR
         bad, med, spread = _implausible(x, rate if name == velocity else None, factor)
         if not len(bad):
@@ -220,6 +229,24 @@ def check_samples(label: str, t: ArrayLike, fields: dict[str, ArrayLike], *,
             f'(sample {i}{f", {len(bad)} such samples" if len(bad) > 1 else ""}): more than '
             f"{factor:.0e} times the signal's robust spread ({spread:.3g} {unit}) from its "
             f'median ({med:.3g} {unit}){also}; a corrupt value (a flipped bit?)')
+
+
+def _check_magnitude(label, name, t, x, origin):
+    """Raise on the first sample of ``x`` beyond :data:`MAX_MAGNITUDE` (block by block)."""
+    count, first = 0, None
+    for a in range(0, len(x), BLOCK):
+        bad = np.flatnonzero(np.abs(x[a:a + BLOCK]) > MAX_MAGNITUDE)
+        if len(bad):
+            count += len(bad)
+            first = int(bad[0]) + a if first is None else first
+    if first is None:
+        return
+    unit = _UNITS.get(name, '')
+    raise RecordingError(
+        f'{label}: implausible {name} {float(x[first]):.6g} {unit} at '
+        f't = {t[first] - origin:.6f} s (sample {first}'
+        f'{f", {count} such samples" if count > 1 else ""}): beyond {MAX_MAGNITUDE:.0e} '
+        f'{unit}, which no joint, sensor or unit reaches; a corrupt value or a wrong unit')
 
 
 def check_values(recording: Recording) -> None:

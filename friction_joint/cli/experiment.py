@@ -39,7 +39,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> argparse.ArgumentParser:
                         help='output directory (created if missing; an existing non-empty one '
                              'is an error without --force); for identification the recording '
                              'to write (a rosbag2 directory, or a .mcap file)')
-    parser.add_argument('--duration-scale', type=float, default=1.0, metavar='X',
+    parser.add_argument('--duration-scale', type=float, metavar='X',
                         help='multiply all run durations by X (default 1; small values for '
                              'quick tests)')
     parser.add_argument('--gains', metavar='DESIGN',
@@ -47,12 +47,12 @@ def add_arguments(parser: argparse.ArgumentParser) -> argparse.ArgumentParser:
                              'preset, paper (default: designed for 0.016 kg m^2, see '
                              "docs/design.md) or full-inertia (the model's joint inertia); "
                              'J=<kg m^2>; or kp=<Nm/rad>,kd=<Nm s/rad>')
-    parser.add_argument('--joints', type=int, default=8, metavar='J',
+    parser.add_argument('--joints', type=int, metavar='J',
                         help='fleet: number of joints (default 8)')
-    parser.add_argument('--days', type=int, default=30, metavar='D',
+    parser.add_argument('--days', type=int, metavar='D',
                         help='fleet: days, one recording per joint and day (default 30; '
                              'joints x days at most 20000)')
-    parser.add_argument('--seed', type=int, default=0, metavar='S',
+    parser.add_argument('--seed', type=int, metavar='S',
                         help='fleet: seed of every draw, >= 0 (default 0)')
     parser.add_argument('--quiet', action='store_true', help='no progress messages')
     parser.add_argument('--force', action='store_true',
@@ -65,10 +65,21 @@ def run(args: argparse.Namespace) -> int:
     """Run the experiment and write its results."""
     from ..exceptions import ArgumentError
     from ..jobs.experiment import run_experiment
+    # an option the experiment does not use is an error, not silently dropped
+    fleet_only = {'--joints': args.joints, '--days': args.days, '--seed': args.seed}
+    not_fleet = {'--model': args.model, '--duration-scale': args.duration_scale,
+                 '--gains': args.gains}
+    unused = [k for k, v in (not_fleet if args.name == 'fleet' else fleet_only).items()
+              if v is not None]
+    if unused:
+        raise ArgumentError(f'{", ".join(unused)}: not an option of experiment {args.name} '
+                            f'(see friction_joint experiment --help)')
     if args.name == 'fleet':
         from ..jobs.fleet_simulation import run_fleet_simulation
-        fleet = run_fleet_simulation(args.out, joints=args.joints, days=args.days,
-                                     seed=args.seed, gear=args.truth, force=args.force,
+        fleet = run_fleet_simulation(args.out, joints=8 if args.joints is None else args.joints,
+                                     days=30 if args.days is None else args.days,
+                                     seed=0 if args.seed is None else args.seed,
+                                     gear=args.truth, force=args.force,
                                      progress=progress_printer(args.quiet))
         truth = fleet.truth
         wearing = sorted(j for j, d in truth['joints'].items() if d['wear'])
@@ -79,7 +90,8 @@ def run(args: argparse.Namespace) -> int:
     if args.truth is None:
         raise ArgumentError(f'experiment {args.name} needs --truth (the simulated hardware)')
     run = run_experiment(args.name, args.model, args.truth, args.out,
-                         duration_scale=args.duration_scale,
+                         duration_scale=1.0 if args.duration_scale is None
+                         else args.duration_scale,
                          progress=progress_printer(args.quiet), force=args.force,
                          gains=args.gains)
     print('wrote ' + ', '.join(os.path.normpath(p) for p in run.written))

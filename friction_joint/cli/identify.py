@@ -10,6 +10,7 @@ See :mod:`friction_joint.identification`.
 """
 import argparse
 import os
+import re
 
 from ._console import progress_printer
 from ..exceptions import GearConfigError
@@ -73,6 +74,8 @@ def parse_orders(text: str | None) -> str | dict[str, int] | None:
         key, _, val = item.partition('=')
         key = key.strip()
         try:
+            if not re.fullmatch(r'\s*[+-]?[0-9]+\s*', val):    # int() reads other scripts' digits
+                raise ValueError(val)
             order = int(val)
         except ValueError:
             raise GearConfigError(f'--orders: expected auto, structure or NAME=ORDER,... '

@@ -20,7 +20,9 @@ and optionally ``travel``: the joint's odometer at the recording (rad of
 output travel since a fixed start, non-decreasing per joint), as a robot
 controller counts it: a plain decimal number (ASCII digits, no ``_``
 separators).  Further columns are kept as metadata.  No field holds a NUL
-byte, and a recording path or joint id no other control character.  A
+byte, and a recording path or joint id no other control character and no
+invisible formatting character (a bidirectional override that shows ``j01`` for
+``j10``, a zero-width space that makes two ids look the same).  A
 recording is listed once, also through a symlink or another spelling of its
 path; at most :data:`MAX_ROWS` are listed, in a file of at most
 :data:`MANIFEST_LIMIT` bytes.  A manifest that breaks a rule is a one-line
@@ -52,6 +54,11 @@ TIME_RANGE = (datetime.datetime(1970, 1, 1, tzinfo=datetime.timezone.utc),
               datetime.datetime(2200, 1, 1, tzinfo=datetime.timezone.utc))
 _DECIMAL = re.compile(r'[+-]?(?:[0-9]+(?:\.[0-9]*)?|\.[0-9]+)(?:[eE][+-]?[0-9]+)?', re.ASCII)
 _CONTROL = re.compile(r'[\x00-\x1f\x7f-\x9f]')
+#: invisible formatting: zero-width characters, bidirectional marks, overrides
+#: and isolates, the word joiner, the byte order mark
+_INVISIBLE = re.compile('[\u200b-\u200f\u202a-\u202e\u2060-\u2069\ufeff]')
+#: characters of a manifest's text an error message shows (a field may hold 128 KiB)
+_SHOWN = 60
 #: most recordings a manifest may list: a run holds every one's result in memory (a few kB
 #: each), so a larger fleet is split into several manifests (refused before any work)
 MAX_ROWS = 250000
@@ -96,6 +103,13 @@ class ManifestEntry:
         return {'row': self.row, 'recording': self.recording, 'path': self.path,
                 'joint': self.joint, 'time': self.time.isoformat(), 'travel': self.travel,
                 'metadata': dict(self.metadata)}
+
+
+def _shown(text: str) -> str:
+    """Return ``repr(text)``, clipped to :data:`_SHOWN` characters with the full length."""
+    if len(text) <= _SHOWN:
+        return repr(text)
+    return f'{text[:_SHOWN]!r}... ({len(text)} characters)'
 
 
 def _parse_time(text):
@@ -165,10 +179,11 @@ def read_manifest(path: str | os.PathLike[str]) -> list[ManifestEntry]:
     if missing:
         raise InputFileError(f'{path}: row 1 (header): no column {", ".join(missing)} '
                              f'(a fleet manifest needs {", ".join(REQUIRED_COLUMNS)}; found '
-                             f'{", ".join(header) or "nothing"})')
+                             f'{_shown(", ".join(header)) if header else "nothing"})')
     dup = sorted({h for h in header if header.count(h) > 1})
     if dup:
-        raise InputFileError(f'{path}: row 1 (header): column {", ".join(dup)} appears twice')
+        raise InputFileError(f'{path}: row 1 (header): column '
+                             f'{_shown(", ".join(dup))} appears twice')
     base = os.path.dirname(os.path.abspath(path))
     entries: list[ManifestEntry] = []
     seen: dict[str, int] = {}
@@ -186,41 +201,48 @@ def read_manifest(path: str | os.PathLike[str]) -> list[ManifestEntry]:
         rec = dict(zip(header, (c.strip() for c in row), strict=True))
         for col, value in rec.items():
             if '\0' in value:
-                raise InputFileError(f'{path}: row {k}: column {col!r} holds a NUL byte (not '
-                                     'text)')
+                raise InputFileError(f'{path}: row {k}: column {_shown(col)} holds a '
+                                     'NUL byte (not text)')
         for col in REQUIRED_COLUMNS:
             if not rec[col]:
                 raise InputFileError(f'{path}: row {k}: empty {col}')
         for col in ('recording', 'joint'):
             if _CONTROL.search(rec[col]):
-                raise InputFileError(f'{path}: row {k}: {col} {rec[col]!r} holds a control '
-                                     'character (a tab, a line break, an escape)')
+                raise InputFileError(f'{path}: row {k}: {col} {_shown(rec[col])} holds a '
+                                     'control character (a tab, a line break, an escape)')
+            hidden = _INVISIBLE.search(rec[col])
+            if hidden:
+                raise InputFileError(f'{path}: row {k}: {col} {_shown(rec[col])} holds an '
+                                     'invisible formatting character '
+                                     f'(U+{ord(hidden.group()):04X}: a bidirectional override '
+                                     'or a zero-width character)')
         try:
             when = _parse_time(rec['time'])
         except (ValueError, OverflowError):
-            raise InputFileError(f'{path}: row {k}: time {rec["time"]!r} is not an ISO 8601 '
-                                 'date and time (e.g. 2026-03-02T14:05:00+00:00)') from None
+            raise InputFileError(f'{path}: row {k}: time {_shown(rec["time"])} is not '
+                                 'an ISO 8601 date and time (e.g. '
+                                 '2026-03-02T14:05:00+00:00)') from None
         try:
             inside = TIME_RANGE[0] <= when < TIME_RANGE[1]
         except OverflowError:                     # a zone that pushes it out of datetime's
             inside = False
         if not inside:
-            raise InputFileError(f'{path}: row {k}: time {rec["time"]!r} is outside '
+            raise InputFileError(f'{path}: row {k}: time {_shown(rec["time"])} is outside '
                                  f'{TIME_RANGE[0].year}..{TIME_RANGE[1].year - 1} (UTC)')
         travel: float | None = None
         if 'travel' in rec:
             text = rec['travel']
             travel = float(text) if _DECIMAL.fullmatch(text) else math.nan
             if not math.isfinite(travel) or travel < 0:
-                raise InputFileError(f'{path}: row {k}: travel {text!r} is not a finite '
+                raise InputFileError(f'{path}: row {k}: travel {_shown(text)} is not a finite '
                                      'decimal number >= 0 (rad; ASCII digits, no separators)')
         full = os.path.normpath(os.path.join(base, rec['recording']))
         same = os.path.realpath(full)
         if full in seen or same in seen:
             earlier = seen.get(full, seen.get(same))
             how = '' if full in seen else ' (the same file through a symlink)'
-            raise InputFileError(f'{path}: row {k}: recording {rec["recording"]} is already '
-                                 f'listed in row {earlier}{how}')
+            raise InputFileError(f'{path}: row {k}: recording {rec["recording"]} is '
+                                 f'already listed in row {earlier}{how}')
         seen[full] = seen[same] = k
         meta = {h: v for h, v in rec.items() if h not in REQUIRED_COLUMNS + ('travel',)}
         entries.append(ManifestEntry(k, rec['recording'], full, rec['joint'], when, travel,

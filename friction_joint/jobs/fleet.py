@@ -226,9 +226,11 @@ def run_fleet(manifest: str | os.PathLike, model: str | os.PathLike, out: str | 
             key = hashlib.sha256(f'{h}:{model_hash}:{FIT_VERSION}'.encode()).hexdigest()
             keys.append(key)
             old = cache.get(key)
-            why = None if old is None else result_problem(old, gear)
-            if old is None or (isinstance(old, dict) and old.get('version') != FIT_VERSION):
-                todo.append(i)                  # not cached, or by another analysis version
+            # the key holds FIT_VERSION: an entry under it of another version, or null, is
+            # as poisoned as any other bad entry
+            why = None if key not in cache else result_problem(old, gear)
+            if key not in cache:
+                todo.append(i)                  # not cached
             elif why:
                 refused.append((e, why))
                 todo.append(i)

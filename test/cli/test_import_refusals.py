@@ -78,6 +78,16 @@ def test_orders_with_a_polynomial_twice_is_one_line(tmp_path, capsys):
     assert not out.exists()
 
 
+@pytest.mark.parametrize('orders', ['fc=\u0661', 'fc=\uff12', 'fv=\u0968,fc=1', 'fc=1_0'])
+def test_orders_in_other_digits_are_one_line(tmp_path, capsys, orders):
+    """``--orders fc=\u0661`` (an Arabic-Indic one) was read as fc=1: ASCII digits only."""
+    out = tmp_path / 'g.yaml'
+    rc = main(['identify', RECORDING, '--model', BASE, '--out', str(out), '--orders', orders,
+               '--quiet'])
+    one_line(capsys, rc, '--orders', 'expected')
+    assert not out.exists()
+
+
 def test_mcap_output_with_a_trailing_separator_is_one_line(tmp_path, capsys):
     """``--out DIR/x.mcap/`` wrote the file x.mcap as if the separator were not there."""
     t, q, qd, tau = motion()

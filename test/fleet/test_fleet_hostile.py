@@ -312,6 +312,9 @@ ENTRY_POISONS = [
     ('huge-speed', _set(speed=1e300), 'speed'),
     ('range-reversed', _set(xi_range=[40.0, 10.0]), 'xi_range'),
     ('not-an-object', lambda e: [1, 2, 3], 'not an object'),
+    ('null', lambda e: None, 'not an object'),              # was recomputed silently
+    ('version-as-text', _set(version=str(FIT_VERSION)), 'version'),     # silently too
+    ('other-version', _set(version=FIT_VERSION + 1), 'version'),
     ('unknown-key', _set(extra=1), 'unknown key'),
     ('missing-key', lambda e: {k: v for k, v in e.items() if k != 'cov'}, 'lacks cov'),
     ('bad-status', _set(status='<b>ok</b>'), 'status'),

@@ -162,6 +162,9 @@ def test_workers_bounded_by_the_machine(site, capsys, workers, words):
     ('re\x07c,j1,2026-03-02T10:00:00', ('row 2', 'control character')),
     ('rec,j\x1b[31m1,2026-03-02T10:00:00', ('row 2', 'joint', 'control character')),
     ('rec,j\x9b1,2026-03-02T10:00:00', ('row 2', 'joint', 'control character')),
+    ('rec,j\u202e10,2026-03-02T10:00:00', ('row 2', 'joint', 'U+202E', 'invisible')),
+    ('rec,j\u200b1,2026-03-02T10:00:00', ('row 2', 'joint', 'U+200B', 'invisible')),
+    ('re\u2066c,j1,2026-03-02T10:00:00', ('row 2', 'recording', 'U+2066', 'invisible')),
 ])
 def test_bad_manifest_rows_are_one_line(site, capsys, row, words):
     (site / 'm.csv').write_text(f'recording,joint,time\n{row}\n', encoding='utf-8')
@@ -194,6 +197,19 @@ def test_travel_must_be_a_plain_decimal(site, capsys, travel):
     _one_line(capsys, _fleet(), 'm.csv', 'row 2', 'travel')
 
 
+@pytest.mark.parametrize('header, row, words', [
+    ('recording,joint,time,travel', 'rec,j1,2026-03-02T10:00:00,' + '9' * 100000, 'travel'),
+    ('recording,joint,time', 'rec,j1,' + '2' * 100000, 'time'),
+    ('recording,joint,time', 'rec,j\x07' + 'x' * 100000 + ',2026-03-02T10:00:00', 'joint'),
+    ('recording,' + ','.join('c%d' % i for i in range(30000)), 'rec', 'no column'),
+])
+def test_a_huge_field_is_shown_clipped(site, capsys, header, row, words):
+    """The line named a 100000-digit travel in full: it shows 60 characters and the length."""
+    (site / 'm.csv').write_text(f'{header}\n{row}\n', encoding='utf-8')
+    line = _one_line(capsys, _fleet(), 'm.csv', words, 'characters)')
+    assert len(line) < 600, len(line)
+
+
 @pytest.mark.parametrize('second', ['link', './rec', 'rec/', 'rec/../rec'])
 def test_a_recording_listed_twice_is_refused(site, capsys, second):
     os.symlink('rec', site / 'link')
@@ -215,6 +231,23 @@ def test_simulated_fleet_bounded_before_any_work(tmp_path, capsys, argv, words):
     rc = main(['experiment', 'fleet', '--out', str(tmp_path / 'fleet'), '--quiet', *argv])
     _one_line(capsys, rc, *words)
     assert os.listdir(tmp_path) == []        # refused before any work: nothing simulated
+
+
+@pytest.mark.parametrize('name, argv, words', [
+    ('fleet', ['--duration-scale', '-1'], '--duration-scale'),
+    ('fleet', ['--gains', 'paper'], '--gains'),
+    ('fleet', ['--model', 'config/csd25.yaml', '--duration-scale', '0'],
+     '--model, --duration-scale'),
+    ('chirp', ['--joints', '5'], '--joints'),
+    ('identification', ['--seed', '3', '--days', '2'], '--days, --seed'),
+])
+def test_an_option_the_experiment_does_not_use_is_refused(tmp_path, capsys, name, argv,
+                                                          words):
+    """``experiment fleet --duration-scale -1`` and ``chirp --joints 5`` were silently run."""
+    models = [] if name == 'fleet' else ['--model', MODEL, '--truth', MODEL]
+    rc = main(['experiment', name, '--out', str(tmp_path / 'x'), '--quiet', *models, *argv])
+    _one_line(capsys, rc, words, f'not an option of experiment {name}')
+    assert os.listdir(tmp_path) == []
 
 
 # ------------------------------------------------------------------------ fuzz ---
