@@ -21,20 +21,12 @@ from friction_joint.models import StaticFriction
 import numpy as np
 import pytest
 
+from refusal import one_line
+
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 BASE = os.path.join(ROOT, 'config', 'csd25_base.yaml')
 MODEL = os.path.join(ROOT, 'config', 'csd25.yaml')
 TRUTH = os.path.join(ROOT, 'config', 'csd25_truth.yaml')
-
-
-def _one_line(capsys, rc, *words, status=2):
-    err = capsys.readouterr().err
-    lines = err.strip().splitlines()
-    assert rc == status, err
-    assert len(lines) == 1 and 'Traceback' not in err, err
-    for w in words:
-        assert w in lines[0], lines[0]
-    return lines[0]
 
 
 def _no_temporaries(directory):
@@ -52,7 +44,7 @@ def test_duration_scale_checked_before_allocation(tmp_path, capsys, name, scale)
     out = tmp_path / 'out'
     rc = main(['experiment', name, '--model', MODEL, '--truth', TRUTH, '--out', str(out),
                '--duration-scale', scale])
-    _one_line(capsys, rc, 'memory budget', '--duration-scale')
+    one_line(capsys, rc, 'memory budget', '--duration-scale')
     assert not out.exists()
     _no_temporaries(tmp_path)
 
@@ -81,7 +73,7 @@ def test_full_disk_while_writing_a_recording(tmp_path, capsys, monkeypatch):
     out.mkdir()
     (out / 'old.txt').write_text('old')
     rc = main(['experiment', 'identification', '--truth', TRUTH, '--out', str(out), '--force'])
-    _one_line(capsys, rc, str(out), 'No space left on device')
+    one_line(capsys, rc, str(out), 'No space left on device')
     assert sorted(os.listdir(out)) == ['old.txt'] and (out / 'old.txt').read_text() == 'old'
     _no_temporaries(tmp_path)
 
@@ -115,7 +107,7 @@ def test_full_disk_while_staging_results(tmp_path, capsys, monkeypatch):
     (out / 'old.txt').write_text('old')
     rc = main(['experiment', 'chirp', '--model', MODEL, '--truth', TRUTH, '--out', str(out),
                '--force', '--duration-scale', '0.01', '--quiet'])    # no progress: the error
-    _one_line(capsys, rc, 'No space left on device')
+    one_line(capsys, rc, 'No space left on device')
     assert sorted(os.listdir(out)) == ['old.txt']
     _no_temporaries(tmp_path)
 
@@ -128,7 +120,7 @@ def test_oserror_anywhere_is_one_line(tmp_path, capsys, monkeypatch):
         raise OSError(errno.EROFS, os.strerror(errno.EROFS), str(tmp_path / 'g.yaml'))
     monkeypatch.setattr(identify, 'run', read_only)
     rc = main(['identify', 'x', '--model', BASE, '--out', str(tmp_path / 'g.yaml')])
-    _one_line(capsys, rc, 'g.yaml', 'Read-only file system')
+    one_line(capsys, rc, 'g.yaml', 'Read-only file system')
 
 
 @pytest.mark.parametrize('device', ['/dev/null', '/dev/zero'])
@@ -139,7 +131,7 @@ def test_device_is_never_replaced_even_with_force(tmp_path, capsys, device):
     before = os.lstat(device)
     rc = main(['experiment', 'chirp', '--model', MODEL, '--truth', TRUTH, '--out', device,
                '--force', '--duration-scale', '0.01'])
-    _one_line(capsys, rc, device, 'character device', 'never replaced')
+    one_line(capsys, rc, device, 'character device', 'never replaced')
     after = os.lstat(device)
     assert (after.st_ino, after.st_rdev) == (before.st_ino, before.st_rdev)
 
@@ -151,7 +143,7 @@ def test_fifo_output_is_never_replaced_even_with_force(tmp_path, capsys):
     os.mkfifo(fifo)
     rc = main(['experiment', 'chirp', '--model', MODEL, '--truth', TRUTH, '--out', str(fifo),
                '--force', '--duration-scale', '0.01'])
-    _one_line(capsys, rc, str(fifo), 'FIFO')
+    one_line(capsys, rc, str(fifo), 'FIFO')
     assert os.path.exists(fifo) and not os.path.isdir(fifo)
 
 
@@ -160,7 +152,7 @@ def test_file_output_with_trailing_slash_refused(tmp_path, capsys):
     rec = _recording(tmp_path / 'rec')
     out = str(tmp_path / 'x.yaml') + os.sep
     rc = main(['identify', rec, '--model', BASE, '--out', out, '--quiet'])
-    _one_line(capsys, rc, out, 'directory separator')
+    one_line(capsys, rc, out, 'directory separator')
     assert sorted(os.listdir(tmp_path)) == ['rec']
 
 
@@ -195,7 +187,7 @@ def test_orders_blames_the_option(tmp_path, capsys, orders, words):
     """``--orders fc=-1`` blamed the data; it is the option that is wrong."""
     rc = main(['identify', 'nowhere', '--model', BASE, '--out', str(tmp_path / 'g.yaml'),
                '--orders', orders])
-    line = _one_line(capsys, rc, *words)
+    line = one_line(capsys, rc, *words)
     assert 'recording' not in line and 'csd25_base' not in line, line
 
 
@@ -208,7 +200,7 @@ def test_orders_blames_the_option(tmp_path, capsys, orders, words):
 def test_float_options_must_be_finite(tmp_path, capsys, argv):
     """Check every float option: argparse's ``float`` takes nan and inf; one line."""
     argv = argv + ['--out', str(tmp_path / 'out')]
-    _one_line(capsys, main(argv), '--duration-scale', 'finite')
+    one_line(capsys, main(argv), '--duration-scale', 'finite')
     assert not (tmp_path / 'out').exists()
 
 
@@ -236,7 +228,7 @@ def test_gains_beyond_the_plant_refused_before_the_run(tmp_path, capsys, gains):
     out = tmp_path / 'out'
     rc = main(['experiment', 'compensation', '--model', MODEL, '--truth', TRUTH, '--out',
                str(out), '--duration-scale', '0.05', '--gains', gains])
-    _one_line(capsys, rc, '--gains', 'unstable')
+    one_line(capsys, rc, '--gains', 'unstable')
     assert not out.exists()
 
 
@@ -246,7 +238,7 @@ def test_absurd_temperature_does_not_blame_the_gear_file(tmp_path, capsys, comma
     rec = _recording(tmp_path / 'hot', xi=1e300)
     out = tmp_path / ('g.yaml' if command == 'identify' else 'diag')
     rc = main([command, rec, '--model', BASE, '--out', str(out), '--quiet'])
-    line = _one_line(capsys, rc, 'hot', '/joint_temperature')
+    line = one_line(capsys, rc, 'hot', '/joint_temperature')
     assert 'csd25_base' not in line and 'record it' not in line, line
     assert not out.exists()
 
@@ -261,7 +253,7 @@ def test_recorded_temperature_out_of_range_blames_the_recordings(tmp_path, capsy
     """
     rec = _recording(tmp_path / 'hot', xi=999.99)
     rc = main(['identify', rec, '--model', BASE, '--out', str(tmp_path / 'g.yaml'), '--quiet'])
-    line = _one_line(capsys, rc, 'hot', '/joint_temperature', '500')
+    line = one_line(capsys, rc, 'hot', '/joint_temperature', '500')
     assert 'csd25_base' not in line and 'order' not in line, line
     assert not (tmp_path / 'g.yaml').exists()
 

@@ -19,6 +19,8 @@ from friction_joint.cli import main
 from friction_joint.jobs.fleet_simulation import run_fleet_simulation
 import pytest
 
+from refusal import one_line
+
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 BASE = os.path.join(ROOT, 'config', 'csd25_base.yaml')
 MODEL = os.path.join(ROOT, 'config', 'csd25.yaml')
@@ -38,16 +40,6 @@ def _tree(top):
                 found[os.path.relpath(os.path.join(root, f), top)] = \
                     hashlib.sha256(fh.read()).hexdigest()
     return found
-
-
-def _refused(capsys, rc, *words):
-    err = capsys.readouterr().err
-    lines = err.strip().splitlines()
-    assert rc == 2, err
-    assert len(lines) == 1 and 'Traceback' not in err, err
-    for w in words:
-        assert w in lines[0], lines[0]
-    return lines[0]
 
 
 @pytest.fixture(scope='module')
@@ -85,7 +77,7 @@ def test_fleet_out_over_its_recordings_or_manifest_refused_with_force(site, caps
     before = _tree(site)
     rc = main(['fleet', '--manifest', 'manifest.csv', '--model', MODEL, '--out', out,
                '--force', '--workers', '1', '--quiet'])
-    _refused(capsys, rc, *words)
+    one_line(capsys, rc, *words)
     assert _tree(site) == before                # every recording (and truth.json) still there
     assert len([p for p in before if p.startswith('fleet/recordings/')]) == 4
 
@@ -97,7 +89,7 @@ def test_fleet_out_above_the_model_refused(site, capsys, monkeypatch):
     before = _tree(site)
     rc = main(['fleet', '--manifest', 'manifest.csv', '--model', 'gears/gear.yaml', '--out',
                'gears', '--force', '--quiet'])
-    _refused(capsys, rc, 'contains the input', '--model gears/gear.yaml')
+    one_line(capsys, rc, 'contains the input', '--model gears/gear.yaml')
     assert _tree(site) == before
 
 
@@ -110,7 +102,7 @@ def test_fleet_out_inside_a_rosbag2_directory_of_the_manifest_refused(tmp_path, 
     before = _tree(tmp_path)
     rc = main(['fleet', '--manifest', 'm.csv', '--model', MODEL, '--out', 'bag/out', '--force',
                '--quiet'])
-    _refused(capsys, rc, 'is inside the input', 'part of the rosbag2 directory')
+    one_line(capsys, rc, 'is inside the input', 'part of the rosbag2 directory')
     assert _tree(tmp_path) == before
 
 
@@ -127,7 +119,7 @@ def test_diagnose_out_in_its_recording_refused_with_force(tmp_path, capsys, monk
     shutil.copytree(SAMPLE, tmp_path / 'rec')
     before = _tree(tmp_path)
     rc = main(['diagnose', recording, '--model', BASE, '--out', out, '--force', '--quiet'])
-    _refused(capsys, rc, *words)
+    one_line(capsys, rc, *words)
     assert _tree(tmp_path) == before
 
 
@@ -143,7 +135,7 @@ def test_identify_out_in_its_recording_refused_with_force(tmp_path, capsys, monk
     before = _tree(tmp_path)
     rc = main(['identify', recording, '--model', BASE, '--out', out, '--report', 'report',
                '--force', '--quiet'])
-    _refused(capsys, rc, *words)
+    one_line(capsys, rc, *words)
     assert _tree(tmp_path) == before
 
 
@@ -159,7 +151,7 @@ def test_import_out_over_its_logs_refused_with_force(tmp_path, capsys, monkeypat
                                              encoding='utf-8')
     before = _tree(tmp_path)
     rc = main(['import', 'logs/a.csv', '--out', out, '--force', '--quiet'])
-    _refused(capsys, rc, *words)
+    one_line(capsys, rc, *words)
     assert _tree(tmp_path) == before
 
 
@@ -174,5 +166,5 @@ def test_recover_out_in_its_recording_refused_with_force(tmp_path, capsys, monke
     shutil.copytree(SAMPLE, tmp_path / 'rec')
     before = _tree(tmp_path)
     rc = main(['recover', path, out, '--force'])
-    _refused(capsys, rc, *words)
+    one_line(capsys, rc, *words)
     assert _tree(tmp_path) == before

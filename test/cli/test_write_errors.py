@@ -29,21 +29,13 @@ from friction_joint.models import StaticFriction
 import numpy as np
 import pytest
 
+from refusal import one_line
+
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 BASE = os.path.join(ROOT, 'config', 'csd25_base.yaml')
 MODEL = os.path.join(ROOT, 'config', 'csd25.yaml')
 TRUTH = os.path.join(ROOT, 'config', 'csd25_truth.yaml')
 ERRNOS = [errno.ENOSPC, errno.EDQUOT, errno.EROFS, errno.EACCES]
-
-
-def _one_line(capsys, rc, *words):
-    err = capsys.readouterr().err
-    lines = err.strip().splitlines()
-    assert rc == 2, err
-    assert len(lines) == 1 and 'Traceback' not in err, err
-    for w in words:
-        assert w in lines[0], lines[0]
-    return lines[0]
 
 
 def _nothing_left(directory, *keep):
@@ -124,7 +116,7 @@ def test_classic_every_write_error_is_one_line(tmp_path, capsys, monkeypatch, co
     _failing_writes(monkeypatch, code)
     out = str(tmp_path / 'out')
     rc = main(_argv('classic', out))
-    _one_line(capsys, rc, out, os.strerror(code))
+    one_line(capsys, rc, out, os.strerror(code))
     _nothing_left(tmp_path)
 
 
@@ -138,7 +130,7 @@ def test_each_command_write_error_is_one_line(tmp_path, capsys, monkeypatch, rec
     out = str(tmp_path / 'out')
     _failing_writes(monkeypatch, code)
     rc = main(_argv(command, out, recording, fleet))
-    _one_line(capsys, rc, out, os.strerror(code))
+    one_line(capsys, rc, out, os.strerror(code))
     _nothing_left(tmp_path)
 
 
@@ -150,7 +142,7 @@ def test_cached_fleet_on_a_full_disk_is_one_line(tmp_path, capsys, monkeypatch, 
     capsys.readouterr()
     _failing_writes(monkeypatch, errno.ENOSPC)
     rc = main(_argv('fleet', out, fleet=fleet) + ['--force'])
-    _one_line(capsys, rc, out, 'No space left on device')
+    one_line(capsys, rc, out, 'No space left on device')
     assert sorted(os.listdir(out)) == before
     _nothing_left(tmp_path, 'out')
 
@@ -163,7 +155,7 @@ def test_console_script_oserror_is_one_line(capsys, code):
     module = types.SimpleNamespace(NAME='record', DESCRIPTION='', run=run,
                                    add_arguments=lambda parser: parser)
     rc = _console.console_main(module, ['record'])
-    line = _one_line(capsys, rc, '/media/usb/rec', os.strerror(code))
+    line = one_line(capsys, rc, '/media/usb/rec', os.strerror(code))
     assert line.startswith('record: error: '), line
 
 

@@ -26,19 +26,11 @@ from friction_joint.fleet.manifest import read_manifest, TIME_RANGE
 from hypothesis import given, settings, strategies as st
 import pytest
 
+from refusal import one_line
+
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 MODEL = os.path.join(ROOT, 'config', 'csd25.yaml')
 SAMPLE = os.path.join(ROOT, 'bags', 'csd25_sample')
-
-
-def _one_line(capsys, rc, *words):
-    err = capsys.readouterr().err
-    lines = err.strip().splitlines()
-    assert rc == 2, err
-    assert len(lines) == 1 and 'Traceback' not in err, err
-    for w in words:
-        assert w in lines[0], lines[0]
-    return lines[0]
 
 
 @pytest.fixture
@@ -70,7 +62,7 @@ def _fleet(*extra):
     ('tcp://127.0.0.1:٨٧٨٦', 'not HOST:PORT'),
 ])
 def test_malformed_scheduler_is_one_line(site, capsys, address, words):
-    _one_line(capsys, _fleet('--scheduler', address), '--scheduler', words)
+    one_line(capsys, _fleet('--scheduler', address), '--scheduler', words)
     assert not (site / 'out').exists()
 
 
@@ -109,8 +101,8 @@ def test_port_answering_garbage_is_one_line(site, capsys, monkeypatch, answer):
     monkeypatch.setattr(cluster, 'CONNECT_TIMEOUT', 2)
     port, close = _server(answer)
     try:
-        _one_line(capsys, _fleet('--scheduler', f'tcp://127.0.0.1:{port}'),
-                  'cannot connect to the Dask scheduler')
+        one_line(capsys, _fleet('--scheduler', f'tcp://127.0.0.1:{port}'),
+                 'cannot connect to the Dask scheduler')
     finally:
         close()
     assert not (site / 'out').exists()
@@ -121,7 +113,7 @@ def test_silent_port_times_out(site, capsys, monkeypatch):
     port, close = _server(b'')
     t0 = time.monotonic()
     try:
-        _one_line(capsys, _fleet('--scheduler', f'tcp://127.0.0.1:{port}'), 'no answer within')
+        one_line(capsys, _fleet('--scheduler', f'tcp://127.0.0.1:{port}'), 'no answer within')
     finally:
         close()
     assert time.monotonic() - t0 < 120          # a deadline (not a rate): it did not hang
@@ -134,7 +126,7 @@ def test_scheduler_without_workers_is_refused_after_a_wait(site, capsys, monkeyp
     with LocalCluster(n_workers=0, processes=False, protocol='tcp://', host='127.0.0.1',
                       dashboard_address=':0') as empty:
         rc = _fleet('--scheduler', empty.scheduler_address)
-    _one_line(capsys, rc, 'has no workers', 'dask worker')
+    one_line(capsys, rc, 'has no workers', 'dask worker')
     assert not (site / 'out').exists()
 
 
@@ -144,7 +136,7 @@ def test_scheduler_without_workers_is_refused_after_a_wait(site, capsys, monkeyp
     ('99999999999999999999', 'more than this machine'), ('100000', 'more than this machine'),
     ('0', '>= 1'), ('-3', '>= 1')])
 def test_workers_bounded_by_the_machine(site, capsys, workers, words):
-    _one_line(capsys, _fleet('--workers', workers), '--workers', words)
+    one_line(capsys, _fleet('--workers', workers), '--workers', words)
     assert not (site / 'out').exists()
 
 
@@ -168,7 +160,7 @@ def test_workers_bounded_by_the_machine(site, capsys, workers, words):
 ])
 def test_bad_manifest_rows_are_one_line(site, capsys, row, words):
     (site / 'm.csv').write_text(f'recording,joint,time\n{row}\n', encoding='utf-8')
-    _one_line(capsys, _fleet(), 'm.csv', *words)
+    one_line(capsys, _fleet(), 'm.csv', *words)
     assert not (site / 'out').exists()
 
 
@@ -177,7 +169,7 @@ def test_too_many_recordings_refused_before_any_work(site, capsys, monkeypatch):
     monkeypatch.setattr(manifest, 'MAX_ROWS', 50)
     rows = ''.join(f'r{k}.mcap,j1,2026-03-02T10:00:00\n' for k in range(51))
     (site / 'm.csv').write_text('recording,joint,time\n' + rows, encoding='utf-8')
-    _one_line(capsys, _fleet(), 'm.csv', 'row 52', 'more than 50 recordings', 'split')
+    one_line(capsys, _fleet(), 'm.csv', 'row 52', 'more than 50 recordings', 'split')
 
 
 def test_a_real_million_row_manifest_is_refused_quickly(site, capsys):
@@ -186,7 +178,7 @@ def test_a_real_million_row_manifest_is_refused_quickly(site, capsys):
                    for k in range(300000))
     rows += 'a malformed row beyond the bound\n' * 700000     # never reached
     (site / 'm.csv').write_text('recording,joint,time\n' + rows, encoding='utf-8')
-    line = _one_line(capsys, _fleet(), 'm.csv', 'more than 250000 recordings')
+    line = one_line(capsys, _fleet(), 'm.csv', 'more than 250000 recordings')
     assert 'row 250002' in line and not (site / 'out').exists(), line
 
 
@@ -194,7 +186,7 @@ def test_a_real_million_row_manifest_is_refused_quickly(site, capsys):
 def test_travel_must_be_a_plain_decimal(site, capsys, travel):
     (site / 'm.csv').write_text(f'recording,joint,time,travel\nrec,j1,2026-03-02T10:00:00,'
                                 f'"{travel}"\n', encoding='utf-8')
-    _one_line(capsys, _fleet(), 'm.csv', 'row 2', 'travel')
+    one_line(capsys, _fleet(), 'm.csv', 'row 2', 'travel')
 
 
 @pytest.mark.parametrize('header, row, words', [
@@ -206,7 +198,7 @@ def test_travel_must_be_a_plain_decimal(site, capsys, travel):
 def test_a_huge_field_is_shown_clipped(site, capsys, header, row, words):
     """The line named a 100000-digit travel in full: it shows 60 characters and the length."""
     (site / 'm.csv').write_text(f'{header}\n{row}\n', encoding='utf-8')
-    line = _one_line(capsys, _fleet(), 'm.csv', words, 'characters)')
+    line = one_line(capsys, _fleet(), 'm.csv', words, 'characters)')
     assert len(line) < 600, len(line)
 
 
@@ -215,7 +207,7 @@ def test_a_recording_listed_twice_is_refused(site, capsys, second):
     os.symlink('rec', site / 'link')
     (site / 'm.csv').write_text('recording,joint,time\nrec,j1,2026-03-02T10:00:00\n'
                                 f'{second},j2,2026-03-03T10:00:00\n', encoding='utf-8')
-    _one_line(capsys, _fleet(), 'row 3', 'already listed in row 2')
+    one_line(capsys, _fleet(), 'row 3', 'already listed in row 2')
 
 
 # ----------------------------------------------------------------- experiment fleet ---
@@ -229,7 +221,7 @@ def test_a_recording_listed_twice_is_refused(site, capsys, second):
 ])
 def test_simulated_fleet_bounded_before_any_work(tmp_path, capsys, argv, words):
     rc = main(['experiment', 'fleet', '--out', str(tmp_path / 'fleet'), '--quiet', *argv])
-    _one_line(capsys, rc, *words)
+    one_line(capsys, rc, *words)
     assert os.listdir(tmp_path) == []        # refused before any work: nothing simulated
 
 
@@ -246,7 +238,7 @@ def test_an_option_the_experiment_does_not_use_is_refused(tmp_path, capsys, name
     """``experiment fleet --duration-scale -1`` and ``chirp --joints 5`` were silently run."""
     models = [] if name == 'fleet' else ['--model', MODEL, '--truth', MODEL]
     rc = main(['experiment', name, '--out', str(tmp_path / 'x'), '--quiet', *models, *argv])
-    _one_line(capsys, rc, words, f'not an option of experiment {name}')
+    one_line(capsys, rc, words, f'not an option of experiment {name}')
     assert os.listdir(tmp_path) == []
 
 
