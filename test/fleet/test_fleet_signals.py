@@ -25,6 +25,7 @@ import time
 
 from friction_joint.cli import main
 from friction_joint.fleet.cluster import map_recordings, stall_guard, STALL_MIN, STALL_TIMEOUT
+from procs import alive, descendants
 import pytest
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
@@ -39,32 +40,6 @@ def fleet(tmp_path_factory):
     assert main(['experiment', 'fleet', '--out', str(out), '--joints', '3', '--days', '4',
                  '--seed', '1', '--quiet']) == 0
     return out / 'manifest.csv'
-
-
-def descendants(pid):
-    """Return the pids of the processes below ``pid`` (from /proc)."""
-    parent = {}
-    for entry in os.listdir('/proc'):
-        if entry.isdigit():
-            with contextlib.suppress(OSError):
-                with open(f'/proc/{entry}/stat') as fh:
-                    parent[int(entry)] = int(fh.read().rsplit(')', 1)[1].split()[1])
-    found, todo = [], [pid]
-    while todo:
-        p = todo.pop()
-        kids = [k for k, pp in parent.items() if pp == p]
-        found += kids
-        todo += kids
-    return found
-
-
-def alive(pid):
-    """Whether ``pid`` is a process that has not ended (a zombie has)."""
-    try:
-        with open(f'/proc/{pid}/stat') as fh:
-            return fh.read().rsplit(')', 1)[1].split()[0] != 'Z'
-    except OSError:
-        return False
 
 
 def workers(pid):

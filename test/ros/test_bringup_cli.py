@@ -19,6 +19,7 @@ from friction_joint.bag import read_recording
 from friction_joint.gear import load_gear
 from friction_joint.testbed import InputLimits
 import numpy as np
+from procs import alive, children
 import pytest
 import roshelpers
 from test_node_inputs import node_cmd
@@ -200,29 +201,6 @@ def test_command_watchdog_takes_the_safe_reaction(reaction, spawn, ros_node):
         ros_node.spin_for(0.002)
     assert sim.wait_for('valid /joint_command again', timeout=60), sim.describe()
     assert abs(np.median([e for _, e in states[-100:]]) + 3.0) < 0.5
-
-
-def children(pid):
-    """Return the pids whose parent is ``pid`` (from /proc)."""
-    found = []
-    for entry in os.listdir('/proc'):
-        if entry.isdigit():
-            try:
-                with open(f'/proc/{entry}/stat') as fh:
-                    fields = fh.read().rsplit(')', 1)[1].split()
-            except OSError:
-                continue
-            if int(fields[1]) == pid:
-                found.append(int(entry))
-    return found
-
-
-def alive(pid):
-    try:
-        with open(f'/proc/{pid}/stat') as fh:
-            return fh.read().rsplit(')', 1)[1].split()[0] != 'Z'
-    except OSError:
-        return False
 
 
 def test_bringup_stops_with_one_line_when_a_node_ends_at_start(ros_env, tmp_path):
