@@ -102,12 +102,14 @@ def main(argv: list[str] | None = None) -> int:
     try:
         if argv is not None:
             return _main(argv, prog)
-        with interrupts_between_imports():
-            return _main(argv, prog)
+        try:
+            with interrupts_between_imports():
+                return _main(argv, prog)
+        except KeyboardInterrupt as exc:     # after the command's own handling, while its
+            return _interrupted(exc, prog, argv)  # handlers are put back: the same line
     finally:
         warnings.showwarning = shown
-        for s, handler in replaced.items():
-            signal.signal(s, handler)
+        _put_back(replaced)
         if argv is None:                     # the command has ended: no traceback from an
             finished()                       # interrupt while the interpreter shuts down
 
@@ -127,10 +129,34 @@ def _main(argv, prog):
         print(f'{prog[0]}: error: {os_error_line(exc)}', file=sys.stderr)
         return 2
     except KeyboardInterrupt as exc:
-        signum = getattr(exc, 'signum', signal.SIGINT)
-        what = ('interrupted' if signum == signal.SIGINT else
-                f'stopped by {signal.Signals(signum).name}')
-        print(f'{prog[0]}: {what}', file=sys.stderr)
-        if argv is None:
-            exit_now(128 + signum)
-        return 128 + signum
+        return _interrupted(exc, prog, argv)
+
+
+def _interrupted(exc, prog, argv):
+    """Print the one line for Ctrl-C, SIGTERM or SIGHUP ``exc``; return (or exit with) 128+N."""
+    signum = getattr(exc, 'signum', signal.SIGINT)
+    what = ('interrupted' if signum == signal.SIGINT else
+            f'stopped by {signal.Signals(signum).name}')
+    print(f'{prog[0]}: {what}', file=sys.stderr)
+    if argv is None:
+        exit_now(128 + signum)
+    return 128 + signum
+
+
+def _put_back(replaced):
+    """
+    Restore the SIGTERM and SIGHUP handlers ``replaced`` by :func:`_stop_on_signals`.
+
+    A stop arriving while they are restored (the command has ended) is delivered again
+    once the original handlers are in place: by default the process ends by it.
+    """
+    late = None
+    while True:
+        try:
+            for s, handler in replaced.items():
+                signal.signal(s, handler)
+            break
+        except _Stopped as exc:
+            late = exc.signum
+    if late is not None:
+        signal.raise_signal(late)

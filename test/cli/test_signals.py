@@ -233,3 +233,48 @@ def test_main_restores_the_signal_handlers(tmp_path):
     before = {s: signal.getsignal(s) for s in (signal.SIGINT, signal.SIGTERM, signal.SIGHUP)}
     assert main([*IMPORT, '--out', str(tmp_path / 'rec')]) == 0
     assert {s: signal.getsignal(s) for s in before} == before
+
+
+# ------------------------------------------ a stop after the command has ended ---
+
+#: run ``friction_joint`` whose command returns 0 at once, with a SIGTERM arriving at a
+#: chosen place after it: argv[1] = 'imports' (while the Ctrl-C guard of the imports is
+#: taken down) or 'handlers' (while the SIGTERM and SIGHUP handlers are put back)
+LATE = r"""
+import contextlib, os, signal, sys
+import friction_joint.cli as cli
+where = sys.argv[1]
+cli._main = lambda argv, prog: 0
+real_guard, real_signal = cli.interrupts_between_imports, signal.signal
+
+@contextlib.contextmanager
+def guard():
+    with real_guard():
+        yield
+        if where == 'imports':
+            os.kill(os.getpid(), signal.SIGTERM)
+
+def put(sig, handler):
+    if where == 'handlers' and sig == signal.SIGTERM and handler == signal.SIG_DFL:
+        signal.signal = real_signal
+        os.kill(os.getpid(), signal.SIGTERM)
+    return real_signal(sig, handler)
+
+cli.interrupts_between_imports = guard
+sys.argv = ['friction_joint']
+cli._stop_on_signals()              # the handlers main installs: main sees them as the originals
+real_signal(signal.SIGTERM, signal.SIG_DFL)
+real_signal(signal.SIGHUP, signal.SIG_DFL)
+signal.signal = put
+sys.exit(cli.main())
+"""
+
+
+@pytest.mark.parametrize('where,status', [('imports', 143), ('handlers', -signal.SIGTERM)])
+def test_a_sigterm_after_the_command_ended_is_one_line_or_the_default_end(where, status):
+    """A SIGTERM while main takes its handlers down: 143 with its line, or death by SIGTERM."""
+    proc = subprocess.run([sys.executable, '-c', LATE, where], capture_output=True, text=True,
+                          cwd=str(ROOT), timeout=TIMEOUT, preexec_fn=default_signals)
+    assert proc.returncode == status, proc.stderr
+    expected = 'friction_joint: stopped by SIGTERM' if status == 143 else ''
+    assert proc.stderr.strip() == expected
