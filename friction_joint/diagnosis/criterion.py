@@ -21,7 +21,13 @@ one-sided **Wilcoxon signed-rank test** of the d_k (exact for small K): it
 uses the signs and the ranks of the block improvements, so one block with a
 large loss costs one rank, where it would dominate the mean and variance of
 a t-test.  The p-values of a round are Holm-Bonferroni adjusted
-(:func:`holm`).
+(:func:`holm`).  A floor is added to both MSEs of a block (the greedy search
+passes the square of :data:`~friction_joint.diagnosis.greedy.MIN_EXPLAINED` of
+the friction level): in a block that both models predict to within a sliver of
+the friction level (steady one-way motion, where a pre-sliding model has nothing
+to add) the ratio of two tiny errors is not a large loss, and a candidate that
+removes most of the error where the model fails (the velocity reversals) is not
+ranked down by it.
 
 Confounds
 ---------
@@ -145,14 +151,16 @@ def holm(p: npt.ArrayLike) -> npt.NDArray[np.float64]:
     return adj
 
 
-def compare(cur: _CV, cand: _CV) -> dict[str, Any]:
+def compare(cur: _CV, cand: _CV, floor: float = 0.0) -> dict[str, Any]:
     """
     Return the paired one-sided test of a candidate's per-block held-out MSE (a dict).
 
     ``cur`` and ``cand`` are :class:`~friction_joint.diagnosis.crossval.CVResult`
-    of the current model and the candidate on the same blocks.
+    of the current model and the candidate on the same blocks.  ``floor`` (Nm^2) is
+    added to both MSEs of a block: a block that both models predict to within its
+    square root is nearly a tie, whatever the ratio of their tiny errors.
     """
-    d = np.log(cur.mse / np.maximum(cand.mse, 1e-300))
+    d = np.log((cur.mse + floor) / np.maximum(cand.mse + floor, 1e-300))
     if np.all(d == d[0]):
         p = 0.0 if d[0] > 0 else 1.0
     else:

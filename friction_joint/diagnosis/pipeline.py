@@ -36,7 +36,9 @@ Method
 4. **Significance** -- the criterion (:mod:`friction_joint.diagnosis.criterion`):
    for candidate c against the current model m the per-block statistic
    ``d_k = log(MSE_m,k / MSE_c,k)`` of the held-out mean squared torque
-   errors over K contiguous blocks (K from the amount of data, 10..20) is
+   errors over K contiguous blocks (K from the amount of data, 10..20; a floor
+   of (1 % of the friction level)^2 added to both, so that blocks both predict
+   to a sliver of the level are near ties) is
    tested with the one-sided Wilcoxon signed-rank test (robust to one bad
    block); the p-values of a round are Holm-Bonferroni adjusted; a candidate
    is significant when its adjusted p-value is below :data:`ALPHA` (0.05) AND
