@@ -213,15 +213,31 @@ def run_summary(log_dir: str, record: str | None = None) -> list[str]:
     return lines
 
 
-def _check_alive(procs, sim, log_dir, kept):
+def _check_alive(procs, sim, log_dir, kept, record=None):
     """Raise a one-line error naming the first process (but the simulator) that has ended."""
     for p in procs:
         if p is not sim and not p.alive():
             log = os.path.join(log_dir, p.name + '.log')
             last = _last_line(log)
             where = f'; see {log}' if kept else ''
+            hint = _recover_hint(record) if p.name == 'record' and record else ''
             raise NodeError(f'{p.name} ended early (exit {p.proc.returncode})'
-                            + (f': {last}' if last else '') + where)
+                            + (f': {last}' if last else '') + where + hint)
+
+
+def _recover_hint(record):
+    """Return how to recover what a recorder that ended early staged beside ``record``."""
+    folder, base = os.path.split(os.path.abspath(record))
+    try:
+        staged = sorted(n for n in os.listdir(folder)
+                        if n.startswith(f'.{base}.rec-') and n.endswith('.tmp'))
+    except OSError:
+        return ''
+    if not staged:
+        return ''
+    path = os.path.join(folder, staged[-1])
+    return (f'; what it recorded is kept in {path}: '
+            f'friction_joint recover {path} {record} makes it a recording')
 
 
 class _Stop(KeyboardInterrupt):
@@ -332,7 +348,7 @@ def bringup(model: str, truth: str, duration: float, *, record: str | None = Non
         limit = duration + 30.0 if mode == 'realtime' else max(60.0, 40.0 * duration)
         next_say = t0 + PROGRESS_EVERY
         while sim.alive() and time.monotonic() - t0 < limit:
-            _check_alive(procs, sim, log_dir, kept)
+            _check_alive(procs, sim, log_dir, kept, record)
             time.sleep(0.1)
             if time.monotonic() >= next_say:
                 next_say += PROGRESS_EVERY
