@@ -95,8 +95,12 @@ def console_main(module: ModuleType, argv: list[str] | None = None) -> int:
     if argv is not None:
         return _console_main(module, argv)
     try:
-        with interrupts_between_imports():
-            return _console_main(module, argv)
+        try:
+            with interrupts_between_imports():
+                return _console_main(module, argv)
+        except KeyboardInterrupt:            # after the command's end, while the guard is
+            print(f'{module.NAME}: interrupted', file=sys.stderr)   # taken down: one line
+            return exit_now(130)
     finally:
         finished()
 

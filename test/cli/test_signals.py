@@ -278,3 +278,32 @@ def test_a_sigterm_after_the_command_ended_is_one_line_or_the_default_end(where,
     assert proc.returncode == status, proc.stderr
     expected = 'friction_joint: stopped by SIGTERM' if status == 143 else ''
     assert proc.stderr.strip() == expected
+
+
+#: a console script (``console_main``) whose command returns 0, with a Ctrl-C arriving while
+#: the Ctrl-C guard of the imports is taken down
+LATE_CONSOLE = r"""
+import contextlib, os, signal, sys, types
+from friction_joint.cli import _console
+real_guard = _console.interrupts_between_imports
+
+@contextlib.contextmanager
+def guard():
+    with real_guard():
+        yield
+        os.kill(os.getpid(), signal.SIGINT)
+
+_console.interrupts_between_imports = guard
+module = types.SimpleNamespace(NAME='node', DESCRIPTION='a node', run=lambda args: 0,
+                               add_arguments=lambda parser: parser)
+sys.argv = ['node']
+sys.exit(_console.console_main(module))
+"""
+
+
+def test_a_ctrl_c_after_a_console_script_ended_is_one_line():
+    """Before: the interrupt raised out of the guard's exit, a traceback and exit 1."""
+    proc = subprocess.run([sys.executable, '-c', LATE_CONSOLE], capture_output=True, text=True,
+                          cwd=str(ROOT), timeout=TIMEOUT, preexec_fn=default_signals)
+    assert proc.returncode == 130, proc.stderr
+    assert proc.stderr.strip() == 'node: interrupted'
