@@ -227,17 +227,13 @@ def _check_alive(procs, sim, log_dir, kept, record=None):
 
 def _recover_hint(record):
     """Return how to recover what a recorder that ended early staged beside ``record``."""
-    folder, base = os.path.split(os.path.abspath(record))
-    try:
-        staged = sorted(n for n in os.listdir(folder)
-                        if n.startswith(f'.{base}.rec-') and n.endswith('.tmp'))
-    except OSError:
+    from ..bag.staging import killed_recordings, recovery_command
+    killed = killed_recordings(record)
+    if not killed:
         return ''
-    if not staged:
-        return ''
-    path = os.path.join(folder, staged[-1])
-    return (f'; what it recorded is kept in {path}: '
-            f'friction_joint recover {path} {record} makes it a recording')
+    staging = killed[-1][0]
+    return (f'; what it recorded is kept in {os.path.relpath(staging)}: '
+            f'{recovery_command(staging)} makes it a recording')
 
 
 class _Stop(KeyboardInterrupt):
